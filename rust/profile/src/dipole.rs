@@ -1,0 +1,111 @@
+//! The dipole of Jensen et al. 2001 in the corrected form of Mikkelsen eq. 30,
+//! for a semi-infinite medium under a boundary of relative index η.
+
+use crate::fresnel::boundary_a;
+use crate::medium::Medium;
+use crate::profile::Profile;
+use crate::roots::radius_where;
+use crate::slab::{pole, pole_enclosed};
+use crate::{Rgb, rgb_map};
+
+/// One channel of a dipole.
+#[derive(Clone, Copy, Debug)]
+struct DipoleChannel {
+    albedo: f64,
+    sigma_tr: f64,
+    /// Depth of the real source, ℓ = 1/σt', mm.
+    z_r: f64,
+    /// Height of the virtual source, ℓ + 4AD, mm.
+    z_v: f64,
+    /// Boundary constant A.
+    a: f64,
+}
+
+/// A semi-infinite medium's reflectance by the classical dipole.
+#[derive(Clone, Debug)]
+pub struct Dipole {
+    channels: [DipoleChannel; 3],
+}
+
+impl Dipole {
+    /// The dipole of a medium per channel below a boundary with relative
+    /// index `eta` = n_medium / n_outside.
+    pub fn new(media: [Medium; 3], eta: f64) -> Self {
+        let a = boundary_a(eta);
+        Self {
+            channels: media.map(|m| DipoleChannel {
+                albedo: m.albedo_reduced(),
+                sigma_tr: m.sigma_tr(),
+                z_r: m.mean_free_path(),
+                z_v: m.mean_free_path() + 4.0 * a * m.diffusion(),
+                a,
+            }),
+        }
+    }
+
+    /// Fraction of the reflectance falling outside radius `s` (Mikkelsen eq. 40).
+    pub fn fraction_outside(&self, s: f64) -> Rgb {
+        rgb_map(|c| {
+            let ch = &self.channels[c];
+            let d_r = (s * s + ch.z_r * ch.z_r).sqrt();
+            let d_v = (s * s + ch.z_v * ch.z_v).sqrt();
+            let denominator = (-ch.sigma_tr * ch.z_v).exp() + (-ch.sigma_tr * ch.z_r).exp();
+            let numerator = ch.z_r / d_r * (-ch.sigma_tr * d_r).exp()
+                + ch.z_v / d_v * (-ch.sigma_tr * d_v).exp();
+            if denominator > 0.0 {
+                (numerator / denominator).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        })
+    }
+}
+
+/// Total diffuse reflectance of the dipole in closed form:
+/// α'/2 · (1 + e^{−(4/3)A√(3(1−α'))}) e^{−√(3(1−α'))}.
+pub fn dipole_total_reflectance(albedo_reduced: f64, a: f64) -> f64 {
+    let s = (3.0 * (1.0 - albedo_reduced.clamp(0.0, 1.0))).sqrt();
+    0.5 * albedo_reduced * (1.0 + (-4.0 / 3.0 * a * s).exp()) * (-s).exp()
+}
+
+impl Profile for Dipole {
+    fn model(&self) -> &'static str {
+        "dipole"
+    }
+
+    fn reflectance(&self, r: f64) -> Rgb {
+        rgb_map(|c| {
+            let ch = &self.channels[c];
+            ch.albedo * (pole(ch.z_r, r, ch.sigma_tr) + pole(ch.z_v, r, ch.sigma_tr))
+        })
+    }
+
+    fn total_reflectance(&self) -> Rgb {
+        rgb_map(|c| dipole_total_reflectance(self.channels[c].albedo, self.channels[c].a))
+    }
+
+    fn enclosed_reflectance(&self, r: f64) -> Rgb {
+        rgb_map(|c| {
+            let ch = &self.channels[c];
+            ch.albedo * (pole_enclosed(ch.z_r, r, ch.sigma_tr) + pole_enclosed(ch.z_v, r, ch.sigma_tr))
+        })
+    }
+
+    fn length_scale(&self) -> Rgb {
+        rgb_map(|c| {
+            let ch = &self.channels[c];
+            (1.0 / ch.sigma_tr).min(100.0 * ch.z_v).max(ch.z_r)
+        })
+    }
+
+    /// Solves Mikkelsen eq. 40, ε(s) = `epsilon`, with the safeguarded root finder.
+    fn d_max(&self, epsilon: f64) -> Rgb {
+        let scale = self.length_scale();
+        rgb_map(|c| {
+            if self.channels[c].albedo <= 0.0 {
+                return 0.0;
+            }
+            radius_where(|s| 1.0 - self.fraction_outside(s)[c], 1.0 - epsilon, scale[c])
+        })
+    }
+}

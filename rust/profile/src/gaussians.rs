@@ -1,0 +1,225 @@
+//! Sums of 2-D Gaussians: d'Eon & Luebke's measured skin, and a fit of any
+//! profile minimising Mikkelsen's r-weighted squared error.
+
+use crate::profile::Profile;
+use crate::{Rgb, rgb_map};
+use std::f64::consts::PI;
+
+/// Per channel, a list of (weight, variance in mm²) terms
+/// R(r) = Σ w·e^{−r²/2v}/(2πv).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SumOfGaussians {
+    /// Terms per channel.
+    pub terms: [Vec<(f64, f64)>; 3],
+}
+
+/// d'Eon & Luebke 2007's six-Gaussian skin (Mikkelsen table 4): variances in
+/// mm² and red, green, blue weights. Each channel's weights sum to 1, so the
+/// profile carries no colour of its own.
+pub const DEON_SKIN: [(f64, Rgb); 6] = [
+    (0.0064, [0.233, 0.455, 0.649]),
+    (0.0484, [0.1, 0.336, 0.344]),
+    (0.187, [0.118, 0.198, 0.0]),
+    (0.567, [0.113, 0.007, 0.007]),
+    (1.99, [0.358, 0.004, 0.0]),
+    (7.41, [0.078, 0.0, 0.0]),
+];
+
+impl SumOfGaussians {
+    /// d'Eon & Luebke's skin.
+    pub fn deon_skin() -> Self {
+        Self { terms: [0, 1, 2].map(|c| DEON_SKIN.iter().map(|(v, w)| (w[c], *v)).collect()) }
+    }
+}
+
+/// The normalised 2-D Gaussian e^{−r²/2v}/(2πv), 1/mm².
+pub fn gaussian(variance: f64, r: f64) -> f64 {
+    (-r * r / (2.0 * variance)).exp() / (2.0 * PI * variance)
+}
+
+impl Profile for SumOfGaussians {
+    fn model(&self) -> &'static str {
+        "gaussians"
+    }
+
+    fn reflectance(&self, r: f64) -> Rgb {
+        rgb_map(|c| self.terms[c].iter().map(|&(w, v)| w * gaussian(v, r)).sum())
+    }
+
+    fn total_reflectance(&self) -> Rgb {
+        rgb_map(|c| self.terms[c].iter().map(|&(w, _)| w).sum())
+    }
+
+    fn enclosed_reflectance(&self, r: f64) -> Rgb {
+        rgb_map(|c| {
+            self.terms[c].iter().map(|&(w, v)| -w * (-r * r / (2.0 * v)).exp_m1()).sum()
+        })
+    }
+
+    fn length_scale(&self) -> Rgb {
+        rgb_map(|c| {
+            let total: f64 = self.terms[c].iter().map(|t| t.0).sum();
+            let mean_var: f64 = self.terms[c].iter().map(|&(w, v)| w * v).sum::<f64>() / total.max(1e-300);
+            mean_var.sqrt().max(1e-9)
+        })
+    }
+}
+
+/// A fitted sum of Gaussians and how far it is from the profile.
+#[derive(Clone, Debug)]
+pub struct GaussianFit {
+    /// The fit.
+    pub gaussians: SumOfGaussians,
+    /// Relative r-weighted RMS error per channel:
+    /// √(∫ r (R − fit)² dr / ∫ r R² dr).
+    pub error: Rgb,
+}
+
+/// Fits `count` Gaussians per channel to `profile`: non-negative weights by
+/// least squares for given variances, variances by pattern search in ln v.
+pub fn fit_gaussians(profile: &dyn Profile, count: usize) -> GaussianFit {
+    let count = count.clamp(1, 16);
+    let reach = profile.d_max(1e-5);
+    let fits: Vec<(Vec<(f64, f64)>, f64)> = (0..3)
+        .map(|c| fit_channel(|r| profile.reflectance(r)[c], reach[c], count))
+        .collect();
+    GaussianFit {
+        gaussians: SumOfGaussians { terms: [0, 1, 2].map(|c| fits[c].0.clone()) },
+        error: rgb_map(|c| fits[c].1),
+    }
+}
+
+fn fit_channel(profile: impl Fn(f64) -> f64, reach: f64, count: usize) -> (Vec<(f64, f64)>, f64) {
+    if !(reach > 0.0 && reach.is_finite()) {
+        return (vec![], 0.0);
+    }
+    // Quadrature of ∫ r f² dr = ∫ r² f² d(ln r) on a log grid up to the reach.
+    let samples = 400;
+    let r_lo = reach * 1e-5;
+    let h = (reach / r_lo).ln() / (samples - 1) as f64;
+    let radii: Vec<f64> = (0..samples).map(|i| r_lo * (i as f64 * h).exp()).collect();
+    let target: Vec<f64> = radii.iter().map(|&r| profile(r)).collect();
+    let quad: Vec<f64> = radii.iter().map(|r| r * r * h).collect();
+    let norm: f64 = target.iter().zip(&quad).map(|(t, q)| q * t * t).sum();
+    if norm <= 0.0 {
+        return (vec![], 0.0);
+    }
+
+    let objective = |log_vars: &[f64]| -> (f64, Vec<f64>) {
+        let columns: Vec<Vec<f64>> = log_vars
+            .iter()
+            .map(|lv| radii.iter().map(|&r| gaussian(lv.exp(), r)).collect())
+            .collect();
+        let weights = non_negative_least_squares(&columns, &target, &quad);
+        let error: f64 = (0..samples)
+            .map(|i| {
+                let fit: f64 = columns.iter().zip(&weights).map(|(col, w)| w * col[i]).sum();
+                quad[i] * (target[i] - fit).powi(2)
+            })
+            .sum();
+        (error, weights)
+    };
+
+    // Start from variances spread geometrically over the profile's range.
+    let (v_lo, v_hi) = ((10.0 * r_lo).powi(2), (reach / 3.0).powi(2));
+    let mut x: Vec<f64> = (0..count)
+        .map(|k| {
+            let t = if count == 1 { 0.5 } else { k as f64 / (count - 1) as f64 };
+            v_lo.ln() + t * (v_hi.ln() - v_lo.ln())
+        })
+        .collect();
+    let mut best = objective(&x).0;
+    let mut step = 1.0;
+    while step > 1e-3 {
+        let mut improved = false;
+        for k in 0..count {
+            for direction in [1.0, -1.0] {
+                let mut trial = x.clone();
+                trial[k] += direction * step;
+                let value = objective(&trial).0;
+                if value < best {
+                    best = value;
+                    x = trial;
+                    improved = true;
+                    break;
+                }
+            }
+        }
+        if !improved {
+            step *= 0.5;
+        }
+    }
+    let (error, weights) = objective(&x);
+    let mut terms: Vec<(f64, f64)> = weights.into_iter().zip(x.iter().map(|lv| lv.exp())).collect();
+    terms.sort_by(|a, b| a.1.total_cmp(&b.1));
+    (terms, (error / norm).sqrt())
+}
+
+/// Minimises Σ q_i (t_i − Σ_k w_k a_ki)² over w ≥ 0 by the normal equations,
+/// dropping the most negative weight until none is negative.
+fn non_negative_least_squares(columns: &[Vec<f64>], target: &[f64], quad: &[f64]) -> Vec<f64> {
+    let n = columns.len();
+    let mut active: Vec<usize> = (0..n).collect();
+    loop {
+        let m = active.len();
+        let mut gram = vec![vec![0.0; m]; m];
+        let mut rhs = vec![0.0; m];
+        for (a, &i) in active.iter().enumerate() {
+            for (b, &j) in active.iter().enumerate() {
+                gram[a][b] = (0..target.len()).map(|s| quad[s] * columns[i][s] * columns[j][s]).sum();
+            }
+            rhs[a] = (0..target.len()).map(|s| quad[s] * columns[i][s] * target[s]).sum();
+        }
+        let solution = solve_symmetric(gram, rhs);
+        let mut weights = vec![0.0; n];
+        for (a, &i) in active.iter().enumerate() {
+            weights[i] = solution[a];
+        }
+        match active
+            .iter()
+            .enumerate()
+            .filter(|(a, _)| !(solution[*a] >= 0.0))
+            .min_by(|x, y| solution[x.0].total_cmp(&solution[y.0]))
+        {
+            None => return weights,
+            Some((a, _)) => {
+                active.remove(a);
+                if active.is_empty() {
+                    return vec![0.0; n];
+                }
+            }
+        }
+    }
+}
+
+/// Solves a small symmetric positive semi-definite system by Gaussian
+/// elimination with partial pivoting and a tiny ridge for near-singular sets.
+fn solve_symmetric(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+    let n = b.len();
+    let scale = (0..n).map(|i| a[i][i]).fold(0.0f64, f64::max).max(1e-300);
+    for (i, row) in a.iter_mut().enumerate() {
+        row[i] += 1e-12 * scale;
+    }
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs())).unwrap_or(col);
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        let p = a[col][col];
+        if p.abs() < 1e-300 {
+            continue;
+        }
+        for row in col + 1..n {
+            let f = a[row][col] / p;
+            for k in col..n {
+                a[row][k] -= f * a[col][k];
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for row in (0..n).rev() {
+        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
+        x[row] = if a[row][row].abs() > 1e-300 { (b[row] - s) / a[row][row] } else { 0.0 };
+    }
+    x
+}

@@ -1,0 +1,53 @@
+//! Optics of subsurface scattering, per RGB channel.
+//!
+//! Every length is in millimetres, every coefficient in 1/mm, and every
+//! reflectance or transmittance profile `R(r)`, `T(r)` in 1/mm² (flux leaving
+//! per unit area, per unit flux entering at the origin). The crate knows
+//! nothing of meshes or files other than material descriptions.
+//!
+//! Models:
+//! - [`Dipole`]: a semi-infinite medium (Mikkelsen eq. 30).
+//! - [`Multipole`]: one slab with its own boundaries above and below.
+//! - [`Layered`]: any stack of slabs over an optional semi-infinite base,
+//!   combined per spatial frequency and tabulated.
+//! - [`SumOfGaussians`]: a fit of any profile, or d'Eon's measured skin.
+//! - [`Burley`]: Christensen–Burley normalized diffusion, as Blender's Cycles uses it.
+//! - [`monte_carlo`]: photon transport through the stack, the ground truth.
+
+pub mod burley;
+pub mod dipole;
+pub mod fresnel;
+pub mod gaussians;
+pub mod hankel;
+pub mod inversion;
+pub mod layered;
+pub mod material;
+pub mod medium;
+pub mod model;
+pub mod monte_carlo;
+pub mod multipole;
+pub mod presets;
+pub mod profile;
+pub mod quadrature;
+pub mod rng;
+pub mod roots;
+pub mod slab;
+pub mod tabulated;
+
+pub use burley::Burley;
+pub use dipole::Dipole;
+pub use gaussians::{GaussianFit, SumOfGaussians};
+pub use layered::Layered;
+pub use material::{Layer, Material, MaterialError, Optics};
+pub use model::{Model, ModelError, build_profile};
+pub use multipole::Multipole;
+pub use profile::Profile;
+pub use tabulated::Tabulated;
+
+/// One value per colour channel, in the order red, green, blue.
+pub type Rgb = [f64; 3];
+
+/// Applies `f` to each channel.
+pub fn rgb_map(f: impl Fn(usize) -> f64) -> Rgb {
+    [f(0), f(1), f(2)]
+}

@@ -1,0 +1,115 @@
+//! Choosing and building the profile a material needs.
+
+use crate::burley::Burley;
+use crate::dipole::Dipole;
+use crate::gaussians::fit_gaussians;
+use crate::layered::Layered;
+use crate::material::{Layer, Material, Optics};
+use crate::multipole::{DEFAULT_ACCURACY, Multipole};
+use crate::profile::Profile;
+use std::fmt;
+use std::str::FromStr;
+
+/// The profile models sssbake offers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    /// Semi-infinite dipole (the top layer, taken as semi-infinite).
+    Dipole,
+    /// One slab by the multipole.
+    Multipole,
+    /// Any stack, combined per frequency.
+    Layered,
+    /// A sum of Gaussians (fitted, or measured for d'Eon skin).
+    Gaussians,
+    /// Christensen–Burley normalized diffusion matched to the material.
+    Burley,
+    /// The Monte Carlo photon-transport reference.
+    MonteCarlo,
+}
+
+impl Model {
+    /// Every model, in the order the command line lists them.
+    pub const ALL: [Model; 6] =
+        [Model::Dipole, Model::Multipole, Model::Layered, Model::Gaussians, Model::Burley, Model::MonteCarlo];
+
+    /// The model's command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Dipole => "dipole",
+            Model::Multipole => "multipole",
+            Model::Layered => "layered",
+            Model::Gaussians => "gaussians",
+            Model::Burley => "burley",
+            Model::MonteCarlo => "montecarlo",
+        }
+    }
+
+    /// The model a material needs: the dipole for one semi-infinite layer,
+    /// the layered solver for anything else, Gaussians for a measured sum.
+    pub fn default_for(material: &Material) -> Model {
+        match &material.optics {
+            Optics::Gaussians(_) => Model::Gaussians,
+            Optics::Layers(layers) if layers.len() == 1 && layers[0].thickness_mm.is_none() => Model::Dipole,
+            Optics::Layers(_) => Model::Layered,
+        }
+    }
+}
+
+impl fmt::Display for Model {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Model {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Model::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
+            let names: Vec<&str> = Model::ALL.iter().map(|m| m.name()).collect();
+            format!("unknown model `{s}` (expected one of {})", names.join(", "))
+        })
+    }
+}
+
+/// A model that cannot describe a material.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("material `{material}`: model {model}: {reason}")]
+pub struct ModelError {
+    /// The material's name.
+    pub material: String,
+    /// The model asked for.
+    pub model: Model,
+    /// Why it does not apply.
+    pub reason: String,
+}
+
+/// Builds `model` for `material`. Gaussians are fitted with `gaussians`
+/// terms to the material's default profile. Monte Carlo is not a closed
+/// profile; run [`crate::monte_carlo::simulate`] instead.
+pub fn build_profile(material: &Material, model: Model, gaussians: usize) -> Result<Box<dyn Profile>, ModelError> {
+    let error = |reason: &str| ModelError { material: material.name.clone(), model, reason: reason.to_string() };
+    let layers: &[Layer] = match (&material.optics, model) {
+        (Optics::Gaussians(g), Model::Gaussians) => return Ok(Box::new(g.clone())),
+        (Optics::Gaussians(g), Model::Burley) => return Ok(Box::new(Burley::matching(g))),
+        (Optics::Gaussians(_), _) => {
+            return Err(error("a measured sum of Gaussians has no optical coefficients; use gaussians or burley"));
+        }
+        (Optics::Layers(layers), _) => layers,
+    };
+    let Some(top) = layers.first() else { return Err(error("the material has no layers")) };
+    Ok(match model {
+        Model::Dipole => Box::new(Dipole::new([0, 1, 2].map(|c| top.medium(c)), top.ior)),
+        Model::Multipole if layers.len() == 1 => Box::new(Multipole::new(top, DEFAULT_ACCURACY)),
+        Model::Multipole => return Err(error("the multipole describes one slab; this material has several layers (use layered)")),
+        Model::Layered => Box::new(Layered::new(layers)),
+        Model::Gaussians | Model::Burley => {
+            let reference = build_profile(material, Model::default_for(material), gaussians)?;
+            if model == Model::Burley {
+                Box::new(Burley::matching(reference.as_ref()))
+            } else {
+                Box::new(fit_gaussians(reference.as_ref(), gaussians).gaussians)
+            }
+        }
+        Model::MonteCarlo => return Err(error("Monte Carlo is a simulation, not a closed profile; run it with monte_carlo::simulate")),
+    })
+}

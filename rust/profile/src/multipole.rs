@@ -1,0 +1,85 @@
+//! One slab's reflectance and transmittance by the multipole, summed in real
+//! space with as many image pairs as the requested accuracy needs.
+
+use crate::layered::{Stack, tabulate};
+use crate::material::Layer;
+use crate::profile::Profile;
+use crate::slab::SlabChannel;
+use crate::tabulated::Tabulated;
+use crate::{Rgb, rgb_map};
+
+/// Relative accuracy of the totals used to choose the pole count.
+pub const DEFAULT_ACCURACY: f64 = 1e-6;
+
+/// A single slab (or semi-infinite layer) under air, with air below.
+#[derive(Clone, Debug)]
+pub struct Multipole {
+    slabs: [SlabChannel; 3],
+    /// Image pairs per channel; `None` where the series converges too
+    /// slowly and the exact frequency form is tabulated instead.
+    pairs: [Option<usize>; 3],
+    table: Option<Tabulated>,
+}
+
+impl Multipole {
+    /// The multipole of `layer` with pole counts chosen so that the summed
+    /// totals are within `accuracy` (relative) of the exact ones.
+    pub fn new(layer: &Layer, accuracy: f64) -> Self {
+        let stack = Stack::new(std::slice::from_ref(layer));
+        let slabs = [0, 1, 2].map(|c| stack.channel(c)[0].clone());
+        let pairs = [0, 1, 2].map(|c| slabs[c].pole_pairs_for(accuracy));
+        let table = pairs.iter().any(Option::is_none).then(|| tabulate("multipole", &stack));
+        Self { slabs, pairs, table }
+    }
+
+    /// Image pairs summed per channel (`None`: tabulated from the closed form).
+    pub fn pole_pairs(&self) -> [Option<usize>; 3] {
+        self.pairs
+    }
+
+    fn per_channel(
+        &self,
+        poles: impl Fn(&SlabChannel, usize) -> f64,
+        table: impl Fn(&Tabulated) -> Rgb,
+    ) -> Rgb {
+        let tabulated = self.table.as_ref().map(table);
+        rgb_map(|c| match (self.pairs[c], tabulated) {
+            (Some(n), _) => poles(&self.slabs[c], n),
+            (None, Some(t)) => t[c],
+            (None, None) => unreachable!("a table exists whenever a channel lacks a pole count"),
+        })
+    }
+}
+
+impl Profile for Multipole {
+    fn model(&self) -> &'static str {
+        "multipole"
+    }
+
+    fn reflectance(&self, r: f64) -> Rgb {
+        self.per_channel(|s, n| s.reflectance(r, n), |t| t.reflectance(r))
+    }
+
+    fn transmittance(&self, r: f64) -> Rgb {
+        self.per_channel(|s, n| s.transmittance(r, n), |t| t.transmittance(r))
+    }
+
+    fn total_reflectance(&self) -> Rgb {
+        rgb_map(|c| self.slabs[c].frequency_response(0.0).down.reflectance)
+    }
+
+    fn total_transmittance(&self) -> Rgb {
+        rgb_map(|c| self.slabs[c].frequency_response(0.0).down.transmittance)
+    }
+
+    fn enclosed_reflectance(&self, r: f64) -> Rgb {
+        self.per_channel(|s, n| s.enclosed_reflectance(r, n), |t| t.enclosed_reflectance(r))
+    }
+
+    fn length_scale(&self) -> Rgb {
+        rgb_map(|c| {
+            let (shortest, longest) = self.slabs[c].length_scales();
+            (shortest * longest).sqrt()
+        })
+    }
+}

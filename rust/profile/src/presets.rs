@@ -1,0 +1,59 @@
+//! Named materials: the measured media of Jensen et al. 2001, the three-layer
+//! skin of Donner & Jensen 2005, and d'Eon & Luebke's six-Gaussian skin.
+
+use crate::gaussians::SumOfGaussians;
+use crate::material::{Layer, Material, Optics};
+use crate::Rgb;
+
+/// Jensen et al. 2001, table of measured parameters: name, σs' (1/mm) and
+/// σa (1/mm) per channel. All were measured with η = 1.3 and are given as
+/// reduced scattering, so the layers have g = 0 and σs = σs'.
+const JENSEN_2001: [(&str, Rgb, Rgb); 12] = [
+    ("apple", [2.29, 2.39, 1.97], [0.0030, 0.0034, 0.046]),
+    ("chicken1", [0.15, 0.21, 0.38], [0.015, 0.077, 0.19]),
+    ("chicken2", [0.19, 0.25, 0.32], [0.018, 0.088, 0.20]),
+    ("cream", [7.38, 5.47, 3.15], [0.0002, 0.0028, 0.0163]),
+    ("ketchup", [0.18, 0.07, 0.03], [0.061, 0.97, 1.45]),
+    ("marble", [2.19, 2.62, 3.00], [0.0021, 0.0041, 0.0071]),
+    ("potato", [0.68, 0.70, 0.55], [0.0024, 0.0090, 0.12]),
+    ("skimmilk", [0.70, 1.22, 1.90], [0.0014, 0.0025, 0.0142]),
+    ("skin1", [0.74, 0.88, 1.01], [0.032, 0.17, 0.48]),
+    ("skin2", [1.09, 1.59, 1.79], [0.013, 0.070, 0.145]),
+    ("spectralon", [11.6, 20.4, 14.9], [0.0, 0.0, 0.0]),
+    ("wholemilk", [2.55, 3.21, 3.77], [0.0011, 0.0024, 0.014]),
+];
+
+/// Index of refraction used by Jensen et al. 2001 for every measured medium.
+pub const JENSEN_IOR: f64 = 1.3;
+
+/// Donner & Jensen 2005 table 3 (Mikkelsen table 2): epidermis, upper
+/// dermis and a semi-infinite bloody dermis; σa, σs in 1/mm, thickness in mm.
+fn three_layer_skin() -> Vec<Layer> {
+    vec![
+        Layer { sigma_a: [2.1, 2.1, 5.0], sigma_s: [48.0, 60.0, 65.0], g: 0.0, ior: 1.4, thickness_mm: Some(0.03) },
+        Layer { sigma_a: [0.16, 0.19, 0.30], sigma_s: [32.0, 40.0, 46.0], g: 0.25, ior: 1.34, thickness_mm: Some(0.05) },
+        Layer { sigma_a: [0.085, 1.0, 25.0], sigma_s: [4.5, 4.7, 4.8], g: 0.8, ior: 1.4, thickness_mm: None },
+    ]
+}
+
+/// Every preset name with a one-line description.
+pub fn list() -> Vec<(&'static str, &'static str)> {
+    let mut names: Vec<(&str, &str)> =
+        JENSEN_2001.iter().map(|(n, _, _)| (*n, "measured medium, Jensen et al. 2001 (dipole, η = 1.3)")).collect();
+    names.push(("skin3layer", "epidermis, upper and bloody dermis, Donner & Jensen 2005"));
+    names.push(("deon-skin", "six-Gaussian skin of d'Eon & Luebke 2007 (a profile, no coefficients)"));
+    names
+}
+
+/// The preset called `name`, if there is one.
+pub fn preset(name: &str) -> Option<Material> {
+    let optics = match name {
+        "skin3layer" => Optics::Layers(three_layer_skin()),
+        "deon-skin" => Optics::Gaussians(SumOfGaussians::deon_skin()),
+        _ => {
+            let (_, sigma_s_reduced, sigma_a) = JENSEN_2001.iter().find(|(n, _, _)| *n == name)?;
+            Optics::Layers(vec![Layer::semi_infinite(*sigma_a, *sigma_s_reduced, JENSEN_IOR)])
+        }
+    };
+    Some(Material { name: name.to_string(), optics })
+}

@@ -1,0 +1,52 @@
+//! The interface every reflectance profile offers, whatever model made it.
+
+use crate::Rgb;
+use crate::roots::radius_where;
+
+/// A radially symmetric diffusion profile per RGB channel.
+///
+/// `reflectance(r)` is the flux leaving the lit face per unit area at
+/// distance `r` (mm) from where a unit flux entered, in 1/mm²; the total
+/// ∫ 2πr R(r) dr is the diffuse reflectance. `transmittance` is the same
+/// at the opposite face of a slab.
+pub trait Profile: Send + Sync {
+    /// The model's name as the command line spells it.
+    fn model(&self) -> &'static str;
+
+    /// R(r) in 1/mm² at radius `r_mm`.
+    fn reflectance(&self, r_mm: f64) -> Rgb;
+
+    /// T(r) in 1/mm² at radius `r_mm`; zero for semi-infinite media.
+    fn transmittance(&self, _r_mm: f64) -> Rgb {
+        [0.0; 3]
+    }
+
+    /// Total diffuse reflectance ∫ 2πr R(r) dr (dimensionless).
+    fn total_reflectance(&self) -> Rgb;
+
+    /// Total diffuse transmittance ∫ 2πr T(r) dr (dimensionless).
+    fn total_transmittance(&self) -> Rgb {
+        [0.0; 3]
+    }
+
+    /// Reflectance inside radius `r_mm`: ∫_0^r 2πs R(s) ds.
+    fn enclosed_reflectance(&self, r_mm: f64) -> Rgb;
+
+    /// A radius (mm) typical of the profile's spread, per channel; where
+    /// searches start.
+    fn length_scale(&self) -> Rgb;
+
+    /// The radius d_max (mm) holding all but a fraction `epsilon` of the
+    /// reflectance (Mikkelsen eq. 40 generalised), per channel.
+    fn d_max(&self, epsilon: f64) -> Rgb {
+        let scale = self.length_scale();
+        let whole = self.enclosed_reflectance(f64::INFINITY);
+        crate::rgb_map(|c| {
+            if whole[c] <= 0.0 || !whole[c].is_finite() {
+                return 0.0;
+            }
+            let target = (1.0 - epsilon.clamp(0.0, 1.0)) * whole[c];
+            radius_where(|r| self.enclosed_reflectance(r)[c], target, scale[c])
+        })
+    }
+}
