@@ -61,6 +61,12 @@ impl Stack {
         slabs.fold(first, |above, slab| combine(above, slab.frequency_response(k)))
     }
 
+    /// Light crossing the whole stack unscattered in channel `c`: the limit
+    /// of T̂(k) as k → ∞, where every reflectance vanishes.
+    pub fn ballistic(&self, c: usize) -> f64 {
+        self.channels[c].iter().map(SlabChannel::ballistic).product()
+    }
+
     /// (shortest, longest) length in mm over all slabs and channels.
     pub fn length_scales(&self) -> (f64, f64) {
         let mut scales = (f64::INFINITY, 0.0f64);
@@ -123,7 +129,7 @@ pub fn tabulate(model: &'static str, stack: &Stack) -> Tabulated {
             for c in 0..3 {
                 let down = stack.frequency_response(c, k).down;
                 out[2 * c] = down.reflectance;
-                out[2 * c + 1] = down.transmittance;
+                out[2 * c + 1] = down.transmittance - stack.ballistic(c);
             }
         },
         r_min,
@@ -143,7 +149,7 @@ pub fn tabulate(model: &'static str, stack: &Stack) -> Tabulated {
     let totals = |offset: usize| {
         rgb_map(|c| {
             let response = stack.frequency_response(c, 0.0).down;
-            if offset == 0 { response.reflectance } else { response.transmittance }
+            if offset == 0 { response.reflectance } else { response.transmittance - stack.ballistic(c) }
         })
     };
     Tabulated::new(
@@ -171,6 +177,9 @@ impl Profile for Layered {
     }
     fn total_transmittance(&self) -> Rgb {
         self.table.total_transmittance()
+    }
+    fn ballistic_transmittance(&self) -> Rgb {
+        rgb_map(|c| self.stack.ballistic(c))
     }
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
         self.table.enclosed_reflectance(r)

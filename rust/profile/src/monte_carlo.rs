@@ -34,6 +34,18 @@ pub struct Settings {
     pub seed: u64,
     /// Radial bin edges in mm, increasing, starting at 0 or above.
     pub edges_mm: Vec<f64>,
+    /// A photon still alive after this many interactions is dropped and
+    /// counted in [`MonteCarlo::truncated`] (walks in nearly lossless media
+    /// can be arbitrarily long).
+    pub max_interactions: u64,
+}
+
+impl Settings {
+    /// `photons` photons with `seed`, binned at `edges_mm`, at most a
+    /// million interactions each.
+    pub fn new(photons: u64, seed: u64, edges_mm: Vec<f64>) -> Self {
+        Self { photons, seed, edges_mm, max_interactions: 1_000_000 }
+    }
 }
 
 /// Tallies with their standard errors, per channel.
@@ -69,6 +81,8 @@ pub struct MonteCarlo {
     pub photons: u64,
     /// Scattering and absorption events simulated, all channels.
     pub interactions: u64,
+    /// Weight dropped with photons that reached the interaction limit, per channel.
+    pub truncated: Rgb,
 }
 
 /// Sums of weights and squared weights, per bin and in total.
@@ -79,6 +93,7 @@ struct Tally {
     reflect_total: [f64; 2],
     transmit_total: [f64; 2],
     unscattered: [f64; 2],
+    truncated: f64,
     interactions: u64,
 }
 
@@ -90,6 +105,7 @@ impl Tally {
             reflect_total: [0.0; 2],
             transmit_total: [0.0; 2],
             unscattered: [0.0; 2],
+            truncated: 0.0,
             interactions: 0,
         }
     }
@@ -104,6 +120,7 @@ impl Tally {
         add(&mut self.reflect_total, &other.reflect_total);
         add(&mut self.transmit_total, &other.transmit_total);
         add(&mut self.unscattered, &other.unscattered);
+        self.truncated += other.truncated;
         self.interactions += other.interactions;
         self
     }
@@ -154,7 +171,7 @@ pub fn simulate(layers: &[Layer], settings: &Settings) -> MonteCarlo {
                 let mut rng = Rng::new(settings.seed, ((c as u64) << 40) | chunk);
                 let mut tally = Tally::new(bins);
                 for _ in 0..count {
-                    trace_photon(&slabs, &edges, &mut rng, &mut tally);
+                    trace_photon(&slabs, &edges, settings.max_interactions, &mut rng, &mut tally);
                 }
                 tally
             })
@@ -174,6 +191,7 @@ pub fn simulate(layers: &[Layer], settings: &Settings) -> MonteCarlo {
             mean_and_error(total.transmit_total);
         result.unscattered_reflectance[c] = total.unscattered[0] / n;
         result.unscattered_transmittance[c] = total.unscattered[1] / n;
+        result.truncated[c] = total.truncated / n;
         result.interactions += total.interactions;
     }
     result
@@ -199,12 +217,13 @@ fn channel_slabs(layers: &[Layer], c: usize) -> Vec<Slab> {
         .collect()
 }
 
-fn trace_photon(slabs: &[Slab], edges: &[f64], rng: &mut Rng, tally: &mut Tally) {
+fn trace_photon(slabs: &[Slab], edges: &[f64], max_interactions: u64, rng: &mut Rng, tally: &mut Tally) {
     let mut position = [0.0f64; 3];
     let mut direction = [0.0, 0.0, 1.0];
     let mut layer = 0usize;
     let mut weight = 1.0;
     let mut scattered = false;
+    let mut interactions = 0u64;
     loop {
         let slab = &slabs[layer];
         let step = if slab.sigma_t > 0.0 { -rng.uniform_open().ln() / slab.sigma_t } else { f64::INFINITY };
@@ -245,6 +264,11 @@ fn trace_photon(slabs: &[Slab], edges: &[f64], rng: &mut Rng, tally: &mut Tally)
             *p += step * d;
         }
         tally.interactions += 1;
+        interactions += 1;
+        if interactions > max_interactions {
+            tally.truncated += weight;
+            return;
+        }
         scattered = true;
         weight *= slab.albedo;
         direction = scatter(direction, slab.g, rng);

@@ -69,7 +69,11 @@ impl Profile for Multipole {
     }
 
     fn total_transmittance(&self) -> Rgb {
-        rgb_map(|c| self.slabs[c].frequency_response(0.0).down.transmittance)
+        rgb_map(|c| self.slabs[c].frequency_response(0.0).down.transmittance - self.slabs[c].ballistic())
+    }
+
+    fn ballistic_transmittance(&self) -> Rgb {
+        rgb_map(|c| self.slabs[c].ballistic())
     }
 
     fn enclosed_reflectance(&self, r: f64) -> Rgb {

@@ -29,6 +29,12 @@ pub trait Profile: Send + Sync {
         [0.0; 3]
     }
 
+    /// Light crossing a slab without scattering: a delta at r = 0 that is
+    /// not part of T(r) nor of the total transmittance.
+    fn ballistic_transmittance(&self) -> Rgb {
+        [0.0; 3]
+    }
+
     /// Reflectance inside radius `r_mm`: ∫_0^r 2πs R(s) ds.
     fn enclosed_reflectance(&self, r_mm: f64) -> Rgb;
 

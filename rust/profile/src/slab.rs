@@ -44,6 +44,9 @@ pub struct SlabResponse {
 pub struct SlabChannel {
     /// Source strength: α', reduced for slabs thinner than two mean free paths.
     strength: f64,
+    /// Light crossing a thin slab without interacting (a delta in T), 0 for
+    /// slabs at least two mean free paths thick.
+    ballistic: f64,
     /// σtr, 1/mm.
     sigma_tr: f64,
     /// Thickness d in mm; infinite for a semi-infinite medium.
@@ -62,22 +65,24 @@ impl SlabChannel {
     /// `eta_bottom` = n_slab/n_below.
     ///
     /// The diffusion source sits one mean free path ℓ deep. A slab thinner
-    /// than 2ℓ cannot hold it: there the source moves to mid-depth and carries
-    /// only the light that interacts inside the slab, (1 − e^{−σt' d}),
-    /// scaled to meet the ordinary multipole continuously at d = 2ℓ. As
+    /// than 2ℓ cannot hold it: there the source moves to mid-depth and takes
+    /// a share w = (1 − e^{−σt' d})/(1 − e^{−2}) of the light, the share that
+    /// interacts inside the slab scaled to meet the ordinary multipole
+    /// continuously at d = 2ℓ; the rest, 1 − w, crosses unscattered. As
     /// d → 0 the slab becomes transparent instead of producing nonsense.
     pub fn new(medium: Medium, thickness_mm: f64, eta_top: f64, eta_bottom: f64) -> Self {
         let sigma_t = medium.sigma_t_reduced();
         let diffusion = medium.diffusion();
         let ell = medium.mean_free_path();
-        let mut strength = medium.albedo_reduced();
+        let mut share = 1.0;
         let mut source_depth = ell;
         if thickness_mm < 2.0 * ell {
             source_depth = 0.5 * thickness_mm;
-            strength *= -(-sigma_t * thickness_mm).exp_m1() / -(-2.0f64).exp_m1();
+            share = (-(-sigma_t * thickness_mm).exp_m1() / -(-2.0f64).exp_m1()).clamp(0.0, 1.0);
         }
         Self {
-            strength,
+            strength: medium.albedo_reduced() * share,
+            ballistic: 1.0 - share,
             sigma_tr: medium.sigma_tr(),
             thickness: thickness_mm,
             source_depth,
@@ -89,6 +94,13 @@ impl SlabChannel {
     /// True for a semi-infinite medium.
     pub fn is_semi_infinite(&self) -> bool {
         self.thickness.is_infinite()
+    }
+
+    /// Fraction of the light crossing the slab unscattered: a delta at
+    /// r = 0 that [`Self::frequency_response`] includes in T̂ and the
+    /// real-space T(r) leaves out.
+    pub fn ballistic(&self) -> f64 {
+        self.ballistic
     }
 
     /// σtr, 1/mm.
@@ -114,7 +126,8 @@ impl SlabChannel {
     }
 
     /// Closed-form responses at angular spatial frequency `k` (rad/mm); at
-    /// k = 0 they are the exact total reflectance and transmittance.
+    /// k = 0 they are the exact total reflectance and transmittance. The
+    /// transmittances include the unscattered light, [`Self::ballistic`].
     pub fn frequency_response(&self, k: f64) -> SlabResponse {
         let q = (self.sigma_tr * self.sigma_tr + k * k).sqrt();
         SlabResponse {
@@ -150,7 +163,8 @@ impl SlabChannel {
             transmittance: half
                 * (-q * (d - z)).exp()
                 * (1.0 + (-2.0 * q * zb_far).exp())
-                * ratio(z + zb_near),
+                * ratio(z + zb_near)
+                + self.ballistic,
         }
     }
 
@@ -177,7 +191,8 @@ impl SlabChannel {
             return Some(0);
         }
         let exact = self.frequency_response(0.0).down;
-        let tolerance = accuracy * (exact.reflectance + exact.transmittance).max(1e-300);
+        let diffuse_transmittance = exact.transmittance - self.ballistic;
+        let tolerance = accuracy * (exact.reflectance + diffuse_transmittance).max(1e-300);
         let (mut r, mut t) = (0.0, 0.0);
         for n in 0..=MAX_POLE_PAIRS as i64 {
             for i in if n == 0 { vec![0] } else { vec![-n, n] } {
@@ -186,7 +201,7 @@ impl SlabChannel {
                 t += self.pole_total(self.thickness - zr) - self.pole_total(self.thickness - zv);
             }
             if (r - exact.reflectance).abs() <= tolerance
-                && (t - exact.transmittance).abs() <= tolerance
+                && (t - diffuse_transmittance).abs() <= tolerance
             {
                 return Some(n as usize);
             }

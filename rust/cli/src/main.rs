@@ -1,0 +1,59 @@
+//! `sssbake`: bakes subsurface scattering into textures.
+//!
+//! Exit codes: 0 success; 1 bad input (unknown preset, invalid material
+//! file, a model that does not fit the material); 2 bad command line;
+//! 3 an output could not be written.
+
+mod atomic_write;
+mod plot;
+mod profile_command;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "sssbake", version, about = "Bake subsurface scattering into textures")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Print and plot a material's diffusion reflectance profile.
+    Profile(profile_command::ProfileArgs),
+    /// List the material presets.
+    Presets,
+}
+
+/// A failure with the exit code it maps to.
+pub enum Failure {
+    /// Bad input: exit code 1.
+    Input(String),
+    /// An output could not be written: exit code 3.
+    Output(String),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Profile(args) => profile_command::run(&args),
+        Command::Presets => {
+            for (name, description) in sssbake_profile::presets::list() {
+                println!("{name:<12} {description}");
+            }
+            Ok(())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Input(message)) => {
+            eprintln!("error: {message}");
+            ExitCode::from(1)
+        }
+        Err(Failure::Output(message)) => {
+            eprintln!("error: {message}");
+            ExitCode::from(3)
+        }
+    }
+}
