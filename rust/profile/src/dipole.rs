@@ -109,3 +109,40 @@ impl Profile for Dipole {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn skin1() -> Dipole {
+        let media = [(0.032, 0.74), (0.17, 0.88), (0.48, 1.01)]
+            .map(|(sigma_a, sigma_s_reduced)| Medium { sigma_a, sigma_s_reduced });
+        Dipole::new(media, 1.3)
+    }
+
+    #[test]
+    fn eq_40_agrees_with_the_enclosed_reflectance() {
+        let dipole = skin1();
+        let total = dipole.total_reflectance();
+        for s in [0.01, 0.5, 2.0, 10.0] {
+            let outside = dipole.fraction_outside(s);
+            let enclosed = dipole.enclosed_reflectance(s);
+            for c in 0..3 {
+                assert!((outside[c] - (1.0 - enclosed[c] / total[c])).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn d_max_holds_all_but_epsilon() {
+        let dipole = skin1();
+        for epsilon in [1e-1, 1e-3, 1e-6] {
+            let d_max = dipole.d_max(epsilon);
+            let outside = rgb_map(|c| dipole.fraction_outside(d_max[c])[c]);
+            for c in 0..3 {
+                assert!((outside[c] - epsilon).abs() < 1e-9 * epsilon.max(1e-3), "{epsilon}: {outside:?}");
+            }
+        }
+        assert!(skin1().d_max(1e-3)[0] > skin1().d_max(1e-3)[2], "red reaches farther than blue");
+    }
+}

@@ -76,12 +76,15 @@ pub struct GaussianFit {
 }
 
 /// Fits `count` Gaussians per channel to `profile`: non-negative weights by
-/// least squares for given variances, variances by pattern search in ln v.
+/// least squares for given variances, variances by pattern search in ln v
+/// within the profile's reach. The weights also honour the profile's total
+/// reflectance (a stiff penalty on Σw − R_total), so the fit neither gains
+/// nor loses energy in Gaussians wider than the sampled range.
 pub fn fit_gaussians(profile: &dyn Profile, count: usize) -> GaussianFit {
     let count = count.clamp(1, 16);
     let reach = profile.d_max(1e-5);
     let fits: Vec<(Vec<(f64, f64)>, f64)> = (0..3)
-        .map(|c| fit_channel(|r| profile.reflectance(r)[c], reach[c], count))
+        .map(|c| fit_channel(|r| profile.reflectance(r)[c], profile.total_reflectance()[c], reach[c], count))
         .collect();
     GaussianFit {
         gaussians: SumOfGaussians { terms: [0, 1, 2].map(|c| fits[c].0.clone()) },
@@ -89,8 +92,8 @@ pub fn fit_gaussians(profile: &dyn Profile, count: usize) -> GaussianFit {
     }
 }
 
-fn fit_channel(profile: impl Fn(f64) -> f64, reach: f64, count: usize) -> (Vec<(f64, f64)>, f64) {
-    if !(reach > 0.0 && reach.is_finite()) {
+fn fit_channel(profile: impl Fn(f64) -> f64, total: f64, reach: f64, count: usize) -> (Vec<(f64, f64)>, f64) {
+    if !(reach > 0.0 && reach.is_finite() && total > 0.0) {
         return (vec![], 0.0);
     }
     // Quadrature of ∫ r f² dr = ∫ r² f² d(ln r) on a log grid up to the reach.
@@ -98,17 +101,22 @@ fn fit_channel(profile: impl Fn(f64) -> f64, reach: f64, count: usize) -> (Vec<(
     let r_lo = reach * 1e-5;
     let h = (reach / r_lo).ln() / (samples - 1) as f64;
     let radii: Vec<f64> = (0..samples).map(|i| r_lo * (i as f64 * h).exp()).collect();
-    let target: Vec<f64> = radii.iter().map(|&r| profile(r)).collect();
-    let quad: Vec<f64> = radii.iter().map(|r| r * r * h).collect();
+    let mut target: Vec<f64> = radii.iter().map(|&r| profile(r)).collect();
+    let mut quad: Vec<f64> = radii.iter().map(|r| r * r * h).collect();
     let norm: f64 = target.iter().zip(&quad).map(|(t, q)| q * t * t).sum();
-    if norm <= 0.0 {
+    if !(norm > 0.0 && norm.is_finite()) {
         return (vec![], 0.0);
     }
+    // One more row: Σw = total, weighted so a 1% miss costs the whole norm.
+    target.push(total);
+    quad.push(1e4 * norm / (total * total));
 
+    let (v_lo, v_hi) = ((10.0 * r_lo).powi(2), (reach / 3.0).powi(2));
+    let (x_min, x_max) = ((r_lo * r_lo).ln(), (reach * reach).ln());
     let objective = |log_vars: &[f64]| -> (f64, Vec<f64>) {
         let columns: Vec<Vec<f64>> = log_vars
             .iter()
-            .map(|lv| radii.iter().map(|&r| gaussian(lv.exp(), r)).collect())
+            .map(|lv| radii.iter().map(|&r| gaussian(lv.exp(), r)).chain([1.0]).collect())
             .collect();
         let weights = non_negative_least_squares(&columns, &target, &quad);
         let error: f64 = (0..samples)
@@ -121,7 +129,6 @@ fn fit_channel(profile: impl Fn(f64) -> f64, reach: f64, count: usize) -> (Vec<(
     };
 
     // Start from variances spread geometrically over the profile's range.
-    let (v_lo, v_hi) = ((10.0 * r_lo).powi(2), (reach / 3.0).powi(2));
     let mut x: Vec<f64> = (0..count)
         .map(|k| {
             let t = if count == 1 { 0.5 } else { k as f64 / (count - 1) as f64 };
@@ -135,7 +142,7 @@ fn fit_channel(profile: impl Fn(f64) -> f64, reach: f64, count: usize) -> (Vec<(
         for k in 0..count {
             for direction in [1.0, -1.0] {
                 let mut trial = x.clone();
-                trial[k] += direction * step;
+                trial[k] = (trial[k] + direction * step).clamp(x_min, x_max);
                 let value = objective(&trial).0;
                 if value < best {
                     best = value;

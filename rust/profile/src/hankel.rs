@@ -89,11 +89,11 @@ fn kernel_phases(n: usize, step: f64) -> Vec<Complex64> {
         .collect()
 }
 
-/// ln Γ(z) for Re z > 0 by recurrence to |z| ≥ 8 and Stirling's series.
+/// ln Γ(z) for Re z > 0 by recurrence to |z| ≥ 12 and Stirling's series.
 fn ln_gamma(z: Complex64) -> Complex64 {
     let mut shift = Complex64::new(0.0, 0.0);
     let mut w = z;
-    while w.norm() < 8.0 {
+    while w.norm() < 12.0 {
         shift += w.ln();
         w += 1.0;
     }

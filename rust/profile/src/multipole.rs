@@ -18,6 +18,8 @@ pub struct Multipole {
     /// Image pairs per channel; `None` where the series converges too
     /// slowly and the exact frequency form is tabulated instead.
     pairs: [Option<usize>; 3],
+    /// Largest error the left-out images can make in R(r) or T(r), per channel.
+    truncation: [f64; 3],
     table: Option<Tabulated>,
 }
 
@@ -29,7 +31,8 @@ impl Multipole {
         let slabs = [0, 1, 2].map(|c| stack.channel(c)[0].clone());
         let pairs = [0, 1, 2].map(|c| slabs[c].pole_pairs_for(accuracy));
         let table = pairs.iter().any(Option::is_none).then(|| tabulate("multipole", &stack));
-        Self { slabs, pairs, table }
+        let truncation = [0, 1, 2].map(|c| pairs[c].map_or(0.0, |n| slabs[c].truncation_bound(n)));
+        Self { slabs, pairs, truncation, table }
     }
 
     /// Image pairs summed per channel (`None`: tabulated from the closed form).
@@ -44,7 +47,12 @@ impl Multipole {
     ) -> Rgb {
         let tabulated = self.table.as_ref().map(table);
         rgb_map(|c| match (self.pairs[c], tabulated) {
-            (Some(n), _) => poles(&self.slabs[c], n),
+            // A value negative by less than what the left-out images can
+            // contribute is zero within the series' accuracy.
+            (Some(n), _) => match poles(&self.slabs[c], n) {
+                v if v < 0.0 && -v <= self.truncation[c] => 0.0,
+                v => v,
+            },
             (None, Some(t)) => t[c],
             (None, None) => unreachable!("a table exists whenever a channel lacks a pole count"),
         })

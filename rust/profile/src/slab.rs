@@ -209,6 +209,31 @@ impl SlabChannel {
         None
     }
 
+    /// A bound on |R(r)| and |T(r)| of the images left out when summing
+    /// `pairs` pairs, at any r: each pole contributes at most
+    /// (1 + σ|z|)e^{−σ|z|}/(4πz²) (ρ ≥ |z|), and pair i lies at least
+    /// (i − 2) periods from either face.
+    pub fn truncation_bound(&self, pairs: usize) -> f64 {
+        if self.is_semi_infinite() {
+            return 0.0;
+        }
+        let mut bound = 0.0;
+        for i in (pairs + 1).max(3)..pairs + 100_000 {
+            let z = (i - 2) as f64 * self.period();
+            let term = 4.0 * (1.0 + self.sigma_tr * z) * (-self.sigma_tr * z).exp() / (4.0 * PI * z * z);
+            bound += term;
+            if term < 1e-6 * bound {
+                break;
+            }
+        }
+        if pairs < 3 {
+            // Pairs 1..3 are closer than the estimate assumes: bound them
+            // by the nearest possible distance, one slab thickness.
+            bound += 8.0 / (4.0 * PI * self.thickness * self.thickness);
+        }
+        self.strength * bound
+    }
+
     fn pole_total(&self, z: f64) -> f64 {
         0.5 * self.strength * z.signum() * (-self.sigma_tr * z.abs()).exp()
     }
@@ -250,13 +275,24 @@ impl SlabChannel {
     fn sum_poles(&self, pairs: usize, term: impl Fn(f64, f64) -> f64) -> f64 {
         let n = if self.is_semi_infinite() { 0 } else { pairs as i64 };
         // Smallest terms first keeps the alternating sum accurate.
-        let mut sum = 0.0;
+        let (mut sum, mut magnitude) = (0.0, 0.0);
+        let mut add = |(zr, zv): (f64, f64)| {
+            let t = term(zr, zv);
+            sum += t;
+            magnitude += t.abs();
+        };
         for i in (1..=n).rev() {
-            let (a, b) = (self.poles(i), self.poles(-i));
-            sum += term(a.0, a.1) + term(b.0, b.1);
+            add(self.poles(i));
+            add(self.poles(-i));
         }
-        let (zr, zv) = self.poles(0);
-        self.strength * (sum + term(zr, zv))
+        add(self.poles(0));
+        // Far out (r ≫ |z|) the images cancel to below the round-off of
+        // ρ = √(r² + z²) in each term, and the sign of what is left is
+        // noise; a larger negative would be a real error and stays.
+        if sum < 0.0 && -sum <= 1e-9 * magnitude {
+            sum = 0.0;
+        }
+        self.strength * sum
     }
 }
 
