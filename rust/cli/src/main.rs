@@ -12,7 +12,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "sssbake", version, about = "Bake subsurface scattering into textures")]
+#[command(
+    name = "sssbake",
+    version,
+    about = "Bake subsurface scattering into textures"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -36,10 +36,18 @@ pub fn render_svg(title: &str, curves: &[Curve]) -> String {
         width / 2.0,
         escape(title)
     );
-    let r_max = curves.iter().flat_map(|c| c.points.iter().map(|p| p.0)).fold(0.0, f64::max).max(1e-12);
+    let r_max = curves
+        .iter()
+        .flat_map(|c| c.points.iter().map(|p| p.0))
+        .fold(0.0, f64::max)
+        .max(1e-12);
     let r_max = nice_ceiling(r_max);
     let lines: Vec<&Curve> = curves.iter().filter(|c| !c.markers).collect();
-    let scaled: Vec<&Curve> = if lines.is_empty() { curves.iter().collect() } else { lines };
+    let scaled: Vec<&Curve> = if lines.is_empty() {
+        curves.iter().collect()
+    } else {
+        lines
+    };
     let panels = [
         ("R(r) [1/mm²], log", false, true),
         ("R(r) [1/mm²], linear", false, false),
@@ -50,8 +58,24 @@ pub fn render_svg(title: &str, curves: &[Curve]) -> String {
         let x0 = MARGIN_L + (i % 2) as f64 * (PANEL_W + GAP_X);
         let y0 = MARGIN_T + (i / 2) as f64 * (PANEL_H + GAP_Y);
         // Linear axes zoom onto the radii where the profile is visible at all.
-        let r_max = if log { r_max } else { nice_ceiling(visible_reach(&scaled, weighted).min(r_max)) };
-        panel(&mut svg, curves, &scaled, Frame { x0, y0, r_max, weighted, log }, label);
+        let r_max = if log {
+            r_max
+        } else {
+            nice_ceiling(visible_reach(&scaled, weighted).min(r_max))
+        };
+        panel(
+            &mut svg,
+            curves,
+            &scaled,
+            Frame {
+                x0,
+                y0,
+                r_max,
+                weighted,
+                log,
+            },
+            label,
+        );
     }
     legend(&mut svg, curves, MARGIN_L, height - 18.0);
     svg.push_str("</svg>");
@@ -78,17 +102,29 @@ impl Frame {
 /// The largest radius at which some curve still reaches 1% of its peak.
 fn visible_reach(curves: &[&Curve], weighted: bool) -> f64 {
     let value = |r: f64, v: f64| if weighted { r * v } else { v };
-    let peak = curves.iter().flat_map(|c| c.points.iter().map(|&(r, v)| value(r, v))).fold(0.0, f64::max);
+    let peak = curves
+        .iter()
+        .flat_map(|c| c.points.iter().map(|&(r, v)| value(r, v)))
+        .fold(0.0, f64::max);
     curves
         .iter()
-        .flat_map(|c| c.points.iter().filter(|&&(r, v)| value(r, v) >= 0.01 * peak).map(|p| p.0))
+        .flat_map(|c| {
+            c.points
+                .iter()
+                .filter(|&&(r, v)| value(r, v) >= 0.01 * peak)
+                .map(|p| p.0)
+        })
         .fold(1e-12, f64::max)
 }
 
 /// The smallest 1, 2 or 5 times a power of ten at or above `x`.
 fn nice_ceiling(x: f64) -> f64 {
     let base = 10f64.powf(x.log10().floor());
-    [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * base).find(|v| *v >= x * (1.0 - 1e-12)).unwrap_or(x)
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * base)
+        .find(|v| *v >= x * (1.0 - 1e-12))
+        .unwrap_or(x)
 }
 
 fn panel(svg: &mut String, curves: &[Curve], scaled: &[&Curve], f: Frame, label: &str) {
@@ -142,7 +178,9 @@ fn panel(svg: &mut String, curves: &[Curve], scaled: &[&Curve], f: Frame, label:
     }
     let ticks: Vec<f64> = if f.log {
         let step = ((hi - lo) / 8.0).ceil().max(1.0);
-        (0..=((hi - lo) / step) as i32).map(|i| 10f64.powf(lo + i as f64 * step)).collect()
+        (0..=((hi - lo) / step) as i32)
+            .map(|i| 10f64.powf(lo + i as f64 * step))
+            .collect()
     } else {
         (0..=4).map(|i| hi * i as f64 / 4.0).collect()
     };
@@ -178,7 +216,12 @@ fn panel(svg: &mut String, curves: &[Curve], scaled: &[&Curve], f: Frame, label:
                         x = f.x(r)
                     );
                 }
-                let _ = write!(svg, r#"<circle cx="{}" cy="{}" r="2.5" fill="{colour}"/>"#, f.x(r), y(value));
+                let _ = write!(
+                    svg,
+                    r#"<circle cx="{}" cy="{}" r="2.5" fill="{colour}"/>"#,
+                    f.x(r),
+                    y(value)
+                );
             }
         } else {
             let points: Vec<String> = c
@@ -207,14 +250,30 @@ fn legend(svg: &mut String, curves: &[Curve], x: f64, y: f64) {
     let mut at = x;
     for (label, markers) in labels {
         let mark = if markers {
-            format!(r##"<circle cx="{}" cy="{}" r="3" fill="#333"/>"##, at + 10.0, y - 4.0)
+            format!(
+                r##"<circle cx="{}" cy="{}" r="3" fill="#333"/>"##,
+                at + 10.0,
+                y - 4.0
+            )
         } else {
-            format!(r##"<line x1="{at}" y1="{yy}" x2="{}" y2="{yy}" stroke="#333" stroke-width="2"/>"##, at + 20.0, yy = y - 4.0)
+            format!(
+                r##"<line x1="{at}" y1="{yy}" x2="{}" y2="{yy}" stroke="#333" stroke-width="2"/>"##,
+                at + 20.0,
+                yy = y - 4.0
+            )
         };
-        let _ = write!(svg, r#"{mark}<text x="{}" y="{y}">{}</text>"#, at + 26.0, escape(label));
+        let _ = write!(
+            svg,
+            r#"{mark}<text x="{}" y="{y}">{}</text>"#,
+            at + 26.0,
+            escape(label)
+        );
         at += 40.0 + 8.0 * label.len() as f64;
     }
-    let _ = write!(svg, r#"<text x="{at}" y="{y}">colours: red, green, blue channels</text>"#);
+    let _ = write!(
+        svg,
+        r#"<text x="{at}" y="{y}">colours: red, green, blue channels</text>"#
+    );
 }
 
 fn tick(v: f64) -> String {
@@ -228,7 +287,9 @@ fn tick(v: f64) -> String {
 }
 
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// Rasterises the SVG to PNG bytes, with the system's fonts for the text.
@@ -239,6 +300,10 @@ pub fn render_png(svg: &str) -> Result<Vec<u8>, String> {
     let size = tree.size().to_int_size();
     let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height())
         .ok_or_else(|| "the plot has no area".to_string())?;
-    resvg::render(&tree, resvg::tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::default(),
+        &mut pixmap.as_mut(),
+    );
     pixmap.encode_png().map_err(|e| e.to_string())
 }

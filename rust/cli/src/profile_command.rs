@@ -13,7 +13,11 @@ use std::path::{Path, PathBuf};
 #[derive(clap::Args)]
 pub struct ProfileArgs {
     /// A named material (see `sssbake presets`).
-    #[arg(long, required_unless_present = "material", conflicts_with = "material")]
+    #[arg(
+        long,
+        required_unless_present = "material",
+        conflicts_with = "material"
+    )]
     preset: Option<String>,
     /// A TOML material file with [[layers]].
     #[arg(long)]
@@ -61,14 +65,20 @@ pub fn run(args: &ProfileArgs) -> Result<(), Failure> {
         )));
     }
 
-    let reference_model = if model == Model::MonteCarlo { Model::default_for(&material) } else { model };
-    let profile = build_profile(&material, reference_model, args.gaussians).map_err(|e| Failure::Input(e.to_string()))?;
+    let reference_model = if model == Model::MonteCarlo {
+        Model::default_for(&material)
+    } else {
+        model
+    };
+    let profile = build_profile(&material, reference_model, args.gaussians)
+        .map_err(|e| Failure::Input(e.to_string()))?;
     let radii = match &args.radii {
         Some(r) => r.clone(),
         None => default_radii(profile.as_ref(), args.epsilon),
     };
     let simulation = needs_simulation.then(|| {
-        let settings = monte_carlo::Settings::new(args.photons, args.seed, monte_carlo::edges_around(&radii));
+        let settings =
+            monte_carlo::Settings::new(args.photons, args.seed, monte_carlo::edges_around(&radii));
         monte_carlo::simulate(material.layers().unwrap_or_default(), &settings)
     });
 
@@ -76,19 +86,37 @@ pub fn run(args: &ProfileArgs) -> Result<(), Failure> {
         (Some(mc), Model::MonteCarlo) => Box::new(tabulate_simulation(mc, &radii)),
         _ => profile,
     };
-    let report = Report { material: &material, model, profile: shown.as_ref(), radii: &radii, epsilon: args.epsilon };
+    let report = Report {
+        material: &material,
+        model,
+        profile: shown.as_ref(),
+        radii: &radii,
+        epsilon: args.epsilon,
+    };
 
     if let Some(path) = &args.plot {
         let overlay = simulation.as_ref().filter(|_| model != Model::MonteCarlo);
-        write_plot(path, &report, overlay, simulation.as_ref().filter(|_| model == Model::MonteCarlo))?;
+        write_plot(
+            path,
+            &report,
+            overlay,
+            simulation.as_ref().filter(|_| model == Model::MonteCarlo),
+        )?;
     }
     if args.json {
         let mut value = report.json();
         if let Some(mc) = &simulation {
-            let key = if model == Model::MonteCarlo { None } else { Some("montecarlo") };
+            let key = if model == Model::MonteCarlo {
+                None
+            } else {
+                Some("montecarlo")
+            };
             add_simulation(&mut value, mc, key);
         }
-        emit(&format!("{}\n", serde_json::to_string_pretty(&value).unwrap_or_default()));
+        emit(&format!(
+            "{}\n",
+            serde_json::to_string_pretty(&value).unwrap_or_default()
+        ));
     } else {
         let mut text = report.table();
         if let Some(mc) = &simulation {
@@ -112,17 +140,25 @@ fn check_arguments(args: &ProfileArgs) -> Result<(), Failure> {
             return bad("--radii: give at least one radius in mm".into());
         }
         if let Some(r) = radii.iter().find(|r| !(r.is_finite() && **r >= 0.0)) {
-            return bad(format!("--radii: {r} is not a finite, non-negative radius in mm"));
+            return bad(format!(
+                "--radii: {r} is not a finite, non-negative radius in mm"
+            ));
         }
         if radii.windows(2).any(|w| w[1] <= w[0]) {
             return bad("--radii: radii must increase".into());
         }
     }
     if !(args.epsilon > 0.0 && args.epsilon < 1.0) {
-        return bad(format!("--epsilon: {} must lie strictly between 0 and 1", args.epsilon));
+        return bad(format!(
+            "--epsilon: {} must lie strictly between 0 and 1",
+            args.epsilon
+        ));
     }
     if !(1..=16).contains(&args.gaussians) {
-        return bad(format!("--gaussians: {} must be between 1 and 16", args.gaussians));
+        return bad(format!(
+            "--gaussians: {} must be between 1 and 16",
+            args.gaussians
+        ));
     }
     if args.photons == 0 && (args.compare_montecarlo || args.model == Some(Model::MonteCarlo)) {
         return bad("--photons: the Monte Carlo reference needs at least one photon".into());
@@ -137,22 +173,32 @@ fn load_material(args: &ProfileArgs) -> Result<Material, Failure> {
     match (&args.preset, &args.material) {
         (Some(name), _) => preset(name).ok_or_else(|| {
             let names: Vec<&str> = presets::list().into_iter().map(|(n, _)| n).collect();
-            Failure::Input(format!("unknown preset `{name}` (known: {})", names.join(", ")))
+            Failure::Input(format!(
+                "unknown preset `{name}` (known: {})",
+                names.join(", ")
+            ))
         }),
         (None, Some(path)) => Material::from_file(path).map_err(|e| Failure::Input(e.to_string())),
-        (None, None) => Err(Failure::Input("give --preset NAME or --material FILE".into())),
+        (None, None) => Err(Failure::Input(
+            "give --preset NAME or --material FILE".into(),
+        )),
     }
 }
 
 /// Sixty radii, evenly spaced in ln r, from a twentieth of the profile's
 /// typical radius to its largest d_max.
 fn default_radii(profile: &dyn Profile, epsilon: f64) -> Vec<f64> {
-    let scale = profile.length_scale().into_iter().fold(f64::INFINITY, f64::min);
+    let scale = profile
+        .length_scale()
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
     let reach = profile.d_max(epsilon).into_iter().fold(0.0, f64::max);
     let lo = (scale / 20.0).max(1e-9);
     let hi = reach.max(lo * 10.0);
     let n = 60;
-    (0..n).map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64)).collect()
+    (0..n)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64))
+        .collect()
 }
 
 /// The simulation's bins as a profile (for d_max and plotting).
@@ -178,7 +224,10 @@ struct Report<'a> {
 
 impl Report<'_> {
     fn reflectance(&self) -> Vec<Rgb> {
-        self.radii.iter().map(|&r| self.profile.reflectance(r)).collect()
+        self.radii
+            .iter()
+            .map(|&r| self.profile.reflectance(r))
+            .collect()
     }
 
     fn json(&self) -> Value {
@@ -190,6 +239,7 @@ impl Report<'_> {
             "transmittance": self.radii.iter().map(|&r| self.profile.transmittance(r)).collect::<Vec<_>>(),
             "total_reflectance": self.profile.total_reflectance(),
             "total_transmittance": self.profile.total_transmittance(),
+            "ballistic_reflectance": self.profile.ballistic_reflectance(),
             "ballistic_transmittance": self.profile.ballistic_transmittance(),
             "d_max_mm": self.profile.d_max(self.epsilon),
             "epsilon": self.epsilon,
@@ -198,13 +248,33 @@ impl Report<'_> {
 
     fn table(&self) -> String {
         let rgb = |v: Rgb| format!("{:>12.6} {:>12.6} {:>12.6}", v[0], v[1], v[2]);
-        let mut text = format!("material {}, model {}\n", self.material.name, self.model.name());
-        text += &format!("total reflectance    {}\n", rgb(self.profile.total_reflectance()));
-        text += &format!("total transmittance  {}\n", rgb(self.profile.total_transmittance()));
-        text += &format!("d_max (eps {:.0e}) mm {}\n", self.epsilon, rgb(self.profile.d_max(self.epsilon)));
-        text += &format!("{:>12} {:>12} {:>12} {:>12}   (R in 1/mm²)\n", "r [mm]", "R red", "R green", "R blue");
+        let mut text = format!(
+            "material {}, model {}\n",
+            self.material.name,
+            self.model.name()
+        );
+        text += &format!(
+            "total reflectance    {}\n",
+            rgb(self.profile.total_reflectance())
+        );
+        text += &format!(
+            "total transmittance  {}\n",
+            rgb(self.profile.total_transmittance())
+        );
+        text += &format!(
+            "d_max (eps {:.0e}) mm {}\n",
+            self.epsilon,
+            rgb(self.profile.d_max(self.epsilon))
+        );
+        text += &format!(
+            "{:>12} {:>12} {:>12} {:>12}   (R in 1/mm²)\n",
+            "r [mm]", "R red", "R green", "R blue"
+        );
         for (r, v) in self.radii.iter().zip(self.reflectance()) {
-            text += &format!("{r:>12.5} {:>12.5e} {:>12.5e} {:>12.5e}\n", v[0], v[1], v[2]);
+            text += &format!(
+                "{r:>12.5} {:>12.5e} {:>12.5e} {:>12.5e}\n",
+                v[0], v[1], v[2]
+            );
         }
         text
     }
@@ -228,7 +298,9 @@ fn add_simulation(value: &mut Value, mc: &MonteCarlo, key: Option<&str>) {
         "photons": mc.photons,
         "interactions": mc.interactions,
     });
-    let (Value::Object(target), Value::Object(fields)) = (value, fields) else { return };
+    let (Value::Object(target), Value::Object(fields)) = (value, fields) else {
+        return;
+    };
     match key {
         Some(key) => {
             target.insert(key.to_string(), Value::Object(fields));
@@ -239,7 +311,10 @@ fn add_simulation(value: &mut Value, mc: &MonteCarlo, key: Option<&str>) {
 
 fn simulation_summary(mc: &MonteCarlo) -> String {
     let rgb = |v: Rgb, e: Rgb| {
-        format!("{:.5}±{:.5} {:.5}±{:.5} {:.5}±{:.5}", v[0], e[0], v[1], e[1], v[2], e[2])
+        format!(
+            "{:.5}±{:.5} {:.5}±{:.5} {:.5}±{:.5}",
+            v[0], e[0], v[1], e[1], v[2], e[2]
+        )
     };
     format!(
         "Monte Carlo ({} photons per channel): total reflectance {}, total transmittance {}\n",
@@ -255,10 +330,18 @@ enum PlotFormat {
 }
 
 fn plot_format(path: &Path) -> Result<PlotFormat, Failure> {
-    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
         Some("svg") => Ok(PlotFormat::Svg),
         Some("png") => Ok(PlotFormat::Png),
-        _ => Err(Failure::Input(format!("--plot {}: the file must end in .svg or .png", path.display()))),
+        _ => Err(Failure::Input(format!(
+            "--plot {}: the file must end in .svg or .png",
+            path.display()
+        ))),
     }
 }
 
@@ -272,25 +355,38 @@ fn write_plot(
         .map(|c| Curve {
             channel: c,
             label: report.model.name().to_string(),
-            points: report.radii.iter().map(|&r| (r, report.profile.reflectance(r)[c])).collect(),
+            points: report
+                .radii
+                .iter()
+                .map(|&r| (r, report.profile.reflectance(r)[c]))
+                .collect(),
             errors: simulated.map(|mc| mc.reflectance_stderr.iter().map(|e| e[c]).collect()),
             markers: simulated.is_some(),
         })
         .collect();
     if let Some(mc) = overlay {
-        curves.extend((0..3).map(|c| Curve {
-            channel: c,
-            label: "Monte Carlo".into(),
-            points: report.radii.iter().zip(&mc.reflectance).map(|(&r, v)| (r, v[c])).collect(),
-            errors: Some(mc.reflectance_stderr.iter().map(|e| e[c]).collect()),
-            markers: true,
+        curves.extend((0..3).map(|c| {
+            Curve {
+                channel: c,
+                label: "Monte Carlo".into(),
+                points: report
+                    .radii
+                    .iter()
+                    .zip(&mc.reflectance)
+                    .map(|(&r, v)| (r, v[c]))
+                    .collect(),
+                errors: Some(mc.reflectance_stderr.iter().map(|e| e[c]).collect()),
+                markers: true,
+            }
         }));
     }
     let title = format!("{} — {}", report.material.name, report.model.name());
     let svg = render_svg(&title, &curves);
     let bytes = match plot_format(path)? {
         PlotFormat::Svg => svg.into_bytes(),
-        PlotFormat::Png => render_png(&svg).map_err(|e| Failure::Output(format!("{}: {e}", path.display())))?,
+        PlotFormat::Png => {
+            render_png(&svg).map_err(|e| Failure::Output(format!("{}: {e}", path.display())))?
+        }
     };
     write_atomically(path, &bytes).map_err(Failure::Output)
 }

@@ -42,8 +42,20 @@ impl Burley {
     /// From albedo and shape parameter d (mm), clamped to the physical range.
     pub fn new(albedo: Rgb, d: Rgb) -> Self {
         Self {
-            albedo: albedo.map(|a| if a.is_finite() { a.clamp(0.0, 1.0) } else { 0.0 }),
-            d: d.map(|x| if x.is_finite() && x > 0.0 { x.clamp(1e-12, 1e12) } else { 1e-12 }),
+            albedo: albedo.map(|a| {
+                if a.is_finite() {
+                    a.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                }
+            }),
+            d: d.map(|x| {
+                if x.is_finite() && x > 0.0 {
+                    x.clamp(1e-12, 1e12)
+                } else {
+                    1e-12
+                }
+            }),
         }
     }
 
@@ -52,13 +64,18 @@ impl Burley {
     /// mm) becomes the mean free path l = radius/(4π), with d = l/s(A) by
     /// the diffuse-transmission fit.
     pub fn from_cycles(colour: Rgb, radius_mm: Rgb) -> Self {
-        let d = rgb_map(|c| radius_mm[c] / (4.0 * PI) / scaling_factor(ScalingFit::DiffuseDiffuseMfp, colour[c]));
+        let d = rgb_map(|c| {
+            radius_mm[c] / (4.0 * PI) / scaling_factor(ScalingFit::DiffuseDiffuseMfp, colour[c])
+        });
         Self::new(colour, d)
     }
 
     /// From albedo and a mean free path (mm) with one of the paper's fits.
     pub fn from_mean_free_path(albedo: Rgb, mfp_mm: Rgb, fit: ScalingFit) -> Self {
-        Self::new(albedo, rgb_map(|c| mfp_mm[c] / scaling_factor(fit, albedo[c])))
+        Self::new(
+            albedo,
+            rgb_map(|c| mfp_mm[c] / scaling_factor(fit, albedo[c])),
+        )
     }
 
     /// The Burley profile with the same total reflectance and the same mean
@@ -82,7 +99,11 @@ impl Burley {
                 mass += density;
                 moment += r * density;
             }
-            if mass > 0.0 { moment / mass / 2.5 } else { 1e-12 }
+            if mass > 0.0 {
+                moment / mass / 2.5
+            } else {
+                1e-12
+            }
         });
         Self::new(total, d)
     }

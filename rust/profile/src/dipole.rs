@@ -87,7 +87,8 @@ impl Profile for Dipole {
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
         rgb_map(|c| {
             let ch = &self.channels[c];
-            ch.albedo * (pole_enclosed(ch.z_r, r, ch.sigma_tr) + pole_enclosed(ch.z_v, r, ch.sigma_tr))
+            ch.albedo
+                * (pole_enclosed(ch.z_r, r, ch.sigma_tr) + pole_enclosed(ch.z_v, r, ch.sigma_tr))
         })
     }
 
@@ -105,7 +106,11 @@ impl Profile for Dipole {
             if self.channels[c].albedo <= 0.0 {
                 return 0.0;
             }
-            radius_where(|s| 1.0 - self.fraction_outside(s)[c], 1.0 - epsilon, scale[c])
+            radius_where(
+                |s| 1.0 - self.fraction_outside(s)[c],
+                1.0 - epsilon,
+                scale[c],
+            )
         })
     }
 }
@@ -115,8 +120,11 @@ mod tests {
     use super::*;
 
     fn skin1() -> Dipole {
-        let media = [(0.032, 0.74), (0.17, 0.88), (0.48, 1.01)]
-            .map(|(sigma_a, sigma_s_reduced)| Medium { sigma_a, sigma_s_reduced });
+        let media =
+            [(0.032, 0.74), (0.17, 0.88), (0.48, 1.01)].map(|(sigma_a, sigma_s_reduced)| Medium {
+                sigma_a,
+                sigma_s_reduced,
+            });
         Dipole::new(media, 1.3)
     }
 
@@ -140,9 +148,15 @@ mod tests {
             let d_max = dipole.d_max(epsilon);
             let outside = rgb_map(|c| dipole.fraction_outside(d_max[c])[c]);
             for c in 0..3 {
-                assert!((outside[c] - epsilon).abs() < 1e-9 * epsilon.max(1e-3), "{epsilon}: {outside:?}");
+                assert!(
+                    (outside[c] - epsilon).abs() < 1e-9 * epsilon.max(1e-3),
+                    "{epsilon}: {outside:?}"
+                );
             }
         }
-        assert!(skin1().d_max(1e-3)[0] > skin1().d_max(1e-3)[2], "red reaches farther than blue");
+        assert!(
+            skin1().d_max(1e-3)[0] > skin1().d_max(1e-3)[2],
+            "red reaches farther than blue"
+        );
     }
 }

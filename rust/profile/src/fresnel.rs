@@ -20,7 +20,11 @@ pub fn dielectric_reflectance(cos_i: f64, n_i: f64, n_t: f64) -> f64 {
     let rs = (n_i * cos_i - n_t * cos_t) / (n_i * cos_i + n_t * cos_t);
     let rp = (n_t * cos_i - n_i * cos_t) / (n_t * cos_i + n_i * cos_t);
     let r = 0.5 * (rs * rs + rp * rp);
-    if r.is_finite() { r.clamp(0.0, 1.0) } else { 1.0 }
+    if r.is_finite() {
+        r.clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
 }
 
 /// Internal diffuse reflectance F_dr(η): the cosine-weighted hemispherical
@@ -35,7 +39,11 @@ pub fn diffuse_reflectance_exact(eta: f64) -> f64 {
     // F_dr = ∫_0^1 F(μ) 2μ dμ = ∫_0^1 F(√t) dt. Beyond the critical angle
     // F = 1, which contributes μ_c² exactly. The rest has a square-root kink
     // at t = μ_c²; substituting t = μ_c² + (1 − μ_c²)u² makes it smooth.
-    let mu_c2 = if eta > 1.0 { 1.0 - 1.0 / (eta * eta) } else { 0.0 };
+    let mu_c2 = if eta > 1.0 {
+        1.0 - 1.0 / (eta * eta)
+    } else {
+        0.0
+    };
     let span = 1.0 - mu_c2;
     let smooth = integrate(
         |u| dielectric_reflectance((mu_c2 + span * u * u).sqrt(), eta, 1.0) * 2.0 * span * u,
@@ -55,7 +63,11 @@ pub fn diffuse_reflectance_fit(eta: f64) -> f64 {
     } else {
         -1.4399 / (eta * eta) + 0.7099 / eta + 0.6681 + 0.0636 * eta
     };
-    if f.is_finite() { f.clamp(0.0, 1.0) } else { 0.0 }
+    if f.is_finite() {
+        f.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
 }
 
 /// The boundary constant A = (1 + F_dr) / (1 − F_dr) for relative index η,
@@ -82,7 +94,10 @@ mod tests {
         for eta in [0.5, 0.8, 1.1, 1.3, 1.4, 1.6, 2.0, 2.5] {
             let exact = diffuse_reflectance_exact(eta);
             let fit = diffuse_reflectance_fit(eta);
-            assert!((exact - fit).abs() < 0.012, "eta {eta}: exact {exact}, fit {fit}");
+            assert!(
+                (exact - fit).abs() < 0.012,
+                "eta {eta}: exact {exact}, fit {fit}"
+            );
         }
     }
 

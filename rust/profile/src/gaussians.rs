@@ -28,7 +28,9 @@ pub const DEON_SKIN: [(f64, Rgb); 6] = [
 impl SumOfGaussians {
     /// d'Eon & Luebke's skin.
     pub fn deon_skin() -> Self {
-        Self { terms: [0, 1, 2].map(|c| DEON_SKIN.iter().map(|(v, w)| (w[c], *v)).collect()) }
+        Self {
+            terms: [0, 1, 2].map(|c| DEON_SKIN.iter().map(|(v, w)| (w[c], *v)).collect()),
+        }
     }
 }
 
@@ -52,14 +54,18 @@ impl Profile for SumOfGaussians {
 
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
         rgb_map(|c| {
-            self.terms[c].iter().map(|&(w, v)| -w * (-r * r / (2.0 * v)).exp_m1()).sum()
+            self.terms[c]
+                .iter()
+                .map(|&(w, v)| -w * (-r * r / (2.0 * v)).exp_m1())
+                .sum()
         })
     }
 
     fn length_scale(&self) -> Rgb {
         rgb_map(|c| {
             let total: f64 = self.terms[c].iter().map(|t| t.0).sum();
-            let mean_var: f64 = self.terms[c].iter().map(|&(w, v)| w * v).sum::<f64>() / total.max(1e-300);
+            let mean_var: f64 =
+                self.terms[c].iter().map(|&(w, v)| w * v).sum::<f64>() / total.max(1e-300);
             mean_var.sqrt().max(1e-9)
         })
     }
@@ -84,15 +90,29 @@ pub fn fit_gaussians(profile: &dyn Profile, count: usize) -> GaussianFit {
     let count = count.clamp(1, 16);
     let reach = profile.d_max(1e-5);
     let fits: Vec<(Vec<(f64, f64)>, f64)> = (0..3)
-        .map(|c| fit_channel(|r| profile.reflectance(r)[c], profile.total_reflectance()[c], reach[c], count))
+        .map(|c| {
+            fit_channel(
+                |r| profile.reflectance(r)[c],
+                profile.total_reflectance()[c],
+                reach[c],
+                count,
+            )
+        })
         .collect();
     GaussianFit {
-        gaussians: SumOfGaussians { terms: [0, 1, 2].map(|c| fits[c].0.clone()) },
+        gaussians: SumOfGaussians {
+            terms: [0, 1, 2].map(|c| fits[c].0.clone()),
+        },
         error: rgb_map(|c| fits[c].1),
     }
 }
 
-fn fit_channel(profile: impl Fn(f64) -> f64, total: f64, reach: f64, count: usize) -> (Vec<(f64, f64)>, f64) {
+fn fit_channel(
+    profile: impl Fn(f64) -> f64,
+    total: f64,
+    reach: f64,
+    count: usize,
+) -> (Vec<(f64, f64)>, f64) {
     if !(reach > 0.0 && reach.is_finite() && total > 0.0) {
         return (vec![], 0.0);
     }
@@ -116,12 +136,22 @@ fn fit_channel(profile: impl Fn(f64) -> f64, total: f64, reach: f64, count: usiz
     let objective = |log_vars: &[f64]| -> (f64, Vec<f64>) {
         let columns: Vec<Vec<f64>> = log_vars
             .iter()
-            .map(|lv| radii.iter().map(|&r| gaussian(lv.exp(), r)).chain([1.0]).collect())
+            .map(|lv| {
+                radii
+                    .iter()
+                    .map(|&r| gaussian(lv.exp(), r))
+                    .chain([1.0])
+                    .collect()
+            })
             .collect();
         let weights = non_negative_least_squares(&columns, &target, &quad);
         let error: f64 = (0..samples)
             .map(|i| {
-                let fit: f64 = columns.iter().zip(&weights).map(|(col, w)| w * col[i]).sum();
+                let fit: f64 = columns
+                    .iter()
+                    .zip(&weights)
+                    .map(|(col, w)| w * col[i])
+                    .sum();
                 quad[i] * (target[i] - fit).powi(2)
             })
             .sum();
@@ -131,7 +161,11 @@ fn fit_channel(profile: impl Fn(f64) -> f64, total: f64, reach: f64, count: usiz
     // Start from variances spread geometrically over the profile's range.
     let mut x: Vec<f64> = (0..count)
         .map(|k| {
-            let t = if count == 1 { 0.5 } else { k as f64 / (count - 1) as f64 };
+            let t = if count == 1 {
+                0.5
+            } else {
+                k as f64 / (count - 1) as f64
+            };
             v_lo.ln() + t * (v_hi.ln() - v_lo.ln())
         })
         .collect();
@@ -157,7 +191,10 @@ fn fit_channel(profile: impl Fn(f64) -> f64, total: f64, reach: f64, count: usiz
         }
     }
     let (error, weights) = objective(&x);
-    let mut terms: Vec<(f64, f64)> = weights.into_iter().zip(x.iter().map(|lv| lv.exp())).collect();
+    let mut terms: Vec<(f64, f64)> = weights
+        .into_iter()
+        .zip(x.iter().map(|lv| lv.exp()))
+        .collect();
     terms.sort_by(|a, b| a.1.total_cmp(&b.1));
     (terms, (error / norm).sqrt())
 }
@@ -173,9 +210,13 @@ fn non_negative_least_squares(columns: &[Vec<f64>], target: &[f64], quad: &[f64]
         let mut rhs = vec![0.0; m];
         for (a, &i) in active.iter().enumerate() {
             for (b, &j) in active.iter().enumerate() {
-                gram[a][b] = (0..target.len()).map(|s| quad[s] * columns[i][s] * columns[j][s]).sum();
+                gram[a][b] = (0..target.len())
+                    .map(|s| quad[s] * columns[i][s] * columns[j][s])
+                    .sum();
             }
-            rhs[a] = (0..target.len()).map(|s| quad[s] * columns[i][s] * target[s]).sum();
+            rhs[a] = (0..target.len())
+                .map(|s| quad[s] * columns[i][s] * target[s])
+                .sum();
         }
         let solution = solve_symmetric(gram, rhs);
         let mut weights = vec![0.0; n];
@@ -185,7 +226,7 @@ fn non_negative_least_squares(columns: &[Vec<f64>], target: &[f64], quad: &[f64]
         match active
             .iter()
             .enumerate()
-            .filter(|(a, _)| !(solution[*a] >= 0.0))
+            .filter(|(a, _)| solution[*a] < 0.0 || solution[*a].is_nan())
             .min_by(|x, y| solution[x.0].total_cmp(&solution[y.0]))
         {
             None => return weights,
@@ -208,7 +249,9 @@ fn solve_symmetric(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
         row[i] += 1e-12 * scale;
     }
     for col in 0..n {
-        let pivot = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs())).unwrap_or(col);
+        let pivot = (col..n)
+            .max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))
+            .unwrap_or(col);
         a.swap(col, pivot);
         b.swap(col, pivot);
         let p = a[col][col];
@@ -217,8 +260,9 @@ fn solve_symmetric(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
         }
         for row in col + 1..n {
             let f = a[row][col] / p;
-            for k in col..n {
-                a[row][k] -= f * a[col][k];
+            let (upper, lower) = a.split_at_mut(row);
+            for (x, p) in lower[0][col..].iter_mut().zip(&upper[col][col..]) {
+                *x -= f * p;
             }
             b[row] -= f * b[col];
         }
@@ -226,7 +270,11 @@ fn solve_symmetric(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
     let mut x = vec![0.0; n];
     for row in (0..n).rev() {
         let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
-        x[row] = if a[row][row].abs() > 1e-300 { (b[row] - s) / a[row][row] } else { 0.0 };
+        x[row] = if a[row][row].abs() > 1e-300 {
+            (b[row] - s) / a[row][row]
+        } else {
+            0.0
+        };
     }
     x
 }

@@ -64,7 +64,11 @@ pub fn inverse_hankel_many(
                 *b *= *phase / n as f64;
             }
             fft.process(&mut buffer);
-            buffer.iter().zip(&radii).map(|(g, r)| g.re / (2.0 * PI * r)).collect()
+            buffer
+                .iter()
+                .zip(&radii)
+                .map(|(g, r)| g.re / (2.0 * PI * r))
+                .collect()
         })
         .collect();
     (radii, values)
@@ -78,7 +82,11 @@ fn kernel_phases(n: usize, step: f64) -> Vec<Complex64> {
             if m == n / 2 {
                 return Complex64::new(0.0, 0.0);
             }
-            let signed = if m < n / 2 { m as f64 } else { m as f64 - n as f64 };
+            let signed = if m < n / 2 {
+                m as f64
+            } else {
+                m as f64 - n as f64
+            };
             let omega = 2.0 * PI * signed / (n as f64 * step);
             // U = 2^{iω} Γ(½ + iω/2) / Γ(½ − iω/2) = exp(i(ω ln 2 + 2 arg Γ(½ + iω/2))).
             let angle = omega * std::f64::consts::LN_2
@@ -125,7 +133,10 @@ mod tests {
         for (r, f) in radii.iter().zip(&values) {
             if (1e-3..3.0).contains(r) {
                 let exact = (-r * r / (2.0 * v)).exp() / (2.0 * PI * v);
-                assert!((f - exact).abs() < 1e-6 * (1.0 / (2.0 * PI * v)), "r {r}: {f} vs {exact}");
+                assert!(
+                    (f - exact).abs() < 1e-6 * (1.0 / (2.0 * PI * v)),
+                    "r {r}: {f} vs {exact}"
+                );
             }
         }
     }

@@ -6,7 +6,7 @@ use crate::dipole::dipole_total_reflectance;
 use crate::fresnel::boundary_a;
 use crate::material::Layer;
 use crate::medium::Medium;
-use crate::slab::SlabChannel;
+use crate::slab::{Incidence, SlabChannel};
 use crate::{Rgb, rgb_map};
 
 /// The model whose total diffuse reflectance the colour must equal.
@@ -54,14 +54,24 @@ pub enum InversionError {
 
 /// A layer (g = 0, σs = σs') whose `model` total reflectance is `colour`,
 /// with transport mean free path 1/σt' = `mfp_mm`, under air at index `ior`.
-pub fn invert_albedo(colour: Rgb, mfp_mm: Rgb, ior: f64, model: InversionModel) -> Result<Layer, InversionError> {
+pub fn invert_albedo(
+    colour: Rgb,
+    mfp_mm: Rgb,
+    ior: f64,
+    model: InversionModel,
+) -> Result<Layer, InversionError> {
     let a = boundary_a(ior);
     let total = |albedo: f64, c: usize| -> f64 {
         match model {
             InversionModel::Dipole => dipole_total_reflectance(albedo, a),
             InversionModel::Slab { thickness_mm } => {
-                let medium = Medium { sigma_a: (1.0 - albedo) / mfp_mm[c], sigma_s_reduced: albedo / mfp_mm[c] };
-                SlabChannel::new(medium, thickness_mm, ior, ior).frequency_response(0.0).down.reflectance
+                let medium = Medium {
+                    sigma_a: (1.0 - albedo) / mfp_mm[c],
+                    sigma_s_reduced: albedo / mfp_mm[c],
+                };
+                SlabChannel::new(medium, thickness_mm, ior, ior, Incidence::Collimated)
+                    .diffuse_totals()
+                    .reflectance
             }
         }
     };
@@ -72,17 +82,28 @@ pub fn invert_albedo(colour: Rgb, mfp_mm: Rgb, ior: f64, model: InversionModel) 
             return Err(InversionError::Colour { channel: c, value });
         }
         if !(mfp.is_finite() && mfp > 0.0) {
-            return Err(InversionError::MeanFreePath { channel: c, value: mfp });
+            return Err(InversionError::MeanFreePath {
+                channel: c,
+                value: mfp,
+            });
         }
         let limit = total(1.0, c);
         if value > limit + 1e-12 {
-            return Err(InversionError::Unreachable { channel: c, value, limit });
+            return Err(InversionError::Unreachable {
+                channel: c,
+                value,
+                limit,
+            });
         }
         // The total rises monotonically with α': bisect to machine precision.
         let (mut lo, mut hi) = (0.0f64, 1.0f64);
         for _ in 0..64 {
             let mid = 0.5 * (lo + hi);
-            if total(mid, c) < value { lo = mid } else { hi = mid }
+            if total(mid, c) < value {
+                lo = mid
+            } else {
+                hi = mid
+            }
         }
         albedo[c] = 0.5 * (lo + hi);
     }

@@ -5,7 +5,7 @@
 use crate::hankel::inverse_hankel_many;
 use crate::material::Layer;
 use crate::profile::Profile;
-use crate::slab::{SideResponse, SlabChannel, SlabResponse};
+use crate::slab::{Incidence, SideResponse, SlabChannel, SlabResponse};
 use crate::tabulated::Tabulated;
 use crate::{Rgb, rgb_map};
 
@@ -35,6 +35,11 @@ impl Stack {
                             layer.thickness_mm.unwrap_or(f64::INFINITY),
                             layer.ior / index_above(i),
                             layer.ior / index_below(i),
+                            if i == 0 {
+                                Incidence::Collimated
+                            } else {
+                                Incidence::Diffuse
+                            },
                         )
                     })
                     .collect()
@@ -53,18 +58,27 @@ impl Stack {
         let mut slabs = self.channels[c].iter();
         let first = slabs.next().map_or(
             SlabResponse {
-                down: SideResponse { reflectance: 0.0, transmittance: 1.0 },
-                up: SideResponse { reflectance: 0.0, transmittance: 1.0 },
+                down: SideResponse {
+                    reflectance: 0.0,
+                    transmittance: 1.0,
+                },
+                up: SideResponse {
+                    reflectance: 0.0,
+                    transmittance: 1.0,
+                },
             },
             |s| s.frequency_response(k),
         );
-        slabs.fold(first, |above, slab| combine(above, slab.frequency_response(k)))
+        slabs.fold(first, |above, slab| {
+            combine(above, slab.frequency_response(k))
+        })
     }
 
-    /// Light crossing the whole stack unscattered in channel `c`: the limit
-    /// of T̂(k) as k → ∞, where every reflectance vanishes.
-    pub fn ballistic(&self, c: usize) -> f64 {
-        self.channels[c].iter().map(SlabChannel::ballistic).product()
+    /// Light the stack reflects and transmits without scattering in channel
+    /// `c` (deltas at r = 0): the limit of its response as k → ∞, where
+    /// every diffuse term vanishes.
+    pub fn ballistic(&self, c: usize) -> SideResponse {
+        self.frequency_response(c, f64::INFINITY).down
     }
 
     /// (shortest, longest) length in mm over all slabs and channels.
@@ -123,13 +137,14 @@ pub fn tabulate(model: &'static str, stack: &Stack) -> Tabulated {
     let (shortest, longest) = stack.length_scales();
     let r_min = 1e-3 * shortest;
     let r_max = 1e5 * longest;
+    let ballistic = [0, 1, 2].map(|c| stack.ballistic(c));
     let (radii, values) = inverse_hankel_many(
         6,
         |k, out: &mut [f64]| {
-            for c in 0..3 {
+            for (c, ballistic) in ballistic.iter().enumerate() {
                 let down = stack.frequency_response(c, k).down;
-                out[2 * c] = down.reflectance;
-                out[2 * c + 1] = down.transmittance - stack.ballistic(c);
+                out[2 * c] = down.reflectance - ballistic.reflectance;
+                out[2 * c + 1] = down.transmittance - ballistic.transmittance;
             }
         },
         r_min,
@@ -137,7 +152,9 @@ pub fn tabulate(model: &'static str, stack: &Stack) -> Tabulated {
     );
     let clean = |v: &Vec<f64>| {
         let peak = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        v.iter().map(|&x| if x > NOISE_FLOOR * peak { x } else { 0.0 }).collect::<Vec<_>>()
+        v.iter()
+            .map(|&x| if x > NOISE_FLOOR * peak { x } else { 0.0 })
+            .collect::<Vec<_>>()
     };
     let values: Vec<Vec<f64>> = values.iter().map(clean).collect();
     // Drop the far tail where every channel is zero.
@@ -149,7 +166,11 @@ pub fn tabulate(model: &'static str, stack: &Stack) -> Tabulated {
     let totals = |offset: usize| {
         rgb_map(|c| {
             let response = stack.frequency_response(c, 0.0).down;
-            if offset == 0 { response.reflectance } else { response.transmittance - stack.ballistic(c) }
+            if offset == 0 {
+                response.reflectance - ballistic[c].reflectance
+            } else {
+                response.transmittance - ballistic[c].transmittance
+            }
         })
     };
     Tabulated::new(
@@ -178,8 +199,11 @@ impl Profile for Layered {
     fn total_transmittance(&self) -> Rgb {
         self.table.total_transmittance()
     }
+    fn ballistic_reflectance(&self) -> Rgb {
+        rgb_map(|c| self.stack.ballistic(c).reflectance)
+    }
     fn ballistic_transmittance(&self) -> Rgb {
-        rgb_map(|c| self.stack.ballistic(c))
+        rgb_map(|c| self.stack.ballistic(c).transmittance)
     }
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
         self.table.enclosed_reflectance(r)

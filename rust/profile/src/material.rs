@@ -2,9 +2,9 @@
 //! of Gaussians; read from TOML files and validated with errors that name the
 //! file and the field.
 
+use crate::Rgb;
 use crate::gaussians::SumOfGaussians;
 use crate::medium::Medium;
-use crate::Rgb;
 use std::fmt;
 use std::path::Path;
 
@@ -27,12 +27,21 @@ impl Layer {
     /// A semi-infinite layer given reduced scattering σs' (g = 0), as the
     /// measured media of Jensen et al. 2001 are given.
     pub fn semi_infinite(sigma_a: Rgb, sigma_s_reduced: Rgb, ior: f64) -> Self {
-        Self { sigma_a, sigma_s: sigma_s_reduced, g: 0.0, ior, thickness_mm: None }
+        Self {
+            sigma_a,
+            sigma_s: sigma_s_reduced,
+            g: 0.0,
+            ior,
+            thickness_mm: None,
+        }
     }
 
     /// The channel-`c` coefficients with σs' = σs(1 − g).
     pub fn medium(&self, c: usize) -> Medium {
-        Medium { sigma_a: self.sigma_a[c], sigma_s_reduced: self.sigma_s[c] * (1.0 - self.g) }
+        Medium {
+            sigma_a: self.sigma_a[c],
+            sigma_s_reduced: self.sigma_s[c] * (1.0 - self.g),
+        }
     }
 }
 
@@ -86,7 +95,9 @@ impl Material {
             field: String::new(),
             message: format!("cannot read the file: {e}"),
         })?;
-        let default_name = path.file_stem().map_or("material".into(), |s| s.to_string_lossy().into_owned());
+        let default_name = path
+            .file_stem()
+            .map_or("material".into(), |s| s.to_string_lossy().into_owned());
         Self::from_toml(&text, &source, &default_name)
     }
 
@@ -112,7 +123,10 @@ impl Material {
         })?;
         for key in table.keys() {
             if key != "name" && key != "layers" {
-                return Err(error(key, "unknown field (expected `name` or `layers`)".into()));
+                return Err(error(
+                    key,
+                    "unknown field (expected `name` or `layers`)".into(),
+                ));
             }
         }
         let name = match table.get("name") {
@@ -121,9 +135,19 @@ impl Material {
             Some(_) => return Err(error("name", "must be a string".into())),
         };
         let layers = match table.get("layers") {
-            None => return Err(error("layers", "missing: a material needs at least one [[layers]] table".into())),
+            None => {
+                return Err(error(
+                    "layers",
+                    "missing: a material needs at least one [[layers]] table".into(),
+                ));
+            }
             Some(toml::Value::Array(items)) => items,
-            Some(_) => return Err(error("layers", "must be an array of tables ([[layers]])".into())),
+            Some(_) => {
+                return Err(error(
+                    "layers",
+                    "must be an array of tables ([[layers]])".into(),
+                ));
+            }
         };
         let mut parsed = Vec::with_capacity(layers.len());
         for (i, item) in layers.iter().enumerate() {
@@ -133,15 +157,24 @@ impl Material {
             };
             parsed.push(parse_layer(fields, &prefix).map_err(|(f, m)| error(&f, m))?);
         }
-        let material = Material { name, optics: Optics::Layers(parsed) };
+        let material = Material {
+            name,
+            optics: Optics::Layers(parsed),
+        };
         material.validate(source)?;
         Ok(material)
     }
 
     /// Checks that every coefficient is physical and the stack is well formed.
     pub fn validate(&self, source: &str) -> Result<(), MaterialError> {
-        let error = |field: String, message: String| MaterialError { source: source.to_string(), field, message };
-        let Optics::Layers(layers) = &self.optics else { return Ok(()) };
+        let error = |field: String, message: String| MaterialError {
+            source: source.to_string(),
+            field,
+            message,
+        };
+        let Optics::Layers(layers) = &self.optics else {
+            return Ok(());
+        };
         if layers.is_empty() {
             return Err(error("layers".into(), "the stack is empty".into()));
         }
@@ -149,29 +182,46 @@ impl Material {
             let at = |name: &str| format!("layers[{i}].{name}");
             for (name, values) in [("sigma_a", layer.sigma_a), ("sigma_s", layer.sigma_s)] {
                 if let Some(v) = values.iter().find(|v| !v.is_finite() || **v < 0.0) {
-                    return Err(error(at(name), format!("must be finite and non-negative (1/mm), got {v}")));
+                    return Err(error(
+                        at(name),
+                        format!("must be finite and non-negative (1/mm), got {v}"),
+                    ));
                 }
             }
             if let Some(c) = (0..3).find(|&c| layer.sigma_a[c] + layer.sigma_s[c] <= 0.0) {
                 return Err(error(
                     at("sigma_s"),
-                    format!("channel {c} neither scatters nor absorbs; diffusion needs sigma_a + sigma_s > 0"),
+                    format!(
+                        "channel {c} neither scatters nor absorbs; diffusion needs sigma_a + sigma_s > 0"
+                    ),
                 ));
             }
             if !(layer.g.is_finite() && layer.g > -1.0 && layer.g < 1.0) {
-                return Err(error(at("g"), format!("must lie strictly between -1 and 1, got {}", layer.g)));
+                return Err(error(
+                    at("g"),
+                    format!("must lie strictly between -1 and 1, got {}", layer.g),
+                ));
             }
             if !(layer.ior.is_finite() && layer.ior > 0.0) {
-                return Err(error(at("ior"), format!("must be a positive finite index, got {}", layer.ior)));
+                return Err(error(
+                    at("ior"),
+                    format!("must be a positive finite index, got {}", layer.ior),
+                ));
             }
             match layer.thickness_mm {
                 Some(t) if !(t.is_finite() && t > 0.0) => {
-                    return Err(error(at("thickness_mm"), format!("must be positive and finite (mm), got {t}")));
+                    return Err(error(
+                        at("thickness_mm"),
+                        format!("must be positive and finite (mm), got {t}"),
+                    ));
                 }
                 None if i + 1 < layers.len() => {
                     return Err(error(
                         at("thickness_mm"),
-                        format!("missing: only the last layer may be semi-infinite, and this is layer {i} of {}", layers.len()),
+                        format!(
+                            "missing: only the last layer may be semi-infinite, and this is layer {i} of {}",
+                            layers.len()
+                        ),
                     ));
                 }
                 _ => {}
@@ -193,7 +243,10 @@ fn parse_layer(fields: &toml::Table, prefix: &str) -> Result<Layer, (String, Str
     let at = |name: &str| format!("{prefix}.{name}");
     const KNOWN: [&str; 5] = ["sigma_a", "sigma_s", "g", "ior", "thickness_mm"];
     if let Some(key) = fields.keys().find(|k| !KNOWN.contains(&k.as_str())) {
-        return Err((at(key), format!("unknown field (expected one of {})", KNOWN.join(", "))));
+        return Err((
+            at(key),
+            format!("unknown field (expected one of {})", KNOWN.join(", ")),
+        ));
     }
     let rgb = |name: &str| -> Result<Rgb, (String, String)> {
         match fields.get(name) {
@@ -208,9 +261,10 @@ fn parse_layer(fields: &toml::Table, prefix: &str) -> Result<Layer, (String, Str
                         xs.map(|v| [v[0], v[1], v[2]])
                             .ok_or_else(|| (at(name), "every entry must be a number".into()))
                     }
-                    toml::Value::Array(items) => {
-                        Err((at(name), format!("needs 3 entries [r, g, b], got {}", items.len())))
-                    }
+                    toml::Value::Array(items) => Err((
+                        at(name),
+                        format!("needs 3 entries [r, g, b], got {}", items.len()),
+                    )),
                     _ => Err((at(name), "must be a number or [r, g, b]".into())),
                 }
             }
@@ -219,7 +273,9 @@ fn parse_layer(fields: &toml::Table, prefix: &str) -> Result<Layer, (String, Str
     let scalar = |name: &str, default: Option<f64>| -> Result<Option<f64>, (String, String)> {
         match fields.get(name) {
             None => Ok(default),
-            Some(v) => number(v).map(Some).ok_or_else(|| (at(name), "must be a number".into())),
+            Some(v) => number(v)
+                .map(Some)
+                .ok_or_else(|| (at(name), "must be a number".into())),
         }
     };
     Ok(Layer {

@@ -29,8 +29,14 @@ pub enum Model {
 
 impl Model {
     /// Every model, in the order the command line lists them.
-    pub const ALL: [Model; 6] =
-        [Model::Dipole, Model::Multipole, Model::Layered, Model::Gaussians, Model::Burley, Model::MonteCarlo];
+    pub const ALL: [Model; 6] = [
+        Model::Dipole,
+        Model::Multipole,
+        Model::Layered,
+        Model::Gaussians,
+        Model::Burley,
+        Model::MonteCarlo,
+    ];
 
     /// The model's command-line name.
     pub fn name(self) -> &'static str {
@@ -49,7 +55,9 @@ impl Model {
     pub fn default_for(material: &Material) -> Model {
         match &material.optics {
             Optics::Gaussians(_) => Model::Gaussians,
-            Optics::Layers(layers) if layers.len() == 1 && layers[0].thickness_mm.is_none() => Model::Dipole,
+            Optics::Layers(layers) if layers.len() == 1 && layers[0].thickness_mm.is_none() => {
+                Model::Dipole
+            }
             Optics::Layers(_) => Model::Layered,
         }
     }
@@ -64,10 +72,13 @@ impl fmt::Display for Model {
 impl FromStr for Model {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Model::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
-            let names: Vec<&str> = Model::ALL.iter().map(|m| m.name()).collect();
-            format!("unknown model `{s}` (expected one of {})", names.join(", "))
-        })
+        Model::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Model::ALL.iter().map(|m| m.name()).collect();
+                format!("unknown model `{s}` (expected one of {})", names.join(", "))
+            })
     }
 }
 
@@ -86,21 +97,37 @@ pub struct ModelError {
 /// Builds `model` for `material`. Gaussians are fitted with `gaussians`
 /// terms to the material's default profile. Monte Carlo is not a closed
 /// profile; run [`crate::monte_carlo::simulate`] instead.
-pub fn build_profile(material: &Material, model: Model, gaussians: usize) -> Result<Box<dyn Profile>, ModelError> {
-    let error = |reason: &str| ModelError { material: material.name.clone(), model, reason: reason.to_string() };
+pub fn build_profile(
+    material: &Material,
+    model: Model,
+    gaussians: usize,
+) -> Result<Box<dyn Profile>, ModelError> {
+    let error = |reason: &str| ModelError {
+        material: material.name.clone(),
+        model,
+        reason: reason.to_string(),
+    };
     let layers: &[Layer] = match (&material.optics, model) {
         (Optics::Gaussians(g), Model::Gaussians) => return Ok(Box::new(g.clone())),
         (Optics::Gaussians(g), Model::Burley) => return Ok(Box::new(Burley::matching(g))),
         (Optics::Gaussians(_), _) => {
-            return Err(error("a measured sum of Gaussians has no optical coefficients; use gaussians or burley"));
+            return Err(error(
+                "a measured sum of Gaussians has no optical coefficients; use gaussians or burley",
+            ));
         }
         (Optics::Layers(layers), _) => layers,
     };
-    let Some(top) = layers.first() else { return Err(error("the material has no layers")) };
+    let Some(top) = layers.first() else {
+        return Err(error("the material has no layers"));
+    };
     Ok(match model {
         Model::Dipole => Box::new(Dipole::new([0, 1, 2].map(|c| top.medium(c)), top.ior)),
         Model::Multipole if layers.len() == 1 => Box::new(Multipole::new(top, DEFAULT_ACCURACY)),
-        Model::Multipole => return Err(error("the multipole describes one slab; this material has several layers (use layered)")),
+        Model::Multipole => {
+            return Err(error(
+                "the multipole describes one slab; this material has several layers (use layered)",
+            ));
+        }
         Model::Layered => Box::new(Layered::new(layers)),
         Model::Gaussians | Model::Burley => {
             let reference = build_profile(material, Model::default_for(material), gaussians)?;
@@ -110,6 +137,10 @@ pub fn build_profile(material: &Material, model: Model, gaussians: usize) -> Res
                 Box::new(fit_gaussians(reference.as_ref(), gaussians).gaussians)
             }
         }
-        Model::MonteCarlo => return Err(error("Monte Carlo is a simulation, not a closed profile; run it with monte_carlo::simulate")),
+        Model::MonteCarlo => {
+            return Err(error(
+                "Monte Carlo is a simulation, not a closed profile; run it with monte_carlo::simulate",
+            ));
+        }
     })
 }

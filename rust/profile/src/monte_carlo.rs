@@ -44,7 +44,12 @@ impl Settings {
     /// `photons` photons with `seed`, binned at `edges_mm`, at most a
     /// million interactions each.
     pub fn new(photons: u64, seed: u64, edges_mm: Vec<f64>) -> Self {
-        Self { photons, seed, edges_mm, max_interactions: 1_000_000 }
+        Self {
+            photons,
+            seed,
+            edges_mm,
+            max_interactions: 1_000_000,
+        }
     }
 }
 
@@ -115,8 +120,14 @@ impl Tally {
             a[0] += b[0];
             a[1] += b[1];
         };
-        self.reflect.iter_mut().zip(&other.reflect).for_each(|(a, b)| add(a, b));
-        self.transmit.iter_mut().zip(&other.transmit).for_each(|(a, b)| add(a, b));
+        self.reflect
+            .iter_mut()
+            .zip(&other.reflect)
+            .for_each(|(a, b)| add(a, b));
+        self.transmit
+            .iter_mut()
+            .zip(&other.transmit)
+            .for_each(|(a, b)| add(a, b));
         add(&mut self.reflect_total, &other.reflect_total);
         add(&mut self.transmit_total, &other.transmit_total);
         add(&mut self.unscattered, &other.unscattered);
@@ -142,13 +153,18 @@ pub fn simulate(layers: &[Layer], settings: &Settings) -> MonteCarlo {
     let edges = settings.edges_mm.clone();
     let bins = edges.len().saturating_sub(1);
     let mut result = MonteCarlo {
-        radii_mm: edges.windows(2).map(|e| ((e[0] * e[0] + e[1] * e[1]) / 2.0).sqrt()).collect(),
+        radii_mm: edges
+            .windows(2)
+            .map(|e| ((e[0] * e[0] + e[1] * e[1]) / 2.0).sqrt())
+            .collect(),
         edges_mm: edges.clone(),
         reflectance: vec![[0.0; 3]; bins],
         reflectance_stderr: vec![[0.0; 3]; bins],
         transmittance: vec![[0.0; 3]; bins],
         transmittance_stderr: vec![[0.0; 3]; bins],
-        specular_reflectance: layers.first().map_or(0.0, |l| dielectric_reflectance(1.0, 1.0, l.ior)),
+        specular_reflectance: layers
+            .first()
+            .map_or(0.0, |l| dielectric_reflectance(1.0, 1.0, l.ior)),
         photons: settings.photons,
         ..Default::default()
     };
@@ -171,7 +187,13 @@ pub fn simulate(layers: &[Layer], settings: &Settings) -> MonteCarlo {
                 let mut rng = Rng::new(settings.seed, ((c as u64) << 40) | chunk);
                 let mut tally = Tally::new(bins);
                 for _ in 0..count {
-                    trace_photon(&slabs, &edges, settings.max_interactions, &mut rng, &mut tally);
+                    trace_photon(
+                        &slabs,
+                        &edges,
+                        settings.max_interactions,
+                        &mut rng,
+                        &mut tally,
+                    );
                 }
                 tally
             })
@@ -186,9 +208,14 @@ pub fn simulate(layers: &[Layer], settings: &Settings) -> MonteCarlo {
             result.transmittance[b][c] = t / area;
             result.transmittance_stderr[b][c] = t_err / area;
         }
-        (result.total_reflectance[c], result.total_reflectance_stderr[c]) = mean_and_error(total.reflect_total);
-        (result.total_transmittance[c], result.total_transmittance_stderr[c]) =
-            mean_and_error(total.transmit_total);
+        (
+            result.total_reflectance[c],
+            result.total_reflectance_stderr[c],
+        ) = mean_and_error(total.reflect_total);
+        (
+            result.total_transmittance[c],
+            result.total_transmittance_stderr[c],
+        ) = mean_and_error(total.transmit_total);
         result.unscattered_reflectance[c] = total.unscattered[0] / n;
         result.unscattered_transmittance[c] = total.unscattered[1] / n;
         result.truncated[c] = total.truncated / n;
@@ -207,7 +234,11 @@ fn channel_slabs(layers: &[Layer], c: usize) -> Vec<Slab> {
             depth += l.thickness_mm.unwrap_or(f64::INFINITY);
             Slab {
                 sigma_t,
-                albedo: if sigma_t > 0.0 { l.sigma_s[c] / sigma_t } else { 0.0 },
+                albedo: if sigma_t > 0.0 {
+                    l.sigma_s[c] / sigma_t
+                } else {
+                    0.0
+                },
                 g: l.g,
                 ior: l.ior,
                 top,
@@ -217,7 +248,13 @@ fn channel_slabs(layers: &[Layer], c: usize) -> Vec<Slab> {
         .collect()
 }
 
-fn trace_photon(slabs: &[Slab], edges: &[f64], max_interactions: u64, rng: &mut Rng, tally: &mut Tally) {
+fn trace_photon(
+    slabs: &[Slab],
+    edges: &[f64],
+    max_interactions: u64,
+    rng: &mut Rng,
+    tally: &mut Tally,
+) {
     let mut position = [0.0f64; 3];
     let mut direction = [0.0, 0.0, 1.0];
     let mut layer = 0usize;
@@ -226,7 +263,11 @@ fn trace_photon(slabs: &[Slab], edges: &[f64], max_interactions: u64, rng: &mut 
     let mut interactions = 0u64;
     loop {
         let slab = &slabs[layer];
-        let step = if slab.sigma_t > 0.0 { -rng.uniform_open().ln() / slab.sigma_t } else { f64::INFINITY };
+        let step = if slab.sigma_t > 0.0 {
+            -rng.uniform_open().ln() / slab.sigma_t
+        } else {
+            f64::INFINITY
+        };
         let to_boundary = if direction[2] > 0.0 {
             (slab.bottom - position[2]) / direction[2]
         } else if direction[2] < 0.0 {
@@ -242,7 +283,11 @@ fn trace_photon(slabs: &[Slab], edges: &[f64], max_interactions: u64, rng: &mut 
             position[0] += to_boundary * direction[0];
             position[1] += to_boundary * direction[1];
             position[2] = if downward { slab.bottom } else { slab.top };
-            let neighbour = if downward { Some(layer + 1).filter(|&i| i < slabs.len()) } else { layer.checked_sub(1) };
+            let neighbour = if downward {
+                Some(layer + 1).filter(|&i| i < slabs.len())
+            } else {
+                layer.checked_sub(1)
+            };
             let n_t = neighbour.map_or(1.0, |i| slabs[i].ior);
             let cos_i = direction[2].abs();
             if rng.uniform() < dielectric_reflectance(cos_i, slab.ior, n_t) {
@@ -255,8 +300,14 @@ fn trace_photon(slabs: &[Slab], edges: &[f64], max_interactions: u64, rng: &mut 
                 return;
             };
             let ratio = slab.ior / n_t;
-            let cos_t = (1.0 - ratio * ratio * (1.0 - cos_i * cos_i)).max(0.0).sqrt();
-            direction = [direction[0] * ratio, direction[1] * ratio, cos_t.copysign(direction[2])];
+            let cos_t = (1.0 - ratio * ratio * (1.0 - cos_i * cos_i))
+                .max(0.0)
+                .sqrt();
+            direction = [
+                direction[0] * ratio,
+                direction[1] * ratio,
+                cos_t.copysign(direction[2]),
+            ];
             layer = next;
             continue;
         }
@@ -282,7 +333,14 @@ fn trace_photon(slabs: &[Slab], edges: &[f64], max_interactions: u64, rng: &mut 
     }
 }
 
-fn record(tally: &mut Tally, edges: &[f64], downward: bool, radius: f64, weight: f64, scattered: bool) {
+fn record(
+    tally: &mut Tally,
+    edges: &[f64],
+    downward: bool,
+    radius: f64,
+    weight: f64,
+    scattered: bool,
+) {
     if !scattered {
         tally.unscattered[usize::from(downward)] += weight;
         return;
@@ -330,7 +388,11 @@ fn scatter(d: [f64; 3], g: f64, rng: &mut Rng) -> [f64; 3] {
 pub fn edges_around(radii: &[f64]) -> Vec<f64> {
     let mut edges = vec![0.0];
     for w in radii.windows(2) {
-        edges.push(if w[0] > 0.0 { (w[0] * w[1]).sqrt() } else { 0.5 * (w[0] + w[1]) });
+        edges.push(if w[0] > 0.0 {
+            (w[0] * w[1]).sqrt()
+        } else {
+            0.5 * (w[0] + w[1])
+        });
     }
     if let Some(&last) = radii.last() {
         let previous = edges[edges.len() - 1];

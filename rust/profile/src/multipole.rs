@@ -30,9 +30,17 @@ impl Multipole {
         let stack = Stack::new(std::slice::from_ref(layer));
         let slabs = [0, 1, 2].map(|c| stack.channel(c)[0].clone());
         let pairs = [0, 1, 2].map(|c| slabs[c].pole_pairs_for(accuracy));
-        let table = pairs.iter().any(Option::is_none).then(|| tabulate("multipole", &stack));
+        let table = pairs
+            .iter()
+            .any(Option::is_none)
+            .then(|| tabulate("multipole", &stack));
         let truncation = [0, 1, 2].map(|c| pairs[c].map_or(0.0, |n| slabs[c].truncation_bound(n)));
-        Self { slabs, pairs, truncation, table }
+        Self {
+            slabs,
+            pairs,
+            truncation,
+            table,
+        }
     }
 
     /// Image pairs summed per channel (`None`: tabulated from the closed form).
@@ -73,19 +81,26 @@ impl Profile for Multipole {
     }
 
     fn total_reflectance(&self) -> Rgb {
-        rgb_map(|c| self.slabs[c].frequency_response(0.0).down.reflectance)
+        rgb_map(|c| self.slabs[c].diffuse_totals().reflectance)
     }
 
     fn total_transmittance(&self) -> Rgb {
-        rgb_map(|c| self.slabs[c].frequency_response(0.0).down.transmittance - self.slabs[c].ballistic())
+        rgb_map(|c| self.slabs[c].diffuse_totals().transmittance)
+    }
+
+    fn ballistic_reflectance(&self) -> Rgb {
+        rgb_map(|c| self.slabs[c].ballistic().down.reflectance)
     }
 
     fn ballistic_transmittance(&self) -> Rgb {
-        rgb_map(|c| self.slabs[c].ballistic())
+        rgb_map(|c| self.slabs[c].ballistic().down.transmittance)
     }
 
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
-        self.per_channel(|s, n| s.enclosed_reflectance(r, n), |t| t.enclosed_reflectance(r))
+        self.per_channel(
+            |s, n| s.enclosed_reflectance(r, n),
+            |t| t.enclosed_reflectance(r),
+        )
     }
 
     fn length_scale(&self) -> Rgb {

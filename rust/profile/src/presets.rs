@@ -1,9 +1,9 @@
 //! Named materials: the measured media of Jensen et al. 2001, the three-layer
 //! skin of Donner & Jensen 2005, and d'Eon & Luebke's six-Gaussian skin.
 
+use crate::Rgb;
 use crate::gaussians::SumOfGaussians;
 use crate::material::{Layer, Material, Optics};
-use crate::Rgb;
 
 /// Jensen et al. 2001, table of measured parameters: name, σs' (1/mm) and
 /// σa (1/mm) per channel. All were measured with η = 1.3 and are given as
@@ -30,18 +30,44 @@ pub const JENSEN_IOR: f64 = 1.3;
 /// dermis and a semi-infinite bloody dermis; σa, σs in 1/mm, thickness in mm.
 fn three_layer_skin() -> Vec<Layer> {
     vec![
-        Layer { sigma_a: [2.1, 2.1, 5.0], sigma_s: [48.0, 60.0, 65.0], g: 0.0, ior: 1.4, thickness_mm: Some(0.03) },
-        Layer { sigma_a: [0.16, 0.19, 0.30], sigma_s: [32.0, 40.0, 46.0], g: 0.25, ior: 1.34, thickness_mm: Some(0.05) },
-        Layer { sigma_a: [0.085, 1.0, 25.0], sigma_s: [4.5, 4.7, 4.8], g: 0.8, ior: 1.4, thickness_mm: None },
+        Layer {
+            sigma_a: [2.1, 2.1, 5.0],
+            sigma_s: [48.0, 60.0, 65.0],
+            g: 0.0,
+            ior: 1.4,
+            thickness_mm: Some(0.03),
+        },
+        Layer {
+            sigma_a: [0.16, 0.19, 0.30],
+            sigma_s: [32.0, 40.0, 46.0],
+            g: 0.25,
+            ior: 1.34,
+            thickness_mm: Some(0.05),
+        },
+        Layer {
+            sigma_a: [0.085, 1.0, 25.0],
+            sigma_s: [4.5, 4.7, 4.8],
+            g: 0.8,
+            ior: 1.4,
+            thickness_mm: None,
+        },
     ]
 }
 
 /// Every preset name with a one-line description.
 pub fn list() -> Vec<(&'static str, &'static str)> {
-    let mut names: Vec<(&str, &str)> =
-        JENSEN_2001.iter().map(|(n, _, _)| (*n, "measured medium, Jensen et al. 2001 (dipole, η = 1.3)")).collect();
-    names.push(("skin3layer", "epidermis, upper and bloody dermis, Donner & Jensen 2005"));
-    names.push(("deon-skin", "six-Gaussian skin of d'Eon & Luebke 2007 (a profile, no coefficients)"));
+    let mut names: Vec<(&str, &str)> = JENSEN_2001
+        .iter()
+        .map(|(n, _, _)| (*n, "measured medium, Jensen et al. 2001 (dipole, η = 1.3)"))
+        .collect();
+    names.push((
+        "skin3layer",
+        "epidermis, upper and bloody dermis, Donner & Jensen 2005",
+    ));
+    names.push((
+        "deon-skin",
+        "six-Gaussian skin of d'Eon & Luebke 2007 (a profile, no coefficients)",
+    ));
     names
 }
 
@@ -52,8 +78,15 @@ pub fn preset(name: &str) -> Option<Material> {
         "deon-skin" => Optics::Gaussians(SumOfGaussians::deon_skin()),
         _ => {
             let (_, sigma_s_reduced, sigma_a) = JENSEN_2001.iter().find(|(n, _, _)| *n == name)?;
-            Optics::Layers(vec![Layer::semi_infinite(*sigma_a, *sigma_s_reduced, JENSEN_IOR)])
+            Optics::Layers(vec![Layer::semi_infinite(
+                *sigma_a,
+                *sigma_s_reduced,
+                JENSEN_IOR,
+            )])
         }
     };
-    Some(Material { name: name.to_string(), optics })
+    Some(Material {
+        name: name.to_string(),
+        optics,
+    })
 }

@@ -29,8 +29,14 @@ pub trait Profile: Send + Sync {
         [0.0; 3]
     }
 
-    /// Light crossing a slab without scattering: a delta at r = 0 that is
-    /// not part of T(r) nor of the total transmittance.
+    /// Light thin layers return without scattering (bounced off their
+    /// faces): a delta at r = 0, not part of R(r) nor of the total.
+    fn ballistic_reflectance(&self) -> Rgb {
+        [0.0; 3]
+    }
+
+    /// Light crossing thin layers without scattering: a delta at r = 0, not
+    /// part of T(r) nor of the total transmittance.
     fn ballistic_transmittance(&self) -> Rgb {
         [0.0; 3]
     }

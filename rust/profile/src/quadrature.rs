@@ -41,7 +41,10 @@ fn legendre_with_derivative(n: usize, x: f64) -> (f64, f64) {
 pub fn integrate(f: impl Fn(f64) -> f64, a: f64, b: f64, rule: &[(f64, f64)]) -> f64 {
     let half = 0.5 * (b - a);
     let mid = 0.5 * (a + b);
-    rule.iter().map(|&(x, w)| w * f(mid + half * x)).sum::<f64>() * half
+    rule.iter()
+        .map(|&(x, w)| w * f(mid + half * x))
+        .sum::<f64>()
+        * half
 }
 
 #[cfg(test)]

@@ -20,7 +20,14 @@ impl Rng {
     pub fn new(seed: u64, stream: u64) -> Self {
         let mut mixer = stream;
         let mut x = seed ^ splitmix(&mut mixer);
-        Self { s: [splitmix(&mut x), splitmix(&mut x), splitmix(&mut x), splitmix(&mut x)] }
+        Self {
+            s: [
+                splitmix(&mut x),
+                splitmix(&mut x),
+                splitmix(&mut x),
+                splitmix(&mut x),
+            ],
+        }
     }
 
     /// The next 64 random bits.

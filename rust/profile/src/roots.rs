@@ -11,7 +11,11 @@
 pub fn radius_where(fraction: impl Fn(f64) -> f64, target: f64, start: f64) -> f64 {
     const SMALLEST: f64 = 1e-12;
     const LARGEST: f64 = 1e9;
-    let start = if start.is_finite() && start > 0.0 { start.clamp(SMALLEST, LARGEST) } else { 1.0 };
+    let start = if start.is_finite() && start > 0.0 {
+        start.clamp(SMALLEST, LARGEST)
+    } else {
+        1.0
+    };
     let g = |log_r: f64| fraction(log_r.exp()) - target;
     let (mut a, mut b) = (start.ln(), start.ln());
     let (mut ga, mut gb) = (g(a), g(b));

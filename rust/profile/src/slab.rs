@@ -12,7 +12,7 @@
 //! with q = √(σtr² + k²) and L = d + z_b,near + z_b,far. Both are written
 //! below in overflow-free exponential form.
 
-use crate::fresnel::boundary_a;
+use crate::fresnel::{boundary_a, dielectric_reflectance, diffuse_reflectance_exact};
 use crate::medium::Medium;
 use std::f64::consts::PI;
 
@@ -39,14 +39,25 @@ pub struct SlabResponse {
     pub up: SideResponse,
 }
 
+/// How light arriving from above is distributed: the top layer receives the
+/// refracted beam (collimated, normal incidence); deeper layers receive the
+/// diffuse light of the layers above.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Incidence {
+    /// A beam at normal incidence.
+    Collimated,
+    /// Diffuse light.
+    Diffuse,
+}
+
 /// One slab in one channel, ready to evaluate.
 #[derive(Clone, Debug)]
 pub struct SlabChannel {
     /// Source strength: α', reduced for slabs thinner than two mean free paths.
     strength: f64,
-    /// Light crossing a thin slab without interacting (a delta in T), 0 for
-    /// slabs at least two mean free paths thick.
-    ballistic: f64,
+    /// What thin slabs return and pass without scattering: deltas at r = 0,
+    /// constant in frequency; zero for slabs at least 2ℓ thick.
+    ballistic: SlabResponse,
     /// σtr, 1/mm.
     sigma_tr: f64,
     /// Thickness d in mm; infinite for a semi-infinite medium.
@@ -68,9 +79,18 @@ impl SlabChannel {
     /// than 2ℓ cannot hold it: there the source moves to mid-depth and takes
     /// a share w = (1 − e^{−σt' d})/(1 − e^{−2}) of the light, the share that
     /// interacts inside the slab scaled to meet the ordinary multipole
-    /// continuously at d = 2ℓ; the rest, 1 − w, crosses unscattered. As
-    /// d → 0 the slab becomes transparent instead of producing nonsense.
-    pub fn new(medium: Medium, thickness_mm: f64, eta_top: f64, eta_bottom: f64) -> Self {
+    /// continuously at d = 2ℓ; the rest, b = 1 − w, crosses unscattered and
+    /// bounces between the two faces by their Fresnel reflectance (at normal
+    /// incidence for collimated light from above, the diffuse F_dr for light
+    /// from below) until it leaves. As d → 0 the slab becomes a pair of
+    /// interfaces instead of producing nonsense.
+    pub fn new(
+        medium: Medium,
+        thickness_mm: f64,
+        eta_top: f64,
+        eta_bottom: f64,
+        from_above: Incidence,
+    ) -> Self {
         let sigma_t = medium.sigma_t_reduced();
         let diffusion = medium.diffusion();
         let ell = medium.mean_free_path();
@@ -80,9 +100,29 @@ impl SlabChannel {
             source_depth = 0.5 * thickness_mm;
             share = (-(-sigma_t * thickness_mm).exp_m1() / -(-2.0f64).exp_m1()).clamp(0.0, 1.0);
         }
+        let b = 1.0 - share;
+        let (down_faces, up_faces) = (
+            match from_above {
+                Incidence::Collimated => (
+                    dielectric_reflectance(1.0, eta_bottom, 1.0),
+                    dielectric_reflectance(1.0, eta_top, 1.0),
+                ),
+                Incidence::Diffuse => (
+                    diffuse_reflectance_exact(eta_bottom),
+                    diffuse_reflectance_exact(eta_top),
+                ),
+            },
+            (
+                diffuse_reflectance_exact(eta_top),
+                diffuse_reflectance_exact(eta_bottom),
+            ),
+        );
         Self {
             strength: medium.albedo_reduced() * share,
-            ballistic: 1.0 - share,
+            ballistic: SlabResponse {
+                down: bounce_between_faces(b, down_faces),
+                up: bounce_between_faces(b, up_faces),
+            },
             sigma_tr: medium.sigma_tr(),
             thickness: thickness_mm,
             source_depth,
@@ -96,10 +136,10 @@ impl SlabChannel {
         self.thickness.is_infinite()
     }
 
-    /// Fraction of the light crossing the slab unscattered: a delta at
-    /// r = 0 that [`Self::frequency_response`] includes in T̂ and the
-    /// real-space T(r) leaves out.
-    pub fn ballistic(&self) -> f64 {
+    /// The light a thin slab reflects and transmits without scattering:
+    /// deltas at r = 0 that [`Self::frequency_response`] includes and the
+    /// real-space R(r), T(r) leave out.
+    pub fn ballistic(&self) -> SlabResponse {
         self.ballistic
     }
 
@@ -122,23 +162,40 @@ impl SlabChannel {
         if self.thickness.is_finite() {
             longest = longest.max(self.thickness + self.zb_top + self.zb_bottom);
         }
-        (shortest.max(1e-12), longest.max(self.source_depth + 2.0 * self.zb_top))
+        (
+            shortest.max(1e-12),
+            longest.max(self.source_depth + 2.0 * self.zb_top),
+        )
     }
 
     /// Closed-form responses at angular spatial frequency `k` (rad/mm); at
     /// k = 0 they are the exact total reflectance and transmittance. The
-    /// transmittances include the unscattered light, [`Self::ballistic`].
+    /// responses include the unscattered light, [`Self::ballistic`]; at
+    /// k = ∞ they are that light alone.
     pub fn frequency_response(&self, k: f64) -> SlabResponse {
         let q = (self.sigma_tr * self.sigma_tr + k * k).sqrt();
+        let add = |a: SideResponse, b: SideResponse| SideResponse {
+            reflectance: a.reflectance + b.reflectance,
+            transmittance: a.transmittance + b.transmittance,
+        };
         SlabResponse {
-            down: self.side(q, self.zb_top, self.zb_bottom),
-            up: self.side(q, self.zb_bottom, self.zb_top),
+            down: add(
+                self.side(q, self.zb_top, self.zb_bottom),
+                self.ballistic.down,
+            ),
+            up: add(self.side(q, self.zb_bottom, self.zb_top), self.ballistic.up),
         }
     }
 
     fn side(&self, q: f64, zb_near: f64, zb_far: f64) -> SideResponse {
         let half = 0.5 * self.strength;
         let z = self.source_depth;
+        if half == 0.0 || q.is_infinite() {
+            return SideResponse {
+                reflectance: 0.0,
+                transmittance: 0.0,
+            };
+        }
         if self.is_semi_infinite() {
             return SideResponse {
                 reflectance: half * (-q * z).exp() * (1.0 + (-2.0 * q * zb_near).exp()),
@@ -163,9 +220,14 @@ impl SlabChannel {
             transmittance: half
                 * (-q * (d - z)).exp()
                 * (1.0 + (-2.0 * q * zb_far).exp())
-                * ratio(z + zb_near)
-                + self.ballistic,
+                * ratio(z + zb_near),
         }
+    }
+
+    /// Total diffuse reflectance and transmittance for light from above,
+    /// without the unscattered part.
+    pub fn diffuse_totals(&self) -> SideResponse {
+        self.side(self.sigma_tr, self.zb_top, self.zb_bottom)
     }
 
     /// Period of the image series, 2L, in mm.
@@ -176,7 +238,11 @@ impl SlabChannel {
     /// Signed depths of the real and virtual sources of image pair `i`
     /// (light entering the top face).
     fn poles(&self, i: i64) -> (f64, f64) {
-        let shift = if self.is_semi_infinite() { 0.0 } else { i as f64 * self.period() };
+        let shift = if self.is_semi_infinite() {
+            0.0
+        } else {
+            i as f64 * self.period()
+        };
         (
             shift + self.source_depth,
             shift - self.source_depth - 2.0 * self.zb_top,
@@ -190,9 +256,8 @@ impl SlabChannel {
         if self.is_semi_infinite() {
             return Some(0);
         }
-        let exact = self.frequency_response(0.0).down;
-        let diffuse_transmittance = exact.transmittance - self.ballistic;
-        let tolerance = accuracy * (exact.reflectance + diffuse_transmittance).max(1e-300);
+        let exact = self.diffuse_totals();
+        let tolerance = accuracy * (exact.reflectance + exact.transmittance).max(1e-300);
         let (mut r, mut t) = (0.0, 0.0);
         for n in 0..=MAX_POLE_PAIRS as i64 {
             for i in if n == 0 { vec![0] } else { vec![-n, n] } {
@@ -201,7 +266,7 @@ impl SlabChannel {
                 t += self.pole_total(self.thickness - zr) - self.pole_total(self.thickness - zv);
             }
             if (r - exact.reflectance).abs() <= tolerance
-                && (t - diffuse_transmittance).abs() <= tolerance
+                && (t - exact.transmittance).abs() <= tolerance
             {
                 return Some(n as usize);
             }
@@ -220,7 +285,8 @@ impl SlabChannel {
         let mut bound = 0.0;
         for i in (pairs + 1).max(3)..pairs + 100_000 {
             let z = (i - 2) as f64 * self.period();
-            let term = 4.0 * (1.0 + self.sigma_tr * z) * (-self.sigma_tr * z).exp() / (4.0 * PI * z * z);
+            let term =
+                4.0 * (1.0 + self.sigma_tr * z) * (-self.sigma_tr * z).exp() / (4.0 * PI * z * z);
             bound += term;
             if term < 1e-6 * bound {
                 break;
@@ -240,7 +306,9 @@ impl SlabChannel {
 
     /// R(r) in 1/mm² at the entry face, summing `pairs` image pairs each side.
     pub fn reflectance(&self, r: f64, pairs: usize) -> f64 {
-        self.sum_poles(pairs, |zr, zv| pole(zr, r, self.sigma_tr) - pole(zv, r, self.sigma_tr))
+        self.sum_poles(pairs, |zr, zv| {
+            pole(zr, r, self.sigma_tr) - pole(zv, r, self.sigma_tr)
+        })
     }
 
     /// T(r) in 1/mm² at the opposite face.
@@ -273,7 +341,11 @@ impl SlabChannel {
     }
 
     fn sum_poles(&self, pairs: usize, term: impl Fn(f64, f64) -> f64) -> f64 {
-        let n = if self.is_semi_infinite() { 0 } else { pairs as i64 };
+        let n = if self.is_semi_infinite() {
+            0
+        } else {
+            pairs as i64
+        };
         // Smallest terms first keeps the alternating sum accurate.
         let (mut sum, mut magnitude) = (0.0, 0.0);
         let mut add = |(zr, zv): (f64, f64)| {
@@ -293,6 +365,25 @@ impl SlabChannel {
             sum = 0.0;
         }
         self.strength * sum
+    }
+}
+
+/// Unscattered light of share `b` entering one face and bouncing between
+/// the far face (reflectance `faces.0`) and the entry face (`faces.1`). The
+/// share is fixed on the first crossing; the bounces keep it whole, so
+/// what enters leaves: reflectance + transmittance = b.
+fn bounce_between_faces(b: f64, faces: (f64, f64)) -> SideResponse {
+    let (far, near) = faces;
+    let round_trips = 1.0 - far * near;
+    if b <= 0.0 || round_trips <= 0.0 {
+        return SideResponse {
+            reflectance: 0.0,
+            transmittance: 0.0,
+        };
+    }
+    SideResponse {
+        reflectance: b * far * (1.0 - near) / round_trips,
+        transmittance: b * (1.0 - far) / round_trips,
     }
 }
 

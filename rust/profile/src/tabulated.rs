@@ -30,7 +30,15 @@ impl Tabulated {
         total_transmittance: Rgb,
     ) -> Self {
         let enclosed = cumulative(&radii, &reflectance);
-        Self { model, radii, reflectance, transmittance, enclosed, total_reflectance, total_transmittance }
+        Self {
+            model,
+            radii,
+            reflectance,
+            transmittance,
+            enclosed,
+            total_reflectance,
+            total_transmittance,
+        }
     }
 
     /// The sample radii, mm.
@@ -40,7 +48,7 @@ impl Tabulated {
 
     fn interpolate(&self, values: &[Rgb], r: f64) -> Rgb {
         let n = self.radii.len();
-        if n == 0 || !(r <= self.radii[n - 1]) {
+        if n == 0 || r.is_nan() || r > self.radii[n - 1] {
             return [0.0; 3];
         }
         if r <= self.radii[0] {
@@ -57,7 +65,9 @@ impl Tabulated {
 /// disk inside the first radius taken at the first value.
 fn cumulative(radii: &[f64], values: &[Rgb]) -> Vec<Rgb> {
     let mut out = Vec::with_capacity(radii.len());
-    let Some(&first) = radii.first() else { return out };
+    let Some(&first) = radii.first() else {
+        return out;
+    };
     let mut acc = rgb_map(|c| PI * first * first * values[0][c]);
     out.push(acc);
     for i in 1..radii.len() {
@@ -108,9 +118,7 @@ impl Profile for Tabulated {
         let (r0, f0) = (self.radii[i - 1], self.reflectance[i - 1]);
         let f = self.reflectance(r);
         let h = (r / r0).ln();
-        rgb_map(|c| {
-            self.enclosed[i - 1][c] + 0.5 * h * 2.0 * PI * (r0 * r0 * f0[c] + r * r * f[c])
-        })
+        rgb_map(|c| self.enclosed[i - 1][c] + 0.5 * h * 2.0 * PI * (r0 * r0 * f0[c] + r * r * f[c]))
     }
 
     fn length_scale(&self) -> Rgb {

@@ -18,8 +18,20 @@ pub fn radial_integral(f: impl Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> f6
 }
 
 /// A single layer with the same coefficients in every channel.
-pub fn grey_layer(sigma_a: f64, sigma_s: f64, g: f64, ior: f64, thickness_mm: Option<f64>) -> Layer {
-    Layer { sigma_a: [sigma_a; 3], sigma_s: [sigma_s; 3], g, ior, thickness_mm }
+pub fn grey_layer(
+    sigma_a: f64,
+    sigma_s: f64,
+    g: f64,
+    ior: f64,
+    thickness_mm: Option<f64>,
+) -> Layer {
+    Layer {
+        sigma_a: [sigma_a; 3],
+        sigma_s: [sigma_s; 3],
+        g,
+        ior,
+        thickness_mm,
+    }
 }
 
 /// Relative difference |a − b| / |b|.
@@ -30,7 +42,12 @@ pub fn relative(a: f64, b: f64) -> f64 {
 /// Asserts every channel of `a` is within `tolerance` (relative) of `b`.
 pub fn assert_rgb_close(a: Rgb, b: Rgb, tolerance: f64, what: &str) {
     for c in 0..3 {
-        assert!(relative(a[c], b[c]) <= tolerance, "{what}, channel {c}: {} vs {} (tolerance {tolerance})", a[c], b[c]);
+        assert!(
+            relative(a[c], b[c]) <= tolerance,
+            "{what}, channel {c}: {} vs {} (tolerance {tolerance})",
+            a[c],
+            b[c]
+        );
     }
 }
 
@@ -38,7 +55,15 @@ pub fn assert_rgb_close(a: Rgb, b: Rgb, tolerance: f64, what: &str) {
 pub fn assert_physical(profile: &dyn Profile, r: f64, what: &str) {
     let (rr, tt) = (profile.reflectance(r), profile.transmittance(r));
     for c in 0..3 {
-        assert!(rr[c].is_finite() && rr[c] >= 0.0, "{what}: R({r})[{c}] = {}", rr[c]);
-        assert!(tt[c].is_finite() && tt[c] >= 0.0, "{what}: T({r})[{c}] = {}", tt[c]);
+        assert!(
+            rr[c].is_finite() && rr[c] >= 0.0,
+            "{what}: R({r})[{c}] = {}",
+            rr[c]
+        );
+        assert!(
+            tt[c].is_finite() && tt[c] >= 0.0,
+            "{what}: T({r})[{c}] = {}",
+            tt[c]
+        );
     }
 }

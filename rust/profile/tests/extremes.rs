@@ -16,7 +16,13 @@ const THICKNESSES: [Option<f64>; 4] = [Some(1e-5), Some(1.0), Some(1e4), None];
 const ANISOTROPIES: [f64; 3] = [-0.9, 0.0, 0.99];
 
 fn layer(albedo: f64, sigma_t: f64, g: f64, ior: f64, thickness: Option<f64>) -> Layer {
-    grey_layer((1.0 - albedo) * sigma_t, albedo * sigma_t, g, ior, thickness)
+    grey_layer(
+        (1.0 - albedo) * sigma_t,
+        albedo * sigma_t,
+        g,
+        ior,
+        thickness,
+    )
 }
 
 fn every_layer() -> Vec<Layer> {
@@ -36,24 +42,44 @@ fn every_layer() -> Vec<Layer> {
 }
 
 fn check(profile: &dyn Profile, what: &str) {
-    let (r, t, b) = (profile.total_reflectance(), profile.total_transmittance(), profile.ballistic_transmittance());
+    let (r, t) = (profile.total_reflectance(), profile.total_transmittance());
+    let (br, bt) = (
+        profile.ballistic_reflectance(),
+        profile.ballistic_transmittance(),
+    );
     for c in 0..3 {
-        for (name, v) in [("R", r[c]), ("T", t[c]), ("ballistic", b[c])] {
+        let parts = [
+            ("R", r[c]),
+            ("T", t[c]),
+            ("ballistic R", br[c]),
+            ("ballistic T", bt[c]),
+        ];
+        for (name, v) in parts {
             assert!(v.is_finite() && v >= 0.0, "{what}: total {name} = {v}");
         }
-        assert!(r[c] + t[c] + b[c] <= 1.0 + 1e-9, "{what}: R + T = {}", r[c] + t[c] + b[c]);
+        let sum: f64 = parts.iter().map(|p| p.1).sum();
+        assert!(sum <= 1.0 + 1e-9, "{what}: R + T = {sum}");
     }
     let reach = profile.d_max(1e-3);
-    assert!(reach.iter().all(|d| d.is_finite() && *d >= 0.0), "{what}: d_max {reach:?}");
+    assert!(
+        reach.iter().all(|d| d.is_finite() && *d >= 0.0),
+        "{what}: d_max {reach:?}"
+    );
     let scale = profile.length_scale();
-    assert!(scale.iter().all(|s| s.is_finite() && *s > 0.0), "{what}: length scale {scale:?}");
+    assert!(
+        scale.iter().all(|s| s.is_finite() && *s > 0.0),
+        "{what}: length scale {scale:?}"
+    );
     let mut radii = vec![0.0];
     radii.extend((-8..=8).map(|e| 10f64.powi(e)));
     radii.extend(scale.iter().flat_map(|s| [0.1 * s, *s, 10.0 * s]));
     for r in radii {
         assert_physical(profile, r, what);
         let enclosed = profile.enclosed_reflectance(r);
-        assert!(enclosed.iter().all(|e| e.is_finite()), "{what}: enclosed({r}) {enclosed:?}");
+        assert!(
+            enclosed.iter().all(|e| e.is_finite()),
+            "{what}: enclosed({r}) {enclosed:?}"
+        );
     }
 }
 
@@ -72,11 +98,25 @@ fn single_layers_at_the_extremes() {
     for layer in every_layer() {
         let what = format!("{layer:?}");
         let media = [0, 1, 2].map(|c| layer.medium(c));
-        check(&timed(&mut slowest, &what, || Dipole::new(media, layer.ior)), &format!("dipole {what}"));
-        check(&timed(&mut slowest, &what, || Multipole::new(&layer, 1e-6)), &format!("multipole {what}"));
-        check(&timed(&mut slowest, &what, || Layered::new(std::slice::from_ref(&layer))), &format!("layered {what}"));
+        check(
+            &timed(&mut slowest, &what, || Dipole::new(media, layer.ior)),
+            &format!("dipole {what}"),
+        );
+        check(
+            &timed(&mut slowest, &what, || Multipole::new(&layer, 1e-6)),
+            &format!("multipole {what}"),
+        );
+        check(
+            &timed(&mut slowest, &what, || {
+                Layered::new(std::slice::from_ref(&layer))
+            }),
+            &format!("layered {what}"),
+        );
     }
-    eprintln!("slowest single-layer profile: {:?} for {}", slowest.0, slowest.1);
+    eprintln!(
+        "slowest single-layer profile: {:?} for {}",
+        slowest.0, slowest.1
+    );
 }
 
 #[test]
@@ -92,7 +132,10 @@ fn stacks_at_the_extremes() {
             stack.insert(0, grey_layer(0.5, 20.0, 0.5, 1.4, Some(0.05)));
         }
         let what = format!("{stack:?}");
-        check(&timed(&mut slowest, &what, || Layered::new(&stack)), &format!("stack {what}"));
+        check(
+            &timed(&mut slowest, &what, || Layered::new(&stack)),
+            &format!("stack {what}"),
+        );
     }
     eprintln!("slowest stack: {:?} for {}", slowest.0, slowest.1);
 }
@@ -106,7 +149,11 @@ fn fits_at_the_extremes() {
                 let reference = Layered::new(std::slice::from_ref(&layer));
                 let what = format!("{layer:?}");
                 let fit = fit_gaussians(&reference, 4);
-                assert!(fit.error.iter().all(|e| e.is_finite() && *e >= 0.0), "{what}: fit error {:?}", fit.error);
+                assert!(
+                    fit.error.iter().all(|e| e.is_finite() && *e >= 0.0),
+                    "{what}: fit error {:?}",
+                    fit.error
+                );
                 check(&fit.gaussians, &format!("gaussians {what}"));
                 check(&Burley::matching(&reference), &format!("burley {what}"));
             }
@@ -122,7 +169,10 @@ fn monte_carlo_at_the_extremes() {
             for (ior, g) in [(1.0, -0.9), (2.5, 0.99)] {
                 for thickness in [Some(1e-5), Some(1.0), None] {
                     let layer = layer(albedo, sigma_t, g, ior, thickness);
-                    let settings = Settings { max_interactions: 10_000, ..Settings::new(100, 3, edges_around(&[0.01, 1.0])) };
+                    let settings = Settings {
+                        max_interactions: 10_000,
+                        ..Settings::new(100, 3, edges_around(&[0.01, 1.0]))
+                    };
                     let mut stack = vec![layer.clone()];
                     if thickness.is_some() {
                         stack.push(grey_layer(0.1, 1.0, 0.0, 1.4, Some(0.5)));
@@ -136,11 +186,24 @@ fn monte_carlo_at_the_extremes() {
                             mc.unscattered_transmittance[c],
                             mc.truncated[c],
                         ];
-                        assert!(parts.iter().all(|p| p.is_finite() && *p >= 0.0), "{layer:?}: {parts:?}");
+                        assert!(
+                            parts.iter().all(|p| p.is_finite() && *p >= 0.0),
+                            "{layer:?}: {parts:?}"
+                        );
                         // Roulette is unbiased, not bounded per photon: allow its spread.
-                        assert!(parts.iter().sum::<f64>() <= 1.0 + 0.2, "{layer:?}: {parts:?}");
-                        let bins = mc.reflectance.iter().chain(&mc.transmittance).chain(&mc.reflectance_stderr);
-                        assert!(bins.map(|b| b[c]).all(|v| v.is_finite() && v >= 0.0), "{layer:?}");
+                        assert!(
+                            parts.iter().sum::<f64>() <= 1.0 + 0.2,
+                            "{layer:?}: {parts:?}"
+                        );
+                        let bins = mc
+                            .reflectance
+                            .iter()
+                            .chain(&mc.transmittance)
+                            .chain(&mc.reflectance_stderr);
+                        assert!(
+                            bins.map(|b| b[c]).all(|v| v.is_finite() && v >= 0.0),
+                            "{layer:?}"
+                        );
                     }
                 }
             }

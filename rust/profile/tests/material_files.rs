@@ -31,11 +31,16 @@ sigma_s = [0.7, 0.9, 1.1]
 fn a_valid_file_loads_with_defaults() {
     let material = load(TWO_LAYERS).unwrap();
     assert_eq!(material.name, "two-layer skin");
-    let Optics::Layers(layers) = &material.optics else { panic!("layers expected") };
+    let Optics::Layers(layers) = &material.optics else {
+        panic!("layers expected")
+    };
     assert_eq!(layers.len(), 2);
     assert_eq!(layers[0].sigma_s, [20.0; 3]);
     assert_eq!(layers[0].thickness_mm, Some(0.1));
-    assert_eq!((layers[1].g, layers[1].ior, layers[1].thickness_mm), (0.0, 1.3, None));
+    assert_eq!(
+        (layers[1].g, layers[1].ior, layers[1].thickness_mm),
+        (0.0, 1.3, None)
+    );
     assert_eq!(layers[1].sigma_s, [0.7, 0.9, 1.1]);
     let unnamed = load("[[layers]]\nsigma_a = 1\nsigma_s = 1\n").unwrap();
     assert_eq!(unnamed.name, "skin");
@@ -44,15 +49,39 @@ fn a_valid_file_loads_with_defaults() {
 #[test]
 fn bad_values_name_their_field() {
     let one = |field: &str| format!("[[layers]]\nsigma_a = 0.1\nsigma_s = 1.0\n{field}\n");
-    assert_error("[[layers]]\nsigma_a = -0.1\nsigma_s = 1\n", "layers[0].sigma_a", "non-negative");
-    assert_error("[[layers]]\nsigma_a = 0.1\nsigma_s = [1, nan, 1]\n", "layers[0].sigma_s", "finite");
-    assert_error("[[layers]]\nsigma_a = inf\nsigma_s = 1\n", "layers[0].sigma_a", "finite");
+    assert_error(
+        "[[layers]]\nsigma_a = -0.1\nsigma_s = 1\n",
+        "layers[0].sigma_a",
+        "non-negative",
+    );
+    assert_error(
+        "[[layers]]\nsigma_a = 0.1\nsigma_s = [1, nan, 1]\n",
+        "layers[0].sigma_s",
+        "finite",
+    );
+    assert_error(
+        "[[layers]]\nsigma_a = inf\nsigma_s = 1\n",
+        "layers[0].sigma_a",
+        "finite",
+    );
     assert_error(&one("ior = 0"), "layers[0].ior", "positive");
     assert_error(&one("ior = -1.3"), "layers[0].ior", "positive");
     assert_error(&one("g = 1.0"), "layers[0].g", "between -1 and 1");
-    assert_error(&one("thickness_mm = 0"), "layers[0].thickness_mm", "positive");
-    assert_error(&one("thickness_mm = inf"), "layers[0].thickness_mm", "finite");
-    assert_error("[[layers]]\nsigma_a = 0\nsigma_s = 0\n", "layers[0].sigma_s", "neither scatters nor absorbs");
+    assert_error(
+        &one("thickness_mm = 0"),
+        "layers[0].thickness_mm",
+        "positive",
+    );
+    assert_error(
+        &one("thickness_mm = inf"),
+        "layers[0].thickness_mm",
+        "finite",
+    );
+    assert_error(
+        "[[layers]]\nsigma_a = 0\nsigma_s = 0\n",
+        "layers[0].sigma_s",
+        "neither scatters nor absorbs",
+    );
 }
 
 #[test]
@@ -60,11 +89,31 @@ fn bad_structure_is_named() {
     assert_error("name = \"x\"\n", "layers", "missing");
     assert_error("layers = []\n", "layers", "empty");
     assert_error("layers = 3\n", "layers", "array of tables");
-    assert_error("[[layers]]\nsigma_a = 0.1\n", "layers[0].sigma_s", "missing");
-    assert_error("[[layers]]\nsigma_a = [0.1, 0.2]\nsigma_s = 1\n", "layers[0].sigma_a", "3 entries");
-    assert_error("[[layers]]\nsigma_a = \"red\"\nsigma_s = 1\n", "layers[0].sigma_a", "number");
-    assert_error("[[layers]]\nsigma_a = 0.1\nsigma_s = 1\nsigma_t = 3\n", "layers[0].sigma_t", "unknown field");
-    assert_error("colour = 1\n[[layers]]\nsigma_a = 0.1\nsigma_s = 1\n", "colour", "unknown field");
+    assert_error(
+        "[[layers]]\nsigma_a = 0.1\n",
+        "layers[0].sigma_s",
+        "missing",
+    );
+    assert_error(
+        "[[layers]]\nsigma_a = [0.1, 0.2]\nsigma_s = 1\n",
+        "layers[0].sigma_a",
+        "3 entries",
+    );
+    assert_error(
+        "[[layers]]\nsigma_a = \"red\"\nsigma_s = 1\n",
+        "layers[0].sigma_a",
+        "number",
+    );
+    assert_error(
+        "[[layers]]\nsigma_a = 0.1\nsigma_s = 1\nsigma_t = 3\n",
+        "layers[0].sigma_t",
+        "unknown field",
+    );
+    assert_error(
+        "colour = 1\n[[layers]]\nsigma_a = 0.1\nsigma_s = 1\n",
+        "colour",
+        "unknown field",
+    );
     assert_error(
         "[[layers]]\nsigma_a = 0.1\nsigma_s = 1\n[[layers]]\nsigma_a = 0.1\nsigma_s = 1\n",
         "layers[0].thickness_mm",
@@ -75,6 +124,11 @@ fn bad_structure_is_named() {
 
 #[test]
 fn a_missing_file_is_named() {
-    let error = Material::from_file(std::path::Path::new("/nonexistent/dir/wax.toml")).unwrap_err().to_string();
-    assert!(error.starts_with("/nonexistent/dir/wax.toml: cannot read"), "{error}");
+    let error = Material::from_file(std::path::Path::new("/nonexistent/dir/wax.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.starts_with("/nonexistent/dir/wax.toml: cannot read"),
+        "{error}"
+    );
 }

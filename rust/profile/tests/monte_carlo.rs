@@ -24,7 +24,14 @@ fn run(layers: &[Layer], photons: u64, radii: &[f64]) -> MonteCarlo {
 /// Compares a model against the simulation in bins beyond `mean_free_paths`
 /// times each channel's mean free path `ell` (mm), where the simulation is
 /// precise to 10%. Channels with `ell` = ∞ are skipped.
-fn compare_profile(model: &dyn Profile, mc: &MonteCarlo, ell: [f64; 3], mean_free_paths: f64, tolerance: f64, what: &str) {
+fn compare_profile(
+    model: &dyn Profile,
+    mc: &MonteCarlo,
+    ell: [f64; 3],
+    mean_free_paths: f64,
+    tolerance: f64,
+    what: &str,
+) {
     let mut compared = 0;
     for (i, &r) in mc.radii_mm.iter().enumerate() {
         // The bin average of the model, for a fair comparison with a bin.
@@ -44,7 +51,10 @@ fn compare_profile(model: &dyn Profile, mc: &MonteCarlo, ell: [f64; 3], mean_fre
             );
         }
     }
-    assert!(compared >= 6, "{what}: only {compared} bins were precise enough to compare");
+    assert!(
+        compared >= 6,
+        "{what}: only {compared} bins were precise enough to compare"
+    );
 }
 
 fn compare_total(model: f64, mc: f64, stderr: f64, tolerance: f64, what: &str) {
@@ -58,11 +68,25 @@ fn compare_total(model: f64, mc: f64, stderr: f64, tolerance: f64, what: &str) {
 fn the_same_seed_gives_the_same_answer_on_any_thread_count() {
     let layers = preset("skin1").unwrap().layers().unwrap().to_vec();
     let settings = Settings::new(10_000, 42, edges_around(&[0.5, 1.0, 2.0]));
-    let single = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| simulate(&layers, &settings));
-    let many = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap().install(|| simulate(&layers, &settings));
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| simulate(&layers, &settings));
+    let many = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(|| simulate(&layers, &settings));
     assert_eq!(single.reflectance, many.reflectance);
     assert_eq!(single.total_reflectance, many.total_reflectance);
-    let other_seed = simulate(&layers, &Settings { seed: 43, ..settings });
+    let other_seed = simulate(
+        &layers,
+        &Settings {
+            seed: 43,
+            ..settings
+        },
+    );
     assert_ne!(single.total_reflectance, other_seed.total_reflectance);
 }
 
@@ -103,7 +127,13 @@ fn the_dipole_matches_monte_carlo_for_skin1_and_marble() {
             );
         }
         let diffusive = |c: usize| layers[0].medium(c).albedo_reduced() >= 0.9;
-        let ell = [0, 1, 2].map(|c| if diffusive(c) { layers[0].medium(c).mean_free_path() } else { f64::INFINITY });
+        let ell = [0, 1, 2].map(|c| {
+            if diffusive(c) {
+                layers[0].medium(c).mean_free_path()
+            } else {
+                f64::INFINITY
+            }
+        });
         compare_profile(&dipole, &mc, ell, 1.0, 0.6, name);
         compare_profile(&dipole, &mc, ell, 2.5, 0.25, name);
     }
@@ -111,11 +141,20 @@ fn the_dipole_matches_monte_carlo_for_skin1_and_marble() {
 
 #[test]
 fn the_layered_model_matches_monte_carlo_for_mikkelsen_table_3() {
-    let layers = vec![grey_layer(0.005, 1.3, 0.0, 1.4, Some(6.0)), grey_layer(0.01, 1.0, 0.0, 1.4, None)];
+    let layers = vec![
+        grey_layer(0.005, 1.3, 0.0, 1.4, Some(6.0)),
+        grey_layer(0.01, 1.0, 0.0, 1.4, None),
+    ];
     let model = Layered::new(&layers);
     let radii: Vec<f64> = (1..=30).map(|i| 0.5 * i as f64).collect();
     let mc = run(&layers, 10_000, &radii);
-    compare_total(model.total_reflectance()[0], mc.total_reflectance[0], mc.total_reflectance_stderr[0], 0.04, "table 3 total");
+    compare_total(
+        model.total_reflectance()[0],
+        mc.total_reflectance[0],
+        mc.total_reflectance_stderr[0],
+        0.04,
+        "table 3 total",
+    );
     let ell = [1.0 / 1.305; 3];
     compare_profile(&model, &mc, ell, 1.0, 0.6, "table 3");
     compare_profile(&model, &mc, ell, 2.5, 0.25, "table 3");
@@ -129,7 +168,13 @@ fn the_multipole_matches_monte_carlo_for_thin_and_thick_slabs() {
         let model = Multipole::new(&layer, 1e-8);
         let mc = run(std::slice::from_ref(&layer), 10_000, &[1.0]);
         let what = format!("{thickness} mfp");
-        compare_total(model.total_reflectance()[0], mc.total_reflectance[0], mc.total_reflectance_stderr[0], 0.06, &what);
+        compare_total(
+            model.total_reflectance()[0],
+            mc.total_reflectance[0],
+            mc.total_reflectance_stderr[0],
+            0.06,
+            &what,
+        );
         compare_total(
             model.total_transmittance()[0],
             mc.total_transmittance[0] + mc.unscattered_transmittance[0],
@@ -138,4 +183,28 @@ fn the_multipole_matches_monte_carlo_for_thin_and_thick_slabs() {
             &what,
         );
     }
+}
+
+#[test]
+fn the_three_layer_skin_matches_monte_carlo() {
+    // Donner & Jensen 2005's epidermis and upper dermis are thinner than two
+    // reduced mean free paths; their unscattered light and faces matter.
+    let layers = preset("skin3layer").unwrap().layers().unwrap().to_vec();
+    let model = Layered::new(&layers);
+    let radii: Vec<f64> = (1..=40).map(|i| 0.2 * i as f64).collect();
+    let mc = run(&layers, 40_000, &radii);
+    for c in 0..3 {
+        compare_total(
+            model.total_reflectance()[c],
+            mc.total_reflectance[c],
+            mc.total_reflectance_stderr[c],
+            0.08,
+            &format!("three-layer skin total, channel {c}"),
+        );
+    }
+    // Far out only the red light of the bloody dermis (reduced albedo 0.91,
+    // ℓ ≈ 1 mm) is left, and it is diffusive.
+    let dermis = layers[2].medium(0);
+    let ell = [dermis.mean_free_path(), f64::INFINITY, f64::INFINITY];
+    compare_profile(&model, &mc, ell, 2.5, 0.3, "three-layer skin, red");
 }

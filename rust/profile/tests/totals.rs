@@ -34,7 +34,11 @@ fn check(profile: &dyn Profile, tolerance: f64, what: &str) {
 fn dipole_total_matches_its_integral() {
     for name in ["skin1", "marble", "ketchup", "cream", "spectralon"] {
         let material = preset(name).unwrap();
-        check(build_profile(&material, Model::Dipole, 6).unwrap().as_ref(), 1e-5, name);
+        check(
+            build_profile(&material, Model::Dipole, 6).unwrap().as_ref(),
+            1e-5,
+            name,
+        );
     }
 }
 
@@ -55,7 +59,11 @@ fn layered_totals_at_zero_frequency_match_the_tabulated_integral() {
     ];
     check(&Layered::new(&two_slab), 2e-3, "Mikkelsen table 3");
     let skin = preset("skin3layer").unwrap();
-    check(&Layered::new(skin.layers().unwrap()), 2e-3, "three-layer skin");
+    check(
+        &Layered::new(skin.layers().unwrap()),
+        2e-3,
+        "three-layer skin",
+    );
     let finite = vec![
         grey_layer(0.1, 5.0, 0.2, 1.5, Some(0.3)),
         grey_layer(0.02, 1.0, 0.0, 1.33, Some(2.0)),
@@ -66,5 +74,9 @@ fn layered_totals_at_zero_frequency_match_the_tabulated_integral() {
 #[test]
 fn gaussian_and_burley_totals_match_their_integrals() {
     check(&SumOfGaussians::deon_skin(), 1e-6, "d'Eon skin");
-    check(&Burley::from_cycles([0.8, 0.5, 0.3], [1.0, 0.2, 0.1]), 1e-5, "Burley");
+    check(
+        &Burley::from_cycles([0.8, 0.5, 0.3], [1.0, 0.2, 0.1]),
+        1e-5,
+        "Burley",
+    );
 }

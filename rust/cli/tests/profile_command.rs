@@ -1,0 +1,258 @@
+//! `sssbake profile` end to end: output formats, defaults and bad input.
+
+use serde_json::Value;
+use sssbake_profile::presets::preset;
+use sssbake_profile::{Model, build_profile};
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn sssbake(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sssbake"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn json(args: &[&str]) -> Value {
+    let out = sssbake(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("valid JSON")
+}
+
+fn numbers(value: &Value) -> Vec<f64> {
+    value
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sssbake-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn json_reports_the_library_numbers() {
+    let out = json(&[
+        "profile", "--preset", "skin1", "--json", "--radii", "0.1,1,3",
+    ]);
+    assert_eq!(out["model"], "dipole");
+    assert_eq!(numbers(&out["radii_mm"]), vec![0.1, 1.0, 3.0]);
+    let material = preset("skin1").unwrap();
+    let profile = build_profile(&material, Model::Dipole, 6).unwrap();
+    let same = |json: &Value, library: [f64; 3]| {
+        let printed = numbers(json);
+        (0..3).all(|c| (printed[c] - library[c]).abs() <= 1e-14 * library[c].abs())
+    };
+    assert!(same(&out["total_reflectance"], profile.total_reflectance()));
+    assert!(same(&out["reflectance"][1], profile.reflectance(1.0)));
+    assert!(same(&out["d_max_mm"], profile.d_max(1e-3)));
+    assert_eq!(numbers(&out["total_transmittance"]), vec![0.0; 3]);
+}
+
+#[test]
+fn the_default_model_is_the_one_the_material_needs() {
+    for (name, model) in [
+        ("marble", "dipole"),
+        ("skin3layer", "layered"),
+        ("deon-skin", "gaussians"),
+    ] {
+        let out = json(&["profile", "--preset", name, "--json"]);
+        assert_eq!(out["model"], model, "{name}");
+        assert_eq!(out["radii_mm"].as_array().unwrap().len(), 60);
+    }
+}
+
+#[test]
+fn every_model_runs_on_a_slab_file() {
+    let dir = scratch("slab");
+    let file = dir.join("wax.toml");
+    std::fs::write(
+        &file,
+        "[[layers]]\nsigma_a = [0.01, 0.02, 0.05]\nsigma_s = 1.5\nthickness_mm = 3\n",
+    )
+    .unwrap();
+    let file = file.to_str().unwrap();
+    for model in ["dipole", "multipole", "layered", "gaussians", "burley"] {
+        let out = json(&["profile", "--material", file, "--model", model, "--json"]);
+        assert_eq!(out["model"], model);
+        assert!(
+            numbers(&out["total_reflectance"])
+                .iter()
+                .all(|v| *v > 0.0 && *v < 1.0),
+            "{model}"
+        );
+    }
+    let slab = json(&["profile", "--material", file, "--json"]);
+    assert_eq!(slab["model"], "layered");
+    assert!(
+        numbers(&slab["total_transmittance"])
+            .iter()
+            .all(|v| *v > 0.0)
+    );
+}
+
+#[test]
+fn monte_carlo_reports_standard_errors() {
+    let args = [
+        "profile",
+        "--preset",
+        "skin1",
+        "--model",
+        "montecarlo",
+        "--photons",
+        "3000",
+        "--radii",
+        "0.5,1,2",
+        "--json",
+    ];
+    let out = json(&args);
+    assert_eq!(out["model"], "montecarlo");
+    let stderr = out["reflectance_stderr"].as_array().unwrap();
+    assert_eq!(stderr.len(), 3);
+    assert!(numbers(&stderr[0]).iter().all(|e| *e > 0.0));
+    assert_eq!(
+        out["reflectance"],
+        json(&args)["reflectance"],
+        "the same seed repeats"
+    );
+    let compared = json(&[
+        "profile",
+        "--preset",
+        "skin1",
+        "--compare-montecarlo",
+        "--photons",
+        "2000",
+        "--json",
+    ]);
+    assert_eq!(compared["model"], "dipole");
+    assert!(compared["montecarlo"]["total_reflectance"].is_array());
+}
+
+#[test]
+fn plots_are_written_whole() {
+    let dir = scratch("plots");
+    let svg = dir.join("skin.svg");
+    let png = dir.join("skin.png");
+    let out = sssbake(&[
+        "profile",
+        "--preset",
+        "skin3layer",
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        text.starts_with("<svg")
+            && text.ends_with("</svg>")
+            && text.matches("<polyline").count() >= 12
+    );
+    let out = sssbake(&[
+        "profile",
+        "--preset",
+        "skin1",
+        "--compare-montecarlo",
+        "--photons",
+        "1000",
+        "--plot",
+        png.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(&std::fs::read(&png).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains("partial"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+fn assert_fails(args: &[&str], code: i32, words: &[&str]) {
+    let out = sssbake(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "{args:?}: {stderr}");
+    for w in words {
+        assert!(stderr.contains(w), "{args:?}: `{w}` not in {stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn bad_input_gets_a_clear_error() {
+    let dir = scratch("bad");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "[[layers]]\nsigma_a = 0.1\nsigma_s = 1\nior = 0\n").unwrap();
+    let bad = bad.to_str().unwrap();
+    assert_fails(
+        &["profile", "--preset", "jade"],
+        1,
+        &["unknown preset `jade`", "skin1"],
+    );
+    assert_fails(&["profile", "--material", bad], 1, &[bad, "layers[0].ior"]);
+    assert_fails(
+        &["profile", "--material", "/nonexistent/x.toml"],
+        1,
+        &["/nonexistent/x.toml", "cannot read"],
+    );
+    assert_fails(
+        &["profile", "--preset", "skin1", "--radii", "1,-2"],
+        1,
+        &["--radii", "-2"],
+    );
+    assert_fails(
+        &["profile", "--preset", "skin1", "--radii", "2,1"],
+        1,
+        &["increase"],
+    );
+    assert_fails(
+        &["profile", "--preset", "skin1", "--epsilon", "1.5"],
+        1,
+        &["--epsilon"],
+    );
+    assert_fails(
+        &["profile", "--preset", "skin3layer", "--model", "multipole"],
+        1,
+        &["skin3layer", "one slab"],
+    );
+    assert_fails(
+        &["profile", "--preset", "deon-skin", "--model", "montecarlo"],
+        1,
+        &["deon-skin", "no layers"],
+    );
+    assert_fails(
+        &["profile", "--preset", "skin1", "--plot", "out.jpg"],
+        1,
+        &[".svg or .png"],
+    );
+    assert_fails(
+        &["profile", "--preset", "skin1", "--model", "cubic"],
+        2,
+        &["unknown model `cubic`"],
+    );
+    assert_fails(&["profile"], 2, &["--preset"]);
+    let unwritable = dir.join("missing-dir").join("plot.svg");
+    assert_fails(
+        &[
+            "profile",
+            "--preset",
+            "skin1",
+            "--plot",
+            unwritable.to_str().unwrap(),
+        ],
+        3,
+        &["plot.svg", "cannot write"],
+    );
+    assert!(!unwritable.exists());
+}

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Installs what the tests need (first run only) and runs every check: style
+# (rustfmt, clippy, ruff), the Rust workspace's tests, then the Python tests
+# against the release binary.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-test-deps.sh
+cargo fmt --all -- --check
+cargo clippy --workspace --all-targets --locked -- -D warnings
+.venv/bin/ruff format --check --quiet tests
+.venv/bin/ruff check --quiet tests
+cargo build --release --locked -p sssbake-cli
+cargo test --workspace --locked
+SSSBAKE_BIN="$PWD/target/release/sssbake" .venv/bin/python -m pytest tests -q
