@@ -117,10 +117,10 @@ fn visible_reach(curves: &[&Curve], weighted: bool) -> f64 {
         .fold(1e-12, f64::max)
 }
 
-/// The smallest 1, 2 or 5 times a power of ten at or above `x`.
+/// The smallest 1, 2, 2.5 or 5 times a power of ten at or above `x`.
 fn nice_ceiling(x: f64) -> f64 {
     let base = 10f64.powf(x.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
+    [1.0, 2.0, 2.5, 5.0, 10.0]
         .into_iter()
         .map(|m| m * base)
         .find(|v| *v >= x * (1.0 - 1e-12))

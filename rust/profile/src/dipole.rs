@@ -2,10 +2,10 @@
 //! for a semi-infinite medium under a boundary of relative index η.
 
 use crate::fresnel::boundary_a;
+use crate::images::{pole, pole_enclosed};
 use crate::medium::Medium;
 use crate::profile::Profile;
 use crate::roots::radius_where;
-use crate::slab::{pole, pole_enclosed};
 use crate::{Rgb, rgb_map};
 
 /// One channel of a dipole.

@@ -70,7 +70,7 @@ pub fn invert_albedo(
                     sigma_s_reduced: albedo / mfp_mm[c],
                 };
                 SlabChannel::new(medium, thickness_mm, ior, ior, Incidence::Collimated)
-                    .diffuse_totals()
+                    .image_totals()
                     .reflectance
             }
         }

@@ -6,6 +6,7 @@ use crate::hankel::inverse_hankel_many;
 use crate::material::Layer;
 use crate::profile::Profile;
 use crate::slab::{Incidence, SideResponse, SlabChannel, SlabResponse};
+use crate::split::{Split, SplitSlab, combine};
 use crate::tabulated::Tabulated;
 use crate::{Rgb, rgb_map};
 
@@ -53,10 +54,11 @@ impl Stack {
     }
 
     /// The whole stack's response to light from above and from below at
-    /// angular frequency `k` (rad/mm) in channel `c`.
-    pub fn frequency_response(&self, c: usize, k: f64) -> SlabResponse {
-        let mut slabs = self.channels[c].iter();
-        let first = slabs.next().map_or(
+    /// angular frequency `k` (rad/mm) in channel `c`, kept in its
+    /// unscattered and diffuse parts.
+    pub fn split_response(&self, c: usize, k: f64) -> SplitSlab {
+        let mut slabs = self.channels[c].iter().map(|s| s.split_response(k));
+        let first = slabs.next().unwrap_or(SplitSlab::new(
             SlabResponse {
                 down: SideResponse {
                     reflectance: 0.0,
@@ -67,18 +69,29 @@ impl Stack {
                     transmittance: 1.0,
                 },
             },
-            |s| s.frequency_response(k),
-        );
-        slabs.fold(first, |above, slab| {
-            combine(above, slab.frequency_response(k))
-        })
+            SlabResponse {
+                down: SideResponse {
+                    reflectance: 0.0,
+                    transmittance: 0.0,
+                },
+                up: SideResponse {
+                    reflectance: 0.0,
+                    transmittance: 0.0,
+                },
+            },
+        ));
+        slabs.fold(first, combine)
+    }
+
+    /// The stack's whole response (unscattered and diffuse) at `k`.
+    pub fn frequency_response(&self, c: usize, k: f64) -> SlabResponse {
+        self.split_response(c, k).map(Split::total)
     }
 
     /// Light the stack reflects and transmits without scattering in channel
-    /// `c` (deltas at r = 0): the limit of its response as k → ∞, where
-    /// every diffuse term vanishes.
+    /// `c` (deltas at r = 0; the same at every frequency).
     pub fn ballistic(&self, c: usize) -> SideResponse {
-        self.frequency_response(c, f64::INFINITY).down
+        self.split_response(c, 0.0).map(|s| s.ballistic).down
     }
 
     /// (shortest, longest) length in mm over all slabs and channels.
@@ -89,24 +102,6 @@ impl Stack {
             scales = (scales.0.min(s), scales.1.max(l));
         }
         scales
-    }
-}
-
-/// Light bouncing between stack `a` (above) and slab `b` (below), summed as
-/// the geometric series 1/(1 − R_a⁻R_b⁺), side-aware.
-pub fn combine(a: SlabResponse, b: SlabResponse) -> SlabResponse {
-    let loops = 1.0 / (1.0 - a.up.reflectance * b.down.reflectance);
-    SlabResponse {
-        down: SideResponse {
-            reflectance: a.down.reflectance
-                + a.up.transmittance * b.down.reflectance * a.down.transmittance * loops,
-            transmittance: b.down.transmittance * a.down.transmittance * loops,
-        },
-        up: SideResponse {
-            reflectance: b.up.reflectance
-                + b.down.transmittance * a.up.reflectance * b.up.transmittance * loops,
-            transmittance: a.up.transmittance * b.up.transmittance * loops,
-        },
     }
 }
 
@@ -121,7 +116,9 @@ impl Layered {
     /// Profiles of `layers` (top first; only the last may be semi-infinite).
     pub fn new(layers: &[Layer]) -> Self {
         let stack = Stack::new(layers);
-        let table = tabulate("layered", &stack);
+        let table = tabulate("layered", stack.length_scales(), |c, k| {
+            stack.split_response(c, k).map(|s| s.diffuse).down
+        });
         Self { stack, table }
     }
 
@@ -131,20 +128,25 @@ impl Layered {
     }
 }
 
-/// Tabulates R(r) and T(r) of `stack` on a log grid wide enough that the
-/// transform neither wraps nor misses the peak.
-pub fn tabulate(model: &'static str, stack: &Stack) -> Tabulated {
-    let (shortest, longest) = stack.length_scales();
+/// Tabulates R(r) and T(r) from `diffuse(channel, k)`, the diffuse response
+/// to light from above, on a log grid wide enough for lengths `scales` =
+/// (shortest, longest) in mm that the transform neither wraps nor misses
+/// the peak.
+pub fn tabulate(
+    model: &'static str,
+    scales: (f64, f64),
+    diffuse: impl Fn(usize, f64) -> SideResponse,
+) -> Tabulated {
+    let (shortest, longest) = scales;
     let r_min = 1e-3 * shortest;
     let r_max = 1e5 * longest;
-    let ballistic = [0, 1, 2].map(|c| stack.ballistic(c));
     let (radii, values) = inverse_hankel_many(
         6,
         |k, out: &mut [f64]| {
-            for (c, ballistic) in ballistic.iter().enumerate() {
-                let down = stack.frequency_response(c, k).down;
-                out[2 * c] = down.reflectance - ballistic.reflectance;
-                out[2 * c + 1] = down.transmittance - ballistic.transmittance;
+            for c in 0..3 {
+                let down = diffuse(c, k);
+                out[2 * c] = down.reflectance;
+                out[2 * c + 1] = down.transmittance;
             }
         },
         r_min,
@@ -153,23 +155,23 @@ pub fn tabulate(model: &'static str, stack: &Stack) -> Tabulated {
     let clean = |v: &Vec<f64>| {
         let peak = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         v.iter()
-            .map(|&x| if x > NOISE_FLOOR * peak { x } else { 0.0 })
+            .map(|&x| if x.abs() > NOISE_FLOOR * peak { x } else { 0.0 })
             .collect::<Vec<_>>()
     };
     let values: Vec<Vec<f64>> = values.iter().map(clean).collect();
     // Drop the far tail where every channel is zero.
     let last = (0..radii.len())
         .rev()
-        .find(|&i| values.iter().any(|v| v[i] > 0.0))
+        .find(|&i| values.iter().any(|v| v[i] != 0.0))
         .map_or(1, |i| (i + 2).min(radii.len()));
     let at = |i: usize, offset: usize| rgb_map(|c| values[2 * c + offset][i]);
     let totals = |offset: usize| {
         rgb_map(|c| {
-            let response = stack.frequency_response(c, 0.0).down;
+            let response = diffuse(c, 0.0);
             if offset == 0 {
-                response.reflectance - ballistic[c].reflectance
+                response.reflectance
             } else {
-                response.transmittance - ballistic[c].transmittance
+                response.transmittance
             }
         })
     };

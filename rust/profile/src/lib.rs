@@ -19,6 +19,7 @@ pub mod dipole;
 pub mod fresnel;
 pub mod gaussians;
 pub mod hankel;
+pub mod images;
 pub mod inversion;
 pub mod layered;
 pub mod material;
@@ -32,6 +33,7 @@ pub mod quadrature;
 pub mod rng;
 pub mod roots;
 pub mod slab;
+pub mod split;
 pub mod tabulated;
 
 pub use burley::Burley;

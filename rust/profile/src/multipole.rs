@@ -30,10 +30,11 @@ impl Multipole {
         let stack = Stack::new(std::slice::from_ref(layer));
         let slabs = [0, 1, 2].map(|c| stack.channel(c)[0].clone());
         let pairs = [0, 1, 2].map(|c| slabs[c].pole_pairs_for(accuracy));
-        let table = pairs
-            .iter()
-            .any(Option::is_none)
-            .then(|| tabulate("multipole", &stack));
+        let table = pairs.iter().any(Option::is_none).then(|| {
+            tabulate("multipole", stack.length_scales(), |c, k| {
+                slabs[c].image_diffuse(k)
+            })
+        });
         let truncation = [0, 1, 2].map(|c| pairs[c].map_or(0.0, |n| slabs[c].truncation_bound(n)));
         Self {
             slabs,
@@ -81,11 +82,11 @@ impl Profile for Multipole {
     }
 
     fn total_reflectance(&self) -> Rgb {
-        rgb_map(|c| self.slabs[c].diffuse_totals().reflectance)
+        rgb_map(|c| self.slabs[c].image_totals().reflectance)
     }
 
     fn total_transmittance(&self) -> Rgb {
-        rgb_map(|c| self.slabs[c].diffuse_totals().transmittance)
+        rgb_map(|c| self.slabs[c].image_totals().transmittance)
     }
 
     fn ballistic_reflectance(&self) -> Rgb {

@@ -1,25 +1,28 @@
-//! One slab (or a semi-infinite medium) in one channel: the multipole of
-//! Donner & Jensen 2005 with signed pole positions (Mikkelsen eq. 31–32), in
-//! real space and in closed form per spatial frequency.
+//! One slab (or a semi-infinite medium) in one channel, and its response to
+//! light per spatial frequency.
 //!
 //! Depth z runs into the slab from the side the light enters ("near"); the
-//! slab fills 0 ≤ z ≤ d. The extrapolated boundaries lie z_b = 2AD outside
-//! each face. Every pole z(1+σtr ρ)e^{−σtr ρ}/(4πρ³), ρ = √(r²+z²), has the
-//! 2-D Fourier transform ½·sgn(z)·e^{−|z|√(σtr²+k²)}, so the infinite image
-//! series sums to the 1-D Green's function of the extrapolated slab:
-//! R̂(k) = α' cosh(q z_b,near) sinh(q(d + z_b,far − z_s)) / sinh(qL),
-//! T̂(k) = α' sinh(q(z_s + z_b,near)) cosh(q z_b,far) / sinh(qL),
-//! with q = √(σtr² + k²) and L = d + z_b,near + z_b,far. Both are written
-//! below in overflow-free exponential form.
+//! slab fills 0 ≤ z ≤ d. Light entering is replaced by an isotropic source
+//! of strength α' at depth ℓ = 1/σt' (Mikkelsen 2.6); each face obeys the
+//! diffusion boundary condition φ ∓ h ∂φ/∂z = 0 with h = 2AD (eq. 23).
+//!
+//! Two solutions of that problem live here. The image series of Donner &
+//! Jensen 2005 ([`crate::images`]) satisfies each boundary condition only
+//! at an extrapolated plane h outside the face; per frequency it sums to
+//! [`SlabChannel::image_response`]. Where a slab is thin next to the
+//! difference of its two extrapolation distances, |h_top − h_bottom| > d,
+//! that approximation puts the fluence maximum outside the slab and its
+//! profiles turn negative. [`SlabChannel::frequency_response`] instead
+//! solves the 1-D problem per frequency exactly (q = √(σtr² + k²)):
+//! with u(z) = sinh(qz) + q h_n cosh(qz) meeting the near face and
+//! v(z) = sinh(q(d−z)) + q h_f cosh(q(d−z)) the far face,
+//! R̂ = α' q v(z_s)/W and T̂ = α' q u(z_s)/W, W = u'v − uv'. The exitance
+//! is then the fluence at the face over h, which is never negative, so the
+//! layered profiles built from it are not either.
 
 use crate::fresnel::{boundary_a, dielectric_reflectance, diffuse_reflectance_exact};
 use crate::medium::Medium;
-use std::f64::consts::PI;
-
-/// Most image pairs a real-space evaluation will sum; beyond this the series
-/// converges too slowly (σtr·thickness → 0) and callers tabulate the closed
-/// frequency form instead.
-pub const MAX_POLE_PAIRS: usize = 600;
+use crate::split::{Split, SplitSlab};
 
 /// Reflectance and transmittance of a slab for light entering from one side.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,20 +57,20 @@ pub enum Incidence {
 #[derive(Clone, Debug)]
 pub struct SlabChannel {
     /// Source strength: α', reduced for slabs thinner than two mean free paths.
-    strength: f64,
+    pub(crate) strength: f64,
     /// What thin slabs return and pass without scattering: deltas at r = 0,
     /// constant in frequency; zero for slabs at least 2ℓ thick.
     ballistic: SlabResponse,
     /// σtr, 1/mm.
-    sigma_tr: f64,
+    pub(crate) sigma_tr: f64,
     /// Thickness d in mm; infinite for a semi-infinite medium.
-    thickness: f64,
+    pub(crate) thickness: f64,
     /// Depth of the real source below the entry face, mm.
-    source_depth: f64,
-    /// Extrapolation distance 2AD above the top face, mm.
-    zb_top: f64,
-    /// Extrapolation distance 2AD below the bottom face, mm.
-    zb_bottom: f64,
+    pub(crate) source_depth: f64,
+    /// h = 2AD of the top face (the extrapolation distance), mm.
+    pub(crate) zb_top: f64,
+    /// h = 2AD of the bottom face, mm.
+    pub(crate) zb_bottom: f64,
 }
 
 impl SlabChannel {
@@ -168,26 +171,89 @@ impl SlabChannel {
         )
     }
 
-    /// Closed-form responses at angular spatial frequency `k` (rad/mm); at
-    /// k = 0 they are the exact total reflectance and transmittance. The
-    /// responses include the unscattered light, [`Self::ballistic`]; at
-    /// k = ∞ they are that light alone.
+    /// The exact solution's responses at angular spatial frequency `k`
+    /// (rad/mm), used to combine layers; at k = 0 they are its totals. They
+    /// include the unscattered light, [`Self::ballistic`]; at k = ∞ they
+    /// are that light alone.
     pub fn frequency_response(&self, k: f64) -> SlabResponse {
+        self.split_response(k).map(Split::total)
+    }
+
+    /// [`Self::frequency_response`] kept in its unscattered and diffuse parts.
+    pub fn split_response(&self, k: f64) -> SplitSlab {
         let q = (self.sigma_tr * self.sigma_tr + k * k).sqrt();
-        let add = |a: SideResponse, b: SideResponse| SideResponse {
-            reflectance: a.reflectance + b.reflectance,
-            transmittance: a.transmittance + b.transmittance,
+        let diffuse = SlabResponse {
+            down: self.exact_side(q, self.zb_top, self.zb_bottom),
+            up: self.exact_side(q, self.zb_bottom, self.zb_top),
         };
-        SlabResponse {
-            down: add(
-                self.side(q, self.zb_top, self.zb_bottom),
-                self.ballistic.down,
-            ),
-            up: add(self.side(q, self.zb_bottom, self.zb_top), self.ballistic.up),
+        SplitSlab::new(self.ballistic, diffuse)
+    }
+
+    /// The image series' responses at `k` in closed form (Mikkelsen
+    /// eq. 31–32 summed over every pole), with the unscattered light.
+    pub fn image_response(&self, k: f64) -> SlabResponse {
+        let q = (self.sigma_tr * self.sigma_tr + k * k).sqrt();
+        let diffuse = SlabResponse {
+            down: self.image_side(q, self.zb_top, self.zb_bottom),
+            up: self.image_side(q, self.zb_bottom, self.zb_top),
+        };
+        SplitSlab::new(self.ballistic, diffuse).map(Split::total)
+    }
+
+    /// The image series' diffuse response to light from above at `k`,
+    /// without the unscattered part.
+    pub fn image_diffuse(&self, k: f64) -> SideResponse {
+        let q = (self.sigma_tr * self.sigma_tr + k * k).sqrt();
+        self.image_side(q, self.zb_top, self.zb_bottom)
+    }
+
+    /// Total diffuse reflectance and transmittance of the image series for
+    /// light from above, without the unscattered part.
+    pub fn image_totals(&self) -> SideResponse {
+        self.image_diffuse(0.0)
+    }
+
+    /// The exact 1-D Green's function, divided through by e^{qd}/2 so that
+    /// nothing overflows: x = d − z_s is the source's distance to the far face.
+    fn exact_side(&self, q: f64, h_near: f64, h_far: f64) -> SideResponse {
+        let (alpha, z) = (self.strength, self.source_depth);
+        if alpha == 0.0 || q.is_infinite() {
+            return SideResponse {
+                reflectance: 0.0,
+                transmittance: 0.0,
+            };
+        }
+        if self.is_semi_infinite() {
+            return SideResponse {
+                reflectance: alpha * (-q * z).exp() / (1.0 + q * h_near),
+                transmittance: 0.0,
+            };
+        }
+        let d = self.thickness;
+        let x = d - z;
+        let length = d + h_near + h_far;
+        if q * length < 1e-10 {
+            // q → 0: the Green's function becomes linear in z.
+            return SideResponse {
+                reflectance: alpha * (x + h_far) / length,
+                transmittance: alpha * (z + h_near) / length,
+            };
+        }
+        // (1 − e^{−2qy}) and (1 + e^{−2qy}) without cancellation.
+        let minus = |y: f64| -(-2.0 * q * y).exp_m1();
+        let plus = |y: f64| 1.0 + (-2.0 * q * y).exp();
+        let wronskian = (1.0 + q * q * h_near * h_far) * minus(d) + q * (h_near + h_far) * plus(d);
+        SideResponse {
+            reflectance: alpha * (-q * z).exp() * (minus(x) + q * h_far * plus(x)) / wronskian,
+            transmittance: alpha * (-q * x).exp() * (minus(z) + q * h_near * plus(z)) / wronskian,
         }
     }
 
-    fn side(&self, q: f64, zb_near: f64, zb_far: f64) -> SideResponse {
+    /// The image series summed per frequency: the 1-D Green's function of
+    /// the slab with zero fluence at the extrapolated planes,
+    /// R̂ = α' cosh(q h_n) sinh(q(d + h_f − z_s)) / sinh(qL),
+    /// T̂ = α' sinh(q(z_s + h_n)) cosh(q h_f) / sinh(qL), L = d + h_n + h_f.
+    fn image_side(&self, q: f64, zb_near: f64, zb_far: f64) -> SideResponse {
         let half = 0.5 * self.strength;
         let z = self.source_depth;
         if half == 0.0 || q.is_infinite() {
@@ -223,149 +289,6 @@ impl SlabChannel {
                 * ratio(z + zb_near),
         }
     }
-
-    /// Total diffuse reflectance and transmittance for light from above,
-    /// without the unscattered part.
-    pub fn diffuse_totals(&self) -> SideResponse {
-        self.side(self.sigma_tr, self.zb_top, self.zb_bottom)
-    }
-
-    /// Period of the image series, 2L, in mm.
-    fn period(&self) -> f64 {
-        2.0 * (self.thickness + self.zb_top + self.zb_bottom)
-    }
-
-    /// Signed depths of the real and virtual sources of image pair `i`
-    /// (light entering the top face).
-    fn poles(&self, i: i64) -> (f64, f64) {
-        let shift = if self.is_semi_infinite() {
-            0.0
-        } else {
-            i as f64 * self.period()
-        };
-        (
-            shift + self.source_depth,
-            shift - self.source_depth - 2.0 * self.zb_top,
-        )
-    }
-
-    /// The smallest number of image pairs n (summing i = −n..=n) whose
-    /// totals are within `accuracy` (relative) of the exact ones, or `None`
-    /// if more than [`MAX_POLE_PAIRS`] would be needed.
-    pub fn pole_pairs_for(&self, accuracy: f64) -> Option<usize> {
-        if self.is_semi_infinite() {
-            return Some(0);
-        }
-        let exact = self.diffuse_totals();
-        let tolerance = accuracy * (exact.reflectance + exact.transmittance).max(1e-300);
-        let (mut r, mut t) = (0.0, 0.0);
-        for n in 0..=MAX_POLE_PAIRS as i64 {
-            for i in if n == 0 { vec![0] } else { vec![-n, n] } {
-                let (zr, zv) = self.poles(i);
-                r += self.pole_total(zr) - self.pole_total(zv);
-                t += self.pole_total(self.thickness - zr) - self.pole_total(self.thickness - zv);
-            }
-            if (r - exact.reflectance).abs() <= tolerance
-                && (t - exact.transmittance).abs() <= tolerance
-            {
-                return Some(n as usize);
-            }
-        }
-        None
-    }
-
-    /// A bound on |R(r)| and |T(r)| of the images left out when summing
-    /// `pairs` pairs, at any r: each pole contributes at most
-    /// (1 + σ|z|)e^{−σ|z|}/(4πz²) (ρ ≥ |z|), and pair i lies at least
-    /// (i − 2) periods from either face.
-    pub fn truncation_bound(&self, pairs: usize) -> f64 {
-        if self.is_semi_infinite() {
-            return 0.0;
-        }
-        let mut bound = 0.0;
-        for i in (pairs + 1).max(3)..pairs + 100_000 {
-            let z = (i - 2) as f64 * self.period();
-            let term =
-                4.0 * (1.0 + self.sigma_tr * z) * (-self.sigma_tr * z).exp() / (4.0 * PI * z * z);
-            bound += term;
-            if term < 1e-6 * bound {
-                break;
-            }
-        }
-        if pairs < 3 {
-            // Pairs 1..3 are closer than the estimate assumes: bound them
-            // by the nearest possible distance, one slab thickness.
-            bound += 8.0 / (4.0 * PI * self.thickness * self.thickness);
-        }
-        self.strength * bound
-    }
-
-    fn pole_total(&self, z: f64) -> f64 {
-        0.5 * self.strength * z.signum() * (-self.sigma_tr * z.abs()).exp()
-    }
-
-    /// R(r) in 1/mm² at the entry face, summing `pairs` image pairs each side.
-    pub fn reflectance(&self, r: f64, pairs: usize) -> f64 {
-        self.sum_poles(pairs, |zr, zv| {
-            pole(zr, r, self.sigma_tr) - pole(zv, r, self.sigma_tr)
-        })
-    }
-
-    /// T(r) in 1/mm² at the opposite face.
-    pub fn transmittance(&self, r: f64, pairs: usize) -> f64 {
-        if self.is_semi_infinite() {
-            return 0.0;
-        }
-        let d = self.thickness;
-        self.sum_poles(pairs, |zr, zv| {
-            pole(d - zr, r, self.sigma_tr) - pole(d - zv, r, self.sigma_tr)
-        })
-    }
-
-    /// ∫_0^r 2πs R(s) ds, the reflectance inside radius r.
-    pub fn enclosed_reflectance(&self, r: f64, pairs: usize) -> f64 {
-        self.sum_poles(pairs, |zr, zv| {
-            pole_enclosed(zr, r, self.sigma_tr) - pole_enclosed(zv, r, self.sigma_tr)
-        })
-    }
-
-    /// ∫_0^r 2πs T(s) ds, the transmittance inside radius r.
-    pub fn enclosed_transmittance(&self, r: f64, pairs: usize) -> f64 {
-        if self.is_semi_infinite() {
-            return 0.0;
-        }
-        let d = self.thickness;
-        self.sum_poles(pairs, |zr, zv| {
-            pole_enclosed(d - zr, r, self.sigma_tr) - pole_enclosed(d - zv, r, self.sigma_tr)
-        })
-    }
-
-    fn sum_poles(&self, pairs: usize, term: impl Fn(f64, f64) -> f64) -> f64 {
-        let n = if self.is_semi_infinite() {
-            0
-        } else {
-            pairs as i64
-        };
-        // Smallest terms first keeps the alternating sum accurate.
-        let (mut sum, mut magnitude) = (0.0, 0.0);
-        let mut add = |(zr, zv): (f64, f64)| {
-            let t = term(zr, zv);
-            sum += t;
-            magnitude += t.abs();
-        };
-        for i in (1..=n).rev() {
-            add(self.poles(i));
-            add(self.poles(-i));
-        }
-        add(self.poles(0));
-        // Far out (r ≫ |z|) the images cancel to below the round-off of
-        // ρ = √(r² + z²) in each term, and the sign of what is left is
-        // noise; a larger negative would be a real error and stays.
-        if sum < 0.0 && -sum <= 1e-9 * magnitude {
-            sum = 0.0;
-        }
-        self.strength * sum
-    }
 }
 
 /// Unscattered light of share `b` entering one face and bouncing between
@@ -385,24 +308,4 @@ fn bounce_between_faces(b: f64, faces: (f64, f64)) -> SideResponse {
         reflectance: b * far * (1.0 - near) / round_trips,
         transmittance: b * (1.0 - far) / round_trips,
     }
-}
-
-/// One pole's flux density through the plane at lateral distance `r`:
-/// z(1+σρ)e^{−σρ}/(4πρ³), 1/mm².
-pub fn pole(z: f64, r: f64, sigma_tr: f64) -> f64 {
-    let rho2 = r * r + z * z;
-    if rho2 == 0.0 {
-        return 0.0;
-    }
-    let rho = rho2.sqrt();
-    z * (1.0 + sigma_tr * rho) * (-sigma_tr * rho).exp() / (4.0 * PI * rho2 * rho)
-}
-
-/// ∫_0^r 2πs·pole(z, s) ds = ½(sgn(z)e^{−σ|z|} − z e^{−σρ}/ρ).
-pub fn pole_enclosed(z: f64, r: f64, sigma_tr: f64) -> f64 {
-    let rho = (r * r + z * z).sqrt();
-    if rho == 0.0 {
-        return 0.0;
-    }
-    0.5 * (z.signum() * (-sigma_tr * z.abs()).exp() - z * (-sigma_tr * rho).exp() / rho)
 }

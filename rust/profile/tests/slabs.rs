@@ -2,7 +2,7 @@
 
 mod common;
 use common::*;
-use sssbake_profile::layered::Stack;
+use sssbake_profile::layered::{Stack, tabulate};
 use sssbake_profile::medium::Medium;
 use sssbake_profile::slab::{Incidence, SlabChannel};
 use sssbake_profile::{Dipole, Layered, Multipole, Profile};
@@ -120,7 +120,10 @@ fn real_space_poles_agree_with_the_transformed_closed_form() {
     for (thickness, ior) in [(0.3, 1.4), (2.0, 1.3), (8.0, 1.0)] {
         let layer = grey_layer(0.03, 1.2, 0.3, ior, Some(thickness));
         let poles = Multipole::new(&layer, 1e-10);
-        let table = Layered::new(std::slice::from_ref(&layer));
+        let stack = Stack::new(std::slice::from_ref(&layer));
+        let table = tabulate("images", stack.length_scales(), |c, k| {
+            stack.channel(c)[0].image_diffuse(k)
+        });
         let peak = poles.reflectance(0.0)[0];
         for r in [1e-3, 0.05, 0.2, 0.7, 2.0, 6.0] {
             let (a, b) = (poles.reflectance(r)[0], table.reflectance(r)[0]);
@@ -134,6 +137,56 @@ fn real_space_poles_agree_with_the_transformed_closed_form() {
                 "slab {thickness}: T({r}) {a} vs {b}"
             );
         }
+    }
+}
+
+#[test]
+fn the_exact_slab_agrees_with_the_images_where_they_are_valid() {
+    // Both solve the same boundary condition; the image series linearises
+    // it over the extrapolation distance, which is exact to first order in
+    // q·h. A thick, highly scattering slab under matched indices shows it.
+    let medium = Medium {
+        sigma_a: 0.002,
+        sigma_s_reduced: 2.0,
+    };
+    let slab = SlabChannel::new(medium, 40.0, 1.0, 1.0, Incidence::Collimated);
+    for k in [0.0, 0.01, 0.1] {
+        let (exact, images) = (slab.frequency_response(k).down, slab.image_diffuse(k));
+        assert!(
+            relative(exact.reflectance, images.reflectance) < 2e-3,
+            "k {k}: {exact:?} {images:?}"
+        );
+    }
+    let dipole = Dipole::new([medium; 3], 1.0).total_reflectance()[0];
+    let semi = SlabChannel::new(medium, f64::INFINITY, 1.0, 1.0, Incidence::Collimated);
+    assert!(relative(semi.frequency_response(0.0).down.reflectance, dipole) < 2e-3);
+}
+
+#[test]
+fn thin_mismatched_layers_stay_positive() {
+    // A thin layer whose top face reflects far more than its bottom face
+    // (|h_top − h_bottom| > d): the image series goes negative here, the
+    // exact slab does not.
+    let layers = vec![
+        grey_layer(0.6, 35.0, 0.8, 1.4, Some(0.1)),
+        grey_layer(0.03, 3.7, 0.8, 1.4, None),
+    ];
+    let medium = layers[0].medium(0);
+    let slab = SlabChannel::new(medium, 0.1, 1.4, 1.0, Incidence::Collimated);
+    let images = tabulate("images", slab.length_scales(), |_, k| slab.image_diffuse(k));
+    let dip = (1..400)
+        .map(|i| images.reflectance(0.005 * i as f64)[0])
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        dip < 0.0,
+        "the image series should dip below zero here ({dip})"
+    );
+    let stack = Layered::new(&layers);
+    let exact_slab = Layered::new(&layers[..1]);
+    for i in 0..2000 {
+        let r = 1e-4 * 1.01f64.powi(i);
+        assert_physical(&stack, r, "two-layer stack");
+        assert_physical(&exact_slab, r, "thin slab");
     }
 }
 
@@ -197,7 +250,7 @@ fn thin_slabs_become_transparent_continuously() {
     let ell = medium.mean_free_path();
     let total = |d: f64| {
         let s = SlabChannel::new(medium, d, 1.3, 1.3, Incidence::Collimated);
-        let r = s.diffuse_totals();
+        let r = s.image_totals();
         (
             r.reflectance,
             r.transmittance,
