@@ -110,17 +110,6 @@ impl SlabChannel {
         })
     }
 
-    /// ∫_0^r 2πs T(s) ds, the transmittance inside radius r.
-    pub fn enclosed_transmittance(&self, r: f64, pairs: usize) -> f64 {
-        if self.is_semi_infinite() {
-            return 0.0;
-        }
-        let d = self.thickness;
-        self.sum_poles(pairs, |zr, zv| {
-            pole_enclosed(d - zr, r, self.sigma_tr) - pole_enclosed(d - zv, r, self.sigma_tr)
-        })
-    }
-
     fn sum_poles(&self, pairs: usize, term: impl Fn(f64, f64) -> f64) -> f64 {
         let n = if self.is_semi_infinite() {
             0

@@ -58,28 +58,7 @@ impl Stack {
     /// unscattered and diffuse parts.
     pub fn split_response(&self, c: usize, k: f64) -> SplitSlab {
         let mut slabs = self.channels[c].iter().map(|s| s.split_response(k));
-        let first = slabs.next().unwrap_or(SplitSlab::new(
-            SlabResponse {
-                down: SideResponse {
-                    reflectance: 0.0,
-                    transmittance: 1.0,
-                },
-                up: SideResponse {
-                    reflectance: 0.0,
-                    transmittance: 1.0,
-                },
-            },
-            SlabResponse {
-                down: SideResponse {
-                    reflectance: 0.0,
-                    transmittance: 0.0,
-                },
-                up: SideResponse {
-                    reflectance: 0.0,
-                    transmittance: 0.0,
-                },
-            },
-        ));
+        let first = slabs.next().unwrap_or_else(SplitSlab::transparent);
         slabs.fold(first, combine)
     }
 
@@ -165,23 +144,14 @@ pub fn tabulate(
         .find(|&i| values.iter().any(|v| v[i] != 0.0))
         .map_or(1, |i| (i + 2).min(radii.len()));
     let at = |i: usize, offset: usize| rgb_map(|c| values[2 * c + offset][i]);
-    let totals = |offset: usize| {
-        rgb_map(|c| {
-            let response = diffuse(c, 0.0);
-            if offset == 0 {
-                response.reflectance
-            } else {
-                response.transmittance
-            }
-        })
-    };
+    let totals = [0, 1, 2].map(|c| diffuse(c, 0.0));
     Tabulated::new(
         model,
         radii[..last].to_vec(),
         (0..last).map(|i| at(i, 0)).collect(),
         (0..last).map(|i| at(i, 1)).collect(),
-        totals(0),
-        totals(1),
+        totals.map(|t| t.reflectance),
+        totals.map(|t| t.transmittance),
     )
 }
 

@@ -16,7 +16,7 @@ pub const DEFAULT_ACCURACY: f64 = 1e-6;
 pub struct Multipole {
     slabs: [SlabChannel; 3],
     /// Image pairs per channel; `None` where the series converges too
-    /// slowly and the exact frequency form is tabulated instead.
+    /// slowly and its closed frequency form is tabulated instead.
     pairs: [Option<usize>; 3],
     /// Largest error the left-out images can make in R(r) or T(r), per channel.
     truncation: [f64; 3],
@@ -44,7 +44,8 @@ impl Multipole {
         }
     }
 
-    /// Image pairs summed per channel (`None`: tabulated from the closed form).
+    /// Image pairs summed per channel (`None`: tabulated from the series'
+    /// closed frequency form).
     pub fn pole_pairs(&self) -> [Option<usize>; 3] {
         self.pairs
     }

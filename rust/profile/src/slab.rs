@@ -181,30 +181,28 @@ impl SlabChannel {
 
     /// [`Self::frequency_response`] kept in its unscattered and diffuse parts.
     pub fn split_response(&self, k: f64) -> SplitSlab {
-        let q = (self.sigma_tr * self.sigma_tr + k * k).sqrt();
-        let diffuse = SlabResponse {
-            down: self.exact_side(q, self.zb_top, self.zb_bottom),
-            up: self.exact_side(q, self.zb_bottom, self.zb_top),
-        };
-        SplitSlab::new(self.ballistic, diffuse)
+        SplitSlab::new(self.ballistic, self.diffuse(k, Self::exact_side))
     }
 
     /// The image series' responses at `k` in closed form (Mikkelsen
     /// eq. 31–32 summed over every pole), with the unscattered light.
     pub fn image_response(&self, k: f64) -> SlabResponse {
-        let q = (self.sigma_tr * self.sigma_tr + k * k).sqrt();
-        let diffuse = SlabResponse {
-            down: self.image_side(q, self.zb_top, self.zb_bottom),
-            up: self.image_side(q, self.zb_bottom, self.zb_top),
-        };
-        SplitSlab::new(self.ballistic, diffuse).map(Split::total)
+        SplitSlab::new(self.ballistic, self.diffuse(k, Self::image_side)).map(Split::total)
     }
 
     /// The image series' diffuse response to light from above at `k`,
     /// without the unscattered part.
     pub fn image_diffuse(&self, k: f64) -> SideResponse {
+        self.diffuse(k, Self::image_side).down
+    }
+
+    /// The diffuse responses from both sides by one of the two solutions.
+    fn diffuse(&self, k: f64, side: fn(&Self, f64, f64, f64) -> SideResponse) -> SlabResponse {
         let q = (self.sigma_tr * self.sigma_tr + k * k).sqrt();
-        self.image_side(q, self.zb_top, self.zb_bottom)
+        SlabResponse {
+            down: side(self, q, self.zb_top, self.zb_bottom),
+            up: side(self, q, self.zb_bottom, self.zb_top),
+        }
     }
 
     /// Total diffuse reflectance and transmittance of the image series for

@@ -92,6 +92,26 @@ impl SplitSlab {
         }
     }
 
+    /// No layer at all: everything passes, unscattered.
+    pub fn transparent() -> Self {
+        let pass = Split {
+            ballistic: 1.0,
+            diffuse: 0.0,
+        };
+        let nothing = Split {
+            ballistic: 0.0,
+            diffuse: 0.0,
+        };
+        let side = SplitSide {
+            reflectance: nothing,
+            transmittance: pass,
+        };
+        Self {
+            down: side,
+            up: side,
+        }
+    }
+
     /// Selects one part (or the sum) of every response.
     pub fn map(self, part: impl Fn(Split) -> f64) -> SlabResponse {
         let side = |s: SplitSide| SideResponse {
