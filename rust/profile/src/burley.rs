@@ -128,6 +128,16 @@ impl Profile for Burley {
         self.albedo
     }
 
+    /// e^{−r/d}/r transforms to 2π/√(k² + 1/d²), so
+    /// R̂(k) = A/4·(1/√(1 + (kd)²) + 3/√(1 + (3kd)²)).
+    fn reflectance_spectrum(&self, k: f64) -> Option<Rgb> {
+        Some(rgb_map(|c| {
+            let kd = k * self.d[c];
+            0.25 * self.albedo[c]
+                * (1.0 / (1.0 + kd * kd).sqrt() + 3.0 / (1.0 + 9.0 * kd * kd).sqrt())
+        }))
+    }
+
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
         rgb_map(|c| {
             let d = self.d[c];

@@ -84,6 +84,15 @@ impl Profile for Dipole {
         rgb_map(|c| dipole_total_reflectance(self.channels[c].albedo, self.channels[c].a))
     }
 
+    /// Each source transforms to ½e^{−z√(σtr² + k²)}.
+    fn reflectance_spectrum(&self, k: f64) -> Option<Rgb> {
+        Some(rgb_map(|c| {
+            let ch = &self.channels[c];
+            let q = (ch.sigma_tr * ch.sigma_tr + k * k).sqrt();
+            0.5 * ch.albedo * ((-q * ch.z_r).exp() + (-q * ch.z_v).exp())
+        }))
+    }
+
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
         rgb_map(|c| {
             let ch = &self.channels[c];

@@ -52,6 +52,16 @@ impl Profile for SumOfGaussians {
         rgb_map(|c| self.terms[c].iter().map(|&(w, _)| w).sum())
     }
 
+    /// Each Gaussian transforms to w·e^{−k²v/2}.
+    fn reflectance_spectrum(&self, k: f64) -> Option<Rgb> {
+        Some(rgb_map(|c| {
+            self.terms[c]
+                .iter()
+                .map(|&(w, v)| w * (-0.5 * k * k * v).exp())
+                .sum()
+        }))
+    }
+
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
         rgb_map(|c| {
             self.terms[c]

@@ -174,6 +174,11 @@ impl Profile for Layered {
     fn ballistic_reflectance(&self) -> Rgb {
         rgb_map(|c| self.stack.ballistic(c).reflectance)
     }
+    fn reflectance_spectrum(&self, k: f64) -> Option<Rgb> {
+        Some(rgb_map(|c| {
+            self.stack.split_response(c, k).down.reflectance.diffuse
+        }))
+    }
     fn ballistic_transmittance(&self) -> Rgb {
         rgb_map(|c| self.stack.ballistic(c).transmittance)
     }

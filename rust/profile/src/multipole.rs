@@ -90,6 +90,10 @@ impl Profile for Multipole {
         rgb_map(|c| self.slabs[c].image_totals().transmittance)
     }
 
+    fn reflectance_spectrum(&self, k: f64) -> Option<Rgb> {
+        Some(rgb_map(|c| self.slabs[c].image_diffuse(k).reflectance))
+    }
+
     fn ballistic_reflectance(&self) -> Rgb {
         rgb_map(|c| self.slabs[c].ballistic().down.reflectance)
     }

@@ -48,6 +48,14 @@ pub trait Profile: Send + Sync {
     /// searches start.
     fn length_scale(&self) -> Rgb;
 
+    /// The 2-D Fourier transform R̂(k) = ∫ R(x) e^{−ik·x} d²x at angular
+    /// frequency `k` (rad/mm), where the model knows it in closed form;
+    /// R̂(0) is the total reflectance. Convolutions with the profile (blurs
+    /// in texture space, layer combination) are products of it.
+    fn reflectance_spectrum(&self, _k: f64) -> Option<Rgb> {
+        None
+    }
+
     /// The radius d_max (mm) holding all but a fraction `epsilon` of the
     /// reflectance (Mikkelsen eq. 40 generalised), per channel.
     fn d_max(&self, epsilon: f64) -> Rgb {
