@@ -37,7 +37,7 @@ fn check(profile: &dyn Profile, what: &str) {
                 |r| profile.reflectance(r)[c] * bessel_j0(k * r),
                 scale[c] * 1e-6,
                 reach[c] * 2.0,
-                20_000,
+                4_000,
             );
             let closed = spectrum(k)[c];
             assert!(
