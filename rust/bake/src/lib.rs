@@ -1,0 +1,15 @@
+//! sssbake: bakes subsurface scattering into textures.
+//!
+//! Lengths are millimetres throughout; scene units are converted once, when
+//! a scene is read. UV space is [0, 1]²; texel (x, y) covers
+//! [x/N, (x+1)/N] × [y/N, (y+1)/N], with y growing with v.
+
+pub mod dilation;
+pub mod mesh;
+pub mod raster;
+pub mod texels;
+pub mod uv_analysis;
+
+pub use mesh::{Mesh, MeshError, MeshWarnings};
+pub use texels::{TexelSurfels, rasterize};
+pub use uv_analysis::{UvReport, analyse_uvs};

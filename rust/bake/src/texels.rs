@@ -1,0 +1,205 @@
+//! Texel surfels: every texel the UV layout covers, with the surface point,
+//! normal and area it stands for (Mikkelsen §3.3, eq. 43–44).
+
+use crate::mesh::Mesh;
+use crate::raster::{TexelTriangle, barycentric, coverage, signed_area2, texel_bounds};
+use glam::{DVec2, Vec2, Vec3};
+use rayon::prelude::*;
+
+/// Marks a texel no triangle covers.
+pub const EMPTY: u32 = u32::MAX;
+
+/// Rows rasterised together by one task.
+const BAND: u32 = 8;
+
+/// Surfels in structure-of-arrays form, one per covered texel, in texel order.
+#[derive(Clone, Debug, Default)]
+pub struct TexelSurfels {
+    /// Texels per side.
+    pub resolution: u32,
+    /// Surfel index of each texel (row-major, y·N + x), or [`EMPTY`].
+    pub index: Vec<u32>,
+    /// Texel (y·N + x) of each surfel.
+    pub texel: Vec<u32>,
+    /// Surface point at the texel centre, mm.
+    pub position: Vec<Vec3>,
+    /// Unit interpolated normal.
+    pub normal: Vec<Vec3>,
+    /// The triangle the texel belongs to.
+    pub triangle: Vec<u32>,
+    /// Surface area the texel stands for, mm²: the sum over the triangles
+    /// covering it of covered fraction × texel size × A_tri/A_uv.
+    pub area: Vec<f32>,
+    /// Surface length of one texel step along u and along v, mm
+    /// (|σs|/N and |σt|/N of Mikkelsen eq. 43–44).
+    pub stretch: Vec<Vec2>,
+}
+
+impl TexelSurfels {
+    /// Number of surfels.
+    pub fn len(&self) -> usize {
+        self.texel.len()
+    }
+
+    /// True when no texel is covered.
+    pub fn is_empty(&self) -> bool {
+        self.texel.is_empty()
+    }
+
+    /// Total area of the surfels, mm².
+    pub fn total_area(&self) -> f64 {
+        self.area.iter().map(|&a| a as f64).sum()
+    }
+}
+
+/// One triangle prepared for rasterisation.
+struct Prepared {
+    uv: TexelTriangle,
+    bounds: (u32, u32, u32, u32),
+    /// mm² of surface per texel² of layout.
+    density: f64,
+}
+
+/// The best claim on a texel so far and the area gathered there.
+#[derive(Clone, Copy, Default)]
+struct Claim {
+    owner: Option<(bool, f64, u32)>,
+    area: f64,
+}
+
+/// Rasterises `mesh` with texture coordinates `uvs` at `resolution`²
+/// texels. A texel belongs to the triangle covering its centre, else to the
+/// one covering most of it; its area gathers every triangle's share, so
+/// the areas add up to the surface area the layout covers. Triangles with
+/// no UV area cover nothing.
+pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
+    let n = resolution.max(1);
+    let prepared: Vec<Prepared> = mesh
+        .triangles
+        .iter()
+        .enumerate()
+        .map(|(t, tri)| {
+            let uv = tri.map(|i| uvs[i as usize].as_dvec2() * n as f64);
+            let uv_area = 0.5 * signed_area2(&uv).abs();
+            let density = if uv_area > 1e-12 {
+                mesh.triangle_area(t) / uv_area
+            } else {
+                0.0
+            };
+            Prepared {
+                bounds: texel_bounds(&uv, n),
+                uv,
+                density,
+            }
+        })
+        .collect();
+    let bands = n.div_ceil(BAND) as usize;
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); bands];
+    for (t, p) in prepared.iter().enumerate().filter(|(_, p)| p.density > 0.0) {
+        let (_, _, y0, y1) = p.bounds;
+        if y1 > y0 {
+            for band in (y0 / BAND)..=((y1 - 1) / BAND) {
+                buckets[band as usize].push(t as u32);
+            }
+        }
+    }
+    let claims: Vec<Vec<Claim>> = buckets
+        .par_iter()
+        .enumerate()
+        .map(|(band, triangles)| rasterize_band(&prepared, triangles, band as u32, n))
+        .collect();
+
+    let mut out = TexelSurfels {
+        resolution: n,
+        index: vec![EMPTY; (n * n) as usize],
+        ..Default::default()
+    };
+    for (band, claims) in claims.iter().enumerate() {
+        let first_texel = band as u32 * BAND * n;
+        for (offset, claim) in claims.iter().enumerate() {
+            let Some((_, _, t)) = claim.owner else {
+                continue;
+            };
+            let texel = first_texel + offset as u32;
+            let (x, y) = (texel % n, texel / n);
+            let (position, normal) = interpolate(mesh, &prepared[t as usize].uv, t, x, y);
+            out.index[texel as usize] = out.texel.len() as u32;
+            out.texel.push(texel);
+            out.position.push(position);
+            out.normal.push(normal);
+            out.triangle.push(t);
+            out.area.push(claim.area as f32);
+            out.stretch.push(stretch(mesh, uvs, t as usize) / n as f32);
+        }
+    }
+    out
+}
+
+fn rasterize_band(prepared: &[Prepared], triangles: &[u32], band: u32, n: u32) -> Vec<Claim> {
+    let row0 = band * BAND;
+    let rows = BAND.min(n - row0);
+    let mut claims = vec![Claim::default(); (rows * n) as usize];
+    for &t in triangles {
+        let p = &prepared[t as usize];
+        let (x0, x1, y0, y1) = p.bounds;
+        for y in y0.max(row0)..y1.min(row0 + rows) {
+            for x in x0..x1 {
+                let covered = coverage(&p.uv, x, y);
+                if covered <= 0.0 {
+                    continue;
+                }
+                let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                let holds_centre =
+                    barycentric(centre, &p.uv).is_some_and(|w| w.iter().all(|&w| w >= 0.0));
+                let claim = &mut claims[((y - row0) * n + x) as usize];
+                claim.area += covered * p.density;
+                let better = match claim.owner {
+                    None => true,
+                    Some((centre_held, best, _)) => (holds_centre, covered) > (centre_held, best),
+                };
+                if better {
+                    claim.owner = Some((holds_centre, covered, t));
+                }
+            }
+        }
+    }
+    claims
+}
+
+/// Position and normal at the centre of texel (x, y) on triangle `t`, the
+/// centre pulled onto the triangle when it lies just outside.
+fn interpolate(mesh: &Mesh, uv: &TexelTriangle, t: u32, x: u32, y: u32) -> (Vec3, Vec3) {
+    let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+    let mut w = barycentric(centre, uv)
+        .unwrap_or([1.0 / 3.0; 3])
+        .map(|w| w.max(0.0));
+    let sum: f64 = w.iter().sum();
+    w = w.map(|v| v / sum);
+    let tri = mesh.triangles[t as usize];
+    let position = (0..3)
+        .map(|i| mesh.positions[tri[i] as usize].as_dvec3() * w[i])
+        .sum::<glam::DVec3>();
+    let normal = (0..3)
+        .map(|i| mesh.normals[tri[i] as usize] * w[i] as f32)
+        .sum::<Vec3>();
+    (
+        position.as_vec3(),
+        normal.try_normalize().unwrap_or(Vec3::Z),
+    )
+}
+
+/// |∂P/∂u| and |∂P/∂v| of triangle `t`, mm per unit of UV.
+pub fn stretch(mesh: &Mesh, uvs: &[Vec2], t: usize) -> Vec2 {
+    let tri = mesh.triangles[t];
+    let [p0, p1, p2] = tri.map(|i| mesh.positions[i as usize].as_dvec3());
+    let [u0, u1, u2] = tri.map(|i| uvs[i as usize].as_dvec2());
+    let (e1, e2) = (u1 - u0, u2 - u0);
+    let det = e1.perp_dot(e2);
+    if det.abs() < 1e-300 {
+        return Vec2::ZERO;
+    }
+    let (q1, q2) = (p1 - p0, p2 - p0);
+    let du = (q1 * e2.y - q2 * e1.y) / det;
+    let dv = (q2 * e1.x - q1 * e2.x) / det;
+    Vec2::new(du.length() as f32, dv.length() as f32)
+}
