@@ -8,6 +8,8 @@ pub mod dilation;
 pub mod mesh;
 pub mod raster;
 pub mod texels;
+pub mod topology;
+pub mod turk;
 pub mod uv_analysis;
 
 pub use mesh::{Mesh, MeshError, MeshWarnings};

@@ -59,7 +59,11 @@ fn sphere_surfels_lie_on_the_sphere_and_face_out() {
         let p = surfels.position[i];
         assert!((p.length() - 15.0).abs() < 0.15, "{p:?}");
         assert!((surfels.normal[i].length() - 1.0).abs() < 1e-5);
-        assert!(surfels.normal[i].dot(p.normalize()) > 0.999, "{:?} at {p:?}", surfels.normal[i]);
+        assert!(
+            surfels.normal[i].dot(p.normalize()) > 0.999,
+            "{:?} at {p:?}",
+            surfels.normal[i]
+        );
     }
 }
 
