@@ -7,11 +7,13 @@
 pub mod dilation;
 pub mod mesh;
 pub mod raster;
+pub mod scene;
 pub mod texels;
 pub mod topology;
 pub mod turk;
 pub mod uv_analysis;
 
 pub use mesh::{Mesh, MeshError, MeshWarnings};
+pub use scene::{Light, LightKind, MaterialHint, Scene, SceneObject};
 pub use texels::{TexelSurfels, rasterize};
 pub use uv_analysis::{UvReport, analyse_uvs};

@@ -1,0 +1,51 @@
+//! Reading scenes into sssbake's model (glTF now) and, later, writing
+//! textures and assets. Scene units become millimetres here, once.
+
+pub mod gltf_reader;
+
+pub use gltf_reader::read_gltf;
+
+use sssbake::Scene;
+use std::path::Path;
+
+/// How to read a scene.
+#[derive(Clone, Debug)]
+pub struct ReadOptions {
+    /// Which texture-coordinate set the bake uses.
+    pub uv_set: usize,
+    /// Millimetres per scene unit, overriding what the file says.
+    pub unit_scale: Option<f64>,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        Self { uv_set: 0, unit_scale: None }
+    }
+}
+
+/// A scene that could not be read; the message names the file and, where
+/// it can, the object and what is wrong.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{file}: {message}")]
+pub struct InputError {
+    /// The input file.
+    pub file: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// Reads any supported scene file, chosen by its extension.
+pub fn read_scene(path: &Path, options: &ReadOptions) -> Result<Scene, InputError> {
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("gltf" | "glb") => read_gltf(path, options),
+        Some("usd" | "usda" | "usdc" | "usdz") => Err(InputError {
+            file: path.display().to_string(),
+            message: "USD input is not supported yet; export the scene to glTF".into(),
+        }),
+        _ => Err(InputError {
+            file: path.display().to_string(),
+            message: "unknown scene format (expected .gltf or .glb)".into(),
+        }),
+    }
+}
