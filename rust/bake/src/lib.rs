@@ -6,6 +6,7 @@
 
 pub mod dilation;
 pub mod mesh;
+pub mod plan;
 pub mod raster;
 pub mod scene;
 pub mod texels;

@@ -61,7 +61,10 @@ pub struct Volume {
 impl MaterialHint {
     /// True when the material asks for light to pass under the surface.
     pub fn is_translucent(&self) -> bool {
-        self.volume.is_some() || self.diffuse_transmission.is_some_and(|(_, factor)| factor > 0.0)
+        self.volume.is_some()
+            || self
+                .diffuse_transmission
+                .is_some_and(|(_, factor)| factor > 0.0)
     }
 }
 
@@ -109,10 +112,18 @@ impl Scene {
         names
             .iter()
             .map(|name| {
-                self.objects.iter().find(|o| &o.mesh.name == name).ok_or_else(|| {
-                    let known: Vec<&str> = self.objects.iter().map(|o| o.mesh.name.as_str()).collect();
-                    format!("{}: no object named `{name}` (objects: {})", self.source, known.join(", "))
-                })
+                self.objects
+                    .iter()
+                    .find(|o| &o.mesh.name == name)
+                    .ok_or_else(|| {
+                        let known: Vec<&str> =
+                            self.objects.iter().map(|o| o.mesh.name.as_str()).collect();
+                        format!(
+                            "{}: no object named `{name}` (objects: {})",
+                            self.source,
+                            known.join(", ")
+                        )
+                    })
             })
             .collect()
     }

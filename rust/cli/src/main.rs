@@ -5,6 +5,8 @@
 //! 3 an output could not be written.
 
 mod atomic_write;
+mod material_choice;
+mod plan_command;
 mod plot;
 mod profile_command;
 
@@ -26,6 +28,8 @@ struct Cli {
 enum Command {
     /// Print and plot a material's diffusion reflectance profile.
     Profile(profile_command::ProfileArgs),
+    /// Show what a bake of a scene would do, and what it would leave out.
+    Plan(plan_command::PlanArgs),
     /// List the material presets.
     Presets,
 }
@@ -42,6 +46,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Profile(args) => profile_command::run(&args),
+        Command::Plan(args) => plan_command::run(&args),
         Command::Presets => {
             for (name, description) in sssbake_profile::presets::list() {
                 println!("{name:<12} {description}");

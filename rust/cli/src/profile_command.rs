@@ -5,7 +5,6 @@ use crate::atomic_write::write_atomically;
 use crate::plot::{Curve, render_png, render_svg};
 use serde_json::{Value, json};
 use sssbake_profile::monte_carlo::{self, MonteCarlo};
-use sssbake_profile::presets::{self, preset};
 use sssbake_profile::{Material, Model, Profile, Rgb, Tabulated, build_profile};
 use std::path::{Path, PathBuf};
 
@@ -170,19 +169,7 @@ fn check_arguments(args: &ProfileArgs) -> Result<(), Failure> {
 }
 
 fn load_material(args: &ProfileArgs) -> Result<Material, Failure> {
-    match (&args.preset, &args.material) {
-        (Some(name), _) => preset(name).ok_or_else(|| {
-            let names: Vec<&str> = presets::list().into_iter().map(|(n, _)| n).collect();
-            Failure::Input(format!(
-                "unknown preset `{name}` (known: {})",
-                names.join(", ")
-            ))
-        }),
-        (None, Some(path)) => Material::from_file(path).map_err(|e| Failure::Input(e.to_string())),
-        (None, None) => Err(Failure::Input(
-            "give --preset NAME or --material FILE".into(),
-        )),
-    }
+    crate::material_choice::load(args.preset.as_deref(), args.material.as_deref())
 }
 
 /// Sixty radii, evenly spaced in ln r, from a twentieth of the profile's

@@ -17,7 +17,10 @@ const MILLIMETRES_PER_METRE: f64 = 1000.0;
 /// Reads a glTF or GLB file.
 pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError> {
     let file = path.display().to_string();
-    let error = |message: String| InputError { file: file.clone(), message };
+    let error = |message: String| InputError {
+        file: file.clone(),
+        message,
+    };
     let bytes = std::fs::read(path).map_err(|e| error(format!("cannot read: {e}")))?;
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_slice(&bytes).map_err(|e| error(format!("not a valid glTF file: {e}")))?;
@@ -28,13 +31,21 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
     check_accessors(&document, &data).map_err(error)?;
 
     let scale = options.unit_scale.unwrap_or(MILLIMETRES_PER_METRE);
-    let mut scene = Scene { source: file.clone(), millimetres_per_unit: scale, ..Default::default() };
+    let mut scene = Scene {
+        source: file.clone(),
+        millimetres_per_unit: scale,
+        ..Default::default()
+    };
     let mut names: HashMap<String, usize> = HashMap::new();
-    let roots: Vec<gltf::Node> = match document.default_scene().or_else(|| document.scenes().next()) {
+    let roots: Vec<gltf::Node> = match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
         Some(s) => s.nodes().collect(),
         None => document.nodes().collect(),
     };
-    let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().map(|n| (n, Mat4::IDENTITY)).collect();
+    let mut stack: Vec<(gltf::Node, Mat4)> =
+        roots.into_iter().map(|n| (n, Mat4::IDENTITY)).collect();
     let mut visited = 0usize;
     while let Some((node, parent)) = stack.pop() {
         visited += 1;
@@ -43,18 +54,28 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(mesh) = node.mesh() {
-            let base_name = node.name().or(mesh.name()).map_or_else(|| format!("node {}", node.index()), String::from);
+            let base_name = node
+                .name()
+                .or(mesh.name())
+                .map_or_else(|| format!("node {}", node.index()), String::from);
             let seen = names.entry(base_name.clone()).or_insert(0);
             *seen += 1;
-            let name = if *seen == 1 { base_name } else { format!("{base_name}.{}", *seen - 1) };
-            if let Some(object) = read_mesh(&mesh, &name, world, scale, options, &data, &mut scene.notes)
-                .map_err(|m| error(format!("object `{name}`: {m}")))?
+            let name = if *seen == 1 {
+                base_name
+            } else {
+                format!("{base_name}.{}", *seen - 1)
+            };
+            if let Some(object) =
+                read_mesh(&mesh, &name, world, scale, options, &data, &mut scene.notes)
+                    .map_err(|m| error(format!("object `{name}`: {m}")))?
             {
                 scene.objects.push(object);
             }
         }
         if let Some(light) = node.light() {
-            scene.lights.push(read_light(&light, world, scale, node.index()));
+            scene
+                .lights
+                .push(read_light(&light, world, scale, node.index()));
         }
         stack.extend(node.children().map(|c| (c, world)));
     }
@@ -66,7 +87,9 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
 /// that reading can never run off the end of the data.
 fn check_accessors(document: &gltf::Document, data: &[&[u8]]) -> Result<(), String> {
     for accessor in document.accessors() {
-        let Some(view) = accessor.view() else { continue };
+        let Some(view) = accessor.view() else {
+            continue;
+        };
         let buffer_len = data.get(view.buffer().index()).map_or(0, |d| d.len());
         if view.offset() + view.length() > buffer_len {
             return Err(format!(
@@ -78,7 +101,11 @@ fn check_accessors(document: &gltf::Document, data: &[&[u8]]) -> Result<(), Stri
         }
         let element = accessor.size();
         let stride = view.stride().unwrap_or(element);
-        let needed = if accessor.count() == 0 { 0 } else { accessor.offset() + stride * (accessor.count() - 1) + element };
+        let needed = if accessor.count() == 0 {
+            0
+        } else {
+            accessor.offset() + stride * (accessor.count() - 1) + element
+        };
         if needed > view.length() {
             return Err(format!(
                 "accessor {} needs {needed} bytes but its buffer view has {}",
@@ -111,19 +138,24 @@ fn read_mesh(
             return Err(format!("primitive {} has no POSITION", primitive.index()));
         };
         let base = positions.len() as u32;
-        let points: Vec<Vec3> =
-            points.map(|p| world.transform_point3(Vec3::from(p)) * scale as f32).collect();
+        let points: Vec<Vec3> = points
+            .map(|p| world.transform_point3(Vec3::from(p)) * scale as f32)
+            .collect();
         let count = points.len();
         positions.extend(points);
         match reader.read_normals() {
-            Some(n) => normals.extend(n.map(|n| (normal_matrix * Vec3::from(n)).normalize_or_zero())),
+            Some(n) => {
+                normals.extend(n.map(|n| (normal_matrix * Vec3::from(n)).normalize_or_zero()))
+            }
             None => {
                 all_have_normals = false;
                 normals.extend(std::iter::repeat_n(Vec3::ZERO, count));
             }
         }
         for set in 0.. {
-            let Some(coords) = reader.read_tex_coords(set) else { break };
+            let Some(coords) = reader.read_tex_coords(set) else {
+                break;
+            };
             let coords: Vec<Vec2> = coords.into_f32().map(Vec2::from).collect();
             if uv_sets.len() <= set as usize {
                 uv_sets.push(vec![Vec2::ZERO; base as usize]);
@@ -138,16 +170,33 @@ fn read_mesh(
             None => (0..count as u32).collect(),
         };
         if let Some(bad) = indices.iter().find(|&&i| i as usize >= count) {
-            return Err(format!("primitive {} has index {bad} but {count} vertices", primitive.index()));
+            return Err(format!(
+                "primitive {} has index {bad} but {count} vertices",
+                primitive.index()
+            ));
         }
         let new = match primitive.mode() {
-            Mode::Triangles => indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
-            Mode::TriangleStrip => (2..indices.len())
-                .map(|i| if i % 2 == 0 { [indices[i - 2], indices[i - 1], indices[i]] } else { [indices[i - 1], indices[i - 2], indices[i]] })
+            Mode::Triangles => indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
                 .collect(),
-            Mode::TriangleFan => (2..indices.len()).map(|i| [indices[0], indices[i - 1], indices[i]]).collect(),
+            Mode::TriangleStrip => (2..indices.len())
+                .map(|i| {
+                    if i % 2 == 0 {
+                        [indices[i - 2], indices[i - 1], indices[i]]
+                    } else {
+                        [indices[i - 1], indices[i - 2], indices[i]]
+                    }
+                })
+                .collect(),
+            Mode::TriangleFan => (2..indices.len())
+                .map(|i| [indices[0], indices[i - 1], indices[i]])
+                .collect(),
             other => {
-                notes.push(format!("object `{name}`: primitive {} ({other:?}) has no faces and is left out", primitive.index()));
+                notes.push(format!(
+                    "object `{name}`: primitive {} ({other:?}) has no faces and is left out",
+                    primitive.index()
+                ));
                 Vec::<[u32; 3]>::new()
             }
         };
@@ -164,44 +213,71 @@ fn read_mesh(
     }
     let uvs = uv_sets.get(options.uv_set).cloned();
     if uvs.is_none() && !uv_sets.is_empty() {
-        notes.push(format!("object `{name}`: has no TEXCOORD_{}; it will be unwrapped", options.uv_set));
+        notes.push(format!(
+            "object `{name}`: has no TEXCOORD_{}; it will be unwrapped",
+            options.uv_set
+        ));
     }
     let normals = all_have_normals.then_some(normals);
     let (mesh, warnings) = Mesh::new(name, positions, normals, uvs, triangles).map_err(|e| {
         // The mesh error already names the object; keep only what is wrong.
-        e.to_string().splitn(2, ": ").nth(1).unwrap_or_default().to_string()
+        e.to_string()
+            .splitn(2, ": ")
+            .nth(1)
+            .unwrap_or_default()
+            .to_string()
     })?;
     if warnings.degenerate_triangles > 0 {
-        notes.push(format!("object `{name}`: {} zero-area triangles left out", warnings.degenerate_triangles));
+        notes.push(format!(
+            "object `{name}`: {} zero-area triangles left out",
+            warnings.degenerate_triangles
+        ));
     }
     if warnings.repaired_uvs > 0 {
-        notes.push(format!("object `{name}`: {} non-finite UVs set to 0", warnings.repaired_uvs));
+        notes.push(format!(
+            "object `{name}`: {} non-finite UVs set to 0",
+            warnings.repaired_uvs
+        ));
     }
-    Ok(Some(SceneObject { mesh, uv_sets, material }))
+    Ok(Some(SceneObject {
+        mesh,
+        uv_sets,
+        material,
+    }))
 }
 
 fn read_material(material: &gltf::Material, scale: f64) -> MaterialHint {
     let pbr = material.pbr_metallic_roughness();
-    let texture = pbr.base_color_texture().map(|info| match info.texture().source().source() {
-        gltf::image::Source::Uri { uri, .. } => uri.to_string(),
-        gltf::image::Source::View { .. } => {
-            info.texture().source().name().map_or_else(|| format!("image {}", info.texture().source().index()), String::from)
-        }
-    });
+    let texture = pbr
+        .base_color_texture()
+        .map(|info| match info.texture().source().source() {
+            gltf::image::Source::Uri { uri, .. } => uri.to_string(),
+            gltf::image::Source::View { .. } => info.texture().source().name().map_or_else(
+                || format!("image {}", info.texture().source().index()),
+                String::from,
+            ),
+        });
     let volume = material.volume().map(|v| Volume {
         attenuation_distance_mm: (v.attenuation_distance() as f64 * scale) as f32,
         attenuation_color: v.attenuation_color(),
         thickness_mm: (v.thickness_factor() as f64 * scale) as f32,
     });
-    let diffuse_transmission = material.extension_value("KHR_materials_diffuse_transmission").map(|v| {
-        let factor = v.get("diffuseTransmissionFactor").and_then(|f| f.as_f64()).unwrap_or(0.0) as f32;
-        let color = v
-            .get("diffuseTransmissionColorFactor")
-            .and_then(|c| c.as_array())
-            .filter(|c| c.len() == 3)
-            .map_or([1.0; 3], |c| [0, 1, 2].map(|i| c[i].as_f64().unwrap_or(1.0) as f32));
-        (color, factor)
-    });
+    let diffuse_transmission = material
+        .extension_value("KHR_materials_diffuse_transmission")
+        .map(|v| {
+            let factor = v
+                .get("diffuseTransmissionFactor")
+                .and_then(|f| f.as_f64())
+                .unwrap_or(0.0) as f32;
+            let color = v
+                .get("diffuseTransmissionColorFactor")
+                .and_then(|c| c.as_array())
+                .filter(|c| c.len() == 3)
+                .map_or([1.0; 3], |c| {
+                    [0, 1, 2].map(|i| c[i].as_f64().unwrap_or(1.0) as f32)
+                });
+            (color, factor)
+        });
     MaterialHint {
         name: material.name().unwrap_or("unnamed").to_string(),
         base_color: pbr.base_color_factor(),
@@ -212,21 +288,34 @@ fn read_material(material: &gltf::Material, scale: f64) -> MaterialHint {
     }
 }
 
-fn read_light(light: &gltf::khr_lights_punctual::Light, world: Mat4, scale: f64, node: usize) -> Light {
+fn read_light(
+    light: &gltf::khr_lights_punctual::Light,
+    world: Mat4,
+    scale: f64,
+    node: usize,
+) -> Light {
     use gltf::khr_lights_punctual::Kind;
     let kind = match light.kind() {
         Kind::Directional => LightKind::Directional,
         Kind::Point => LightKind::Point,
-        Kind::Spot { inner_cone_angle, outer_cone_angle } => {
-            LightKind::Spot { inner_cone: inner_cone_angle, outer_cone: outer_cone_angle }
-        }
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => LightKind::Spot {
+            inner_cone: inner_cone_angle,
+            outer_cone: outer_cone_angle,
+        },
     };
     Light {
-        name: light.name().map_or_else(|| format!("light on node {node}"), String::from),
+        name: light
+            .name()
+            .map_or_else(|| format!("light on node {node}"), String::from),
         kind,
         color: light.color(),
         intensity: light.intensity(),
         position: world.transform_point3(Vec3::ZERO) * scale as f32,
-        direction: world.transform_vector3(Vec3::NEG_Z).normalize_or(Vec3::NEG_Z),
+        direction: world
+            .transform_vector3(Vec3::NEG_Z)
+            .normalize_or(Vec3::NEG_Z),
     }
 }

@@ -19,7 +19,10 @@ pub struct ReadOptions {
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        Self { uv_set: 0, unit_scale: None }
+        Self {
+            uv_set: 0,
+            unit_scale: None,
+        }
     }
 }
 
@@ -36,7 +39,10 @@ pub struct InputError {
 
 /// Reads any supported scene file, chosen by its extension.
 pub fn read_scene(path: &Path, options: &ReadOptions) -> Result<Scene, InputError> {
-    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     match extension.as_deref() {
         Some("gltf" | "glb") => read_gltf(path, options),
         Some("usd" | "usda" | "usdc" | "usdz") => Err(InputError {

@@ -17,8 +17,13 @@ fn scratch(name: &str) -> PathBuf {
 /// buffer, with `extra` merged into the document.
 fn quad_document(dir: &Path, extra: Value, bin: Option<Vec<u8>>) -> PathBuf {
     let mut bytes = Vec::new();
-    let floats = |bytes: &mut Vec<u8>, values: &[f32]| values.iter().for_each(|v| bytes.extend(v.to_le_bytes()));
-    floats(&mut bytes, &[0.0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.1, 0.1, 0.0, 0.0, 0.1, 0.0]);
+    let floats = |bytes: &mut Vec<u8>, values: &[f32]| {
+        values.iter().for_each(|v| bytes.extend(v.to_le_bytes()))
+    };
+    floats(
+        &mut bytes,
+        &[0.0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.1, 0.1, 0.0, 0.0, 0.1, 0.0],
+    );
     floats(&mut bytes, &[0.0, 0.0, 1.0].repeat(4));
     floats(&mut bytes, &[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0]);
     floats(&mut bytes, &[0.0, 0.0, 0.5, 0.0, 0.5, 0.5, 0.0, 0.5]);
@@ -77,19 +82,43 @@ fn a_quad_arrives_in_millimetres_with_its_transform() {
     assert_eq!(object.mesh.name, "Tile");
     assert_eq!(object.mesh.triangles.len(), 2);
     // 0.1 m scaled by 2 is 200 mm a side; the node moved it 1 m along x.
-    assert!((object.mesh.area() - 200.0 * 200.0).abs() < 1e-2, "{}", object.mesh.area());
+    assert!(
+        (object.mesh.area() - 200.0 * 200.0).abs() < 1e-2,
+        "{}",
+        object.mesh.area()
+    );
     assert!(object.mesh.positions[1].distance(Vec3::new(1200.0, 0.0, 0.0)) < 1e-3);
     assert_eq!(object.mesh.normals[0], Vec3::Z);
     assert_eq!(object.uv_sets.len(), 2);
     assert_eq!(object.mesh.uvs.as_ref().unwrap()[2], glam::Vec2::ONE);
     let material = object.material.as_ref().unwrap();
-    assert_eq!((material.name.as_str(), material.base_color), ("wax", [0.9, 0.8, 0.7, 1.0]));
+    assert_eq!(
+        (material.name.as_str(), material.base_color),
+        ("wax", [0.9, 0.8, 0.7, 1.0])
+    );
     assert!(!material.is_translucent());
 
-    let second = read_scene(&path, &ReadOptions { uv_set: 1, unit_scale: Some(10.0) }).unwrap();
-    assert_eq!(second.objects[0].mesh.uvs.as_ref().unwrap()[2], glam::Vec2::splat(0.5));
+    let second = read_scene(
+        &path,
+        &ReadOptions {
+            uv_set: 1,
+            unit_scale: Some(10.0),
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        second.objects[0].mesh.uvs.as_ref().unwrap()[2],
+        glam::Vec2::splat(0.5)
+    );
     assert!((second.objects[0].mesh.area() - 2.0 * 2.0).abs() < 1e-4);
-    let missing_set = read_scene(&path, &ReadOptions { uv_set: 4, unit_scale: None }).unwrap();
+    let missing_set = read_scene(
+        &path,
+        &ReadOptions {
+            uv_set: 4,
+            unit_scale: None,
+        },
+    )
+    .unwrap();
     assert!(missing_set.objects[0].mesh.uvs.is_none());
     assert!(missing_set.notes.iter().any(|n| n.contains("TEXCOORD_4")));
 }
@@ -114,18 +143,33 @@ fn translucent_materials_and_lights_are_read() {
         ],
         "scenes": [{"nodes": [0, 1, 2]}]
     });
-    let scene = read_scene(&quad_document(&scratch("lights"), extra, None), &ReadOptions::default()).unwrap();
+    let scene = read_scene(
+        &quad_document(&scratch("lights"), extra, None),
+        &ReadOptions::default(),
+    )
+    .unwrap();
     let material = scene.objects[0].material.as_ref().unwrap();
     assert!(material.is_translucent());
     assert_eq!(material.ior, Some(1.4));
     let volume = material.volume.as_ref().unwrap();
-    assert!((volume.attenuation_distance_mm - 2.0).abs() < 1e-4 && (volume.thickness_mm - 10.0).abs() < 1e-4);
+    assert!(
+        (volume.attenuation_distance_mm - 2.0).abs() < 1e-4
+            && (volume.thickness_mm - 10.0).abs() < 1e-4
+    );
     assert_eq!(material.diffuse_transmission, Some(([1.0, 0.5, 0.4], 0.5)));
     assert_eq!(scene.lights.len(), 2);
     let sun = scene.lights.iter().find(|l| l.name == "sun").unwrap();
     assert_eq!(sun.kind, LightKind::Directional);
-    assert!(sun.direction.distance(Vec3::NEG_Y) < 1e-5, "{:?}", sun.direction);
-    let spot = scene.lights.iter().find(|l| matches!(l.kind, LightKind::Spot { .. })).unwrap();
+    assert!(
+        sun.direction.distance(Vec3::NEG_Y) < 1e-5,
+        "{:?}",
+        sun.direction
+    );
+    let spot = scene
+        .lights
+        .iter()
+        .find(|l| matches!(l.kind, LightKind::Spot { .. }))
+        .unwrap();
     assert!(spot.position.distance(Vec3::new(0.0, 0.0, 2000.0)) < 1e-3);
 }
 
@@ -157,13 +201,18 @@ fn a_glb_reads_like_the_gltf() {
     glb.extend(&bin_chunk);
     let path = dir.join("quad.glb");
     std::fs::write(&path, glb).unwrap();
-    let (a, b) = (read_scene(&gltf, &ReadOptions::default()).unwrap(), read_scene(&path, &ReadOptions::default()).unwrap());
+    let (a, b) = (
+        read_scene(&gltf, &ReadOptions::default()).unwrap(),
+        read_scene(&path, &ReadOptions::default()).unwrap(),
+    );
     assert_eq!(a.objects[0].mesh.positions, b.objects[0].mesh.positions);
     assert_eq!(a.objects[0].mesh.triangles, b.objects[0].mesh.triangles);
 }
 
 fn assert_refused(path: &Path, words: &[&str]) {
-    let error = read_scene(path, &ReadOptions::default()).unwrap_err().to_string();
+    let error = read_scene(path, &ReadOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(error.starts_with(&path.display().to_string()), "{error}");
     for w in words {
         assert!(error.contains(w), "`{w}` not in: {error}");
@@ -175,7 +224,11 @@ fn bad_input_is_refused_with_the_file_and_what_is_wrong() {
     let dir = scratch("bad");
     assert_refused(&dir.join("absent.gltf"), &["cannot read"]);
     let malformed = dir.join("malformed.gltf");
-    std::fs::write(&malformed, "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [").unwrap();
+    std::fs::write(
+        &malformed,
+        "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [",
+    )
+    .unwrap();
     assert_refused(&malformed, &["not a valid glTF"]);
     let unknown = dir.join("scene.obj");
     std::fs::write(&unknown, "v 0 0 0").unwrap();
@@ -187,14 +240,16 @@ fn bad_input_is_refused_with_the_file_and_what_is_wrong() {
 
     // An index past the last vertex.
     let dir = scratch("index");
-    let mut bytes = std::fs::read(quad_document(&dir, json!({}), None).with_file_name("quad.bin")).unwrap();
+    let mut bytes =
+        std::fs::read(quad_document(&dir, json!({}), None).with_file_name("quad.bin")).unwrap();
     bytes[160..162].copy_from_slice(&9u16.to_le_bytes());
     let path = quad_document(&dir, json!({}), Some(bytes));
     assert_refused(&path, &["object `Tile`", "index 9"]);
 
     // A NaN position.
     let dir = scratch("nan");
-    let mut bytes = std::fs::read(quad_document(&dir, json!({}), None).with_file_name("quad.bin")).unwrap();
+    let mut bytes =
+        std::fs::read(quad_document(&dir, json!({}), None).with_file_name("quad.bin")).unwrap();
     bytes[12..16].copy_from_slice(&f32::NAN.to_le_bytes());
     let path = quad_document(&dir, json!({}), Some(bytes));
     assert_refused(&path, &["object `Tile`", "non-finite position"]);
