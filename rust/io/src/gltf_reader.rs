@@ -67,7 +67,7 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
             };
             if let Some(object) =
                 read_mesh(&mesh, &name, world, scale, options, &data, &mut scene.notes)
-                    .map_err(|m| error(format!("object `{name}`: {m}")))?
+                    .map_err(error)?
             {
                 scene.objects.push(object);
             }
@@ -135,7 +135,10 @@ fn read_mesh(
     for primitive in mesh.primitives() {
         let reader = primitive.reader(|b| data.get(b.index()).copied());
         let Some(points) = reader.read_positions() else {
-            return Err(format!("primitive {} has no POSITION", primitive.index()));
+            return Err(format!(
+                "object `{name}`: primitive {} has no POSITION",
+                primitive.index()
+            ));
         };
         let base = positions.len() as u32;
         let points: Vec<Vec3> = points
@@ -171,7 +174,7 @@ fn read_mesh(
         };
         if let Some(bad) = indices.iter().find(|&&i| i as usize >= count) {
             return Err(format!(
-                "primitive {} has index {bad} but {count} vertices",
+                "object `{name}`: primitive {} has index {bad} but {count} vertices",
                 primitive.index()
             ));
         }
@@ -219,14 +222,8 @@ fn read_mesh(
         ));
     }
     let normals = all_have_normals.then_some(normals);
-    let (mesh, warnings) = Mesh::new(name, positions, normals, uvs, triangles).map_err(|e| {
-        // The mesh error already names the object; keep only what is wrong.
-        e.to_string()
-            .splitn(2, ": ")
-            .nth(1)
-            .unwrap_or_default()
-            .to_string()
-    })?;
+    let (mesh, warnings) =
+        Mesh::new(name, positions, normals, uvs, triangles).map_err(|e| e.to_string())?;
     if warnings.degenerate_triangles > 0 {
         notes.push(format!(
             "object `{name}`: {} zero-area triangles left out",

@@ -9,21 +9,13 @@ use sssbake::Scene;
 use std::path::Path;
 
 /// How to read a scene.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct ReadOptions {
     /// Which texture-coordinate set the bake uses.
     pub uv_set: usize,
-    /// Millimetres per scene unit, overriding what the file says.
+    /// Millimetres per scene unit, overriding what the file says
+    /// [default: the file's unit].
     pub unit_scale: Option<f64>,
-}
-
-impl Default for ReadOptions {
-    fn default() -> Self {
-        Self {
-            uv_set: 0,
-            unit_scale: None,
-        }
-    }
 }
 
 /// A scene that could not be read; the message names the file and, where

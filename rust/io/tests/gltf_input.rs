@@ -125,6 +125,7 @@ fn a_quad_arrives_in_millimetres_with_its_transform() {
 
 #[test]
 fn translucent_materials_and_lights_are_read() {
+    let half_turn = std::f64::consts::FRAC_1_SQRT_2;
     let extra = json!({
         "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_volume", "KHR_materials_diffuse_transmission", "KHR_materials_ior"],
         "extensions": {"KHR_lights_punctual": {"lights": [
@@ -138,7 +139,7 @@ fn translucent_materials_and_lights_are_read() {
         }}],
         "nodes": [
             {"name": "Tile", "mesh": 0},
-            {"name": "Sun", "rotation": [-0.7071068, 0.0, 0.0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"name": "Sun", "rotation": [-half_turn, 0.0, 0.0, half_turn], "extensions": {"KHR_lights_punctual": {"light": 0}}},
             {"name": "Spot", "translation": [0.0, 0.0, 2.0], "extensions": {"KHR_lights_punctual": {"light": 1}}}
         ],
         "scenes": [{"nodes": [0, 1, 2]}]
