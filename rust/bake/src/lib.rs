@@ -12,6 +12,7 @@ pub mod scene;
 pub mod texels;
 pub mod topology;
 pub mod turk;
+pub mod unwrap;
 pub mod uv_analysis;
 
 pub use mesh::{Mesh, MeshError, MeshWarnings};

@@ -4,6 +4,7 @@ use crate::scene::{LightKind, Scene};
 use crate::texels::rasterize;
 use crate::turk::point_count;
 use crate::uv_analysis::analyse_uvs;
+use std::time::Instant;
 
 /// What the plan needs to know beyond the scene.
 #[derive(Clone, Debug)]
@@ -16,6 +17,10 @@ pub struct PlanSettings {
     pub mean_free_path_mm: f64,
     /// Points per mean-free-path disk.
     pub point_multiplier: f64,
+    /// Unwrap every object, even those whose UVs are usable.
+    pub force_unwrap: bool,
+    /// Texels between charts of an unwrap.
+    pub padding: u32,
 }
 
 /// The plan for one object.
@@ -29,9 +34,11 @@ pub struct ObjectPlan {
     pub area_mm2: f64,
     /// The UV verdict in words.
     pub uv_verdict: String,
-    /// Whether the mesh must be unwrapped first.
+    /// Whether the mesh is unwrapped first.
     pub unwrap: bool,
-    /// Texels the layout covers at the resolution (0 until unwrapped).
+    /// Seconds the unwrap took, when there was one.
+    pub unwrap_seconds: Option<f64>,
+    /// Texels the layout (after any unwrap) covers at the resolution.
     pub texels: usize,
     /// Surface area those texels stand for, mm².
     pub texel_area_mm2: f64,
@@ -73,25 +80,32 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
         .map(|object| {
             let mesh = &object.mesh;
             let report = analyse_uvs(mesh, None, settings.resolution);
-            let unwrap = !report.usable();
-            let (texels, texel_area_mm2) = match (&mesh.uvs, unwrap) {
-                (Some(uvs), false) => {
-                    let surfels = rasterize(mesh, uvs, settings.resolution);
-                    (surfels.len(), surfels.total_area())
-                }
-                _ => (0, 0.0),
+            let unwrap = settings.force_unwrap || !report.usable();
+            let mut unwrap_seconds = None;
+            let layout = if unwrap {
+                let start = Instant::now();
+                let unwrapped = crate::unwrap::unwrap(mesh, settings.resolution, settings.padding)
+                    .map_err(|e| e.to_string())?;
+                unwrap_seconds = Some(start.elapsed().as_secs_f64());
+                unwrapped
+            } else {
+                mesh.clone()
             };
+            let uvs = layout.uvs.as_deref().unwrap_or_default();
+            let surfels = rasterize(&layout, uvs, settings.resolution);
+            let (texels, texel_area_mm2) = (surfels.len(), surfels.total_area());
             let material = match &object.material {
                 None => "none".to_string(),
                 Some(m) if m.is_translucent() => format!("`{}`, translucent", m.name),
                 Some(m) => format!("`{}`, opaque in the asset", m.name),
             };
-            ObjectPlan {
+            Ok(ObjectPlan {
                 name: mesh.name.clone(),
                 triangles: mesh.triangles.len(),
                 area_mm2: mesh.area(),
                 uv_verdict: report.verdict(),
                 unwrap,
+                unwrap_seconds,
                 texels,
                 texel_area_mm2,
                 points: point_count(
@@ -100,9 +114,9 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
                     settings.point_multiplier,
                 ),
                 material,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<Vec<_>, String>>()?;
     let mut lights = Vec::new();
     for light in &scene.lights {
         let power = light.intensity * light.color.iter().sum::<f32>();

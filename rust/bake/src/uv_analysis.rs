@@ -18,7 +18,8 @@ pub struct UvReport {
     pub missing: bool,
     /// Triangles with a corner outside [0, 1]².
     pub outside: usize,
-    /// Triangles with (next to) no UV area though they have surface area.
+    /// Triangles with (next to) no UV area though their surface is worth at
+    /// least a thousandth of a texel.
     pub zero_area: usize,
     /// Triangles wound against the majority (mirrored islands).
     pub flipped: usize,
@@ -105,9 +106,13 @@ pub fn analyse_uvs(mesh: &Mesh, uvs: Option<&[Vec2]>, resolution: u32) -> UvRepo
             report.outside += 1;
         }
         let area_3d = mesh.triangle_area(t);
-        // Less than a millionth of a texel's worth of UV area for its surface.
-        if signed[t].abs() * (n as f64).powi(2) < 1e-6 {
-            report.zero_area += 1;
+        // The UV area the mesh's average density would give this triangle;
+        // lost surface only matters when it is worth a thousandth of a texel.
+        let expected_uv = area_3d / mean_density;
+        if signed[t].abs() < 1e-6 * expected_uv {
+            if expected_uv * (n as f64).powi(2) > 1e-3 {
+                report.zero_area += 1;
+            }
             continue;
         }
         if signed[t] * majority < 0.0 {

@@ -30,6 +30,12 @@ pub struct PlanArgs {
     /// A TOML material file.
     #[arg(long)]
     material: Option<PathBuf>,
+    /// Unwrap every object with xatlas, even where the UVs are usable.
+    #[arg(long)]
+    unwrap: bool,
+    /// Texels between the charts of an unwrap.
+    #[arg(long, default_value_t = 4)]
+    margin: u32,
     /// Sample points per disk of one mean free path.
     #[arg(long, default_value_t = 1.0)]
     points_per_disk: f64,
@@ -72,6 +78,8 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         resolution: args.resolution,
         mean_free_path_mm: material_choice::mean_free_path(&material),
         point_multiplier: args.points_per_disk,
+        force_unwrap: args.unwrap,
+        padding: args.margin,
     };
     let plan = make_plan(&scene, &settings).map_err(Failure::Input)?;
     let text = if args.json {
@@ -98,14 +106,13 @@ fn plan_text(plan: &Plan, material: &str, mean_free_path: f64) -> String {
             o.name, o.triangles, o.area_mm2
         );
         text += &format!("  UVs: {}\n", o.uv_verdict);
-        if o.unwrap {
-            text += "  unwrap: yes, before baking\n";
-        } else {
-            text += &format!(
-                "  texels: {} covering {:.1} mm²\n",
-                o.texels, o.texel_area_mm2
-            );
+        if let Some(seconds) = o.unwrap_seconds {
+            text += &format!("  unwrap: yes, with xatlas ({seconds:.2} s)\n");
         }
+        text += &format!(
+            "  texels: {} covering {:.1} mm²\n",
+            o.texels, o.texel_area_mm2
+        );
         text += &format!(
             "  sample points: {}\n  asset material: {}\n",
             o.points, o.material
@@ -137,6 +144,7 @@ fn plan_json(plan: &Plan, material: &str) -> serde_json::Value {
             "area_mm2": o.area_mm2,
             "uv_verdict": o.uv_verdict,
             "unwrap": o.unwrap,
+            "unwrap_seconds": o.unwrap_seconds,
             "texels": o.texels,
             "texel_area_mm2": o.texel_area_mm2,
             "points": o.points,

@@ -86,9 +86,13 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
     let text = sssbake(&["plan", scene.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(
-        text.contains("unwrap: yes") && text.contains("material skin1"),
+        text.contains("unwrap: yes, with xatlas") && text.contains("material skin1"),
         "{text}"
     );
+    // After the unwrap the square's texels stand for its whole area.
+    let texel_area = square["texel_area_mm2"].as_f64().unwrap();
+    assert!((texel_area - 10_000.0).abs() < 100.0, "{texel_area}");
+    assert!(square["texels"].as_u64().unwrap() > 0);
 
     let unknown = sssbake(&["plan", scene.to_str().unwrap(), "--object", "Cube"]);
     assert_eq!(unknown.status.code(), Some(1));
