@@ -18,6 +18,13 @@ def sssbake() -> pathlib.Path:
     return path
 
 
-def run(binary: pathlib.Path, *args: str) -> subprocess.CompletedProcess:
-    """Runs the binary, capturing text output."""
-    return subprocess.run([str(binary), *args], check=False, capture_output=True, text=True, timeout=300)
+def run(binary: pathlib.Path, *args: str, env: dict | None = None) -> subprocess.CompletedProcess:
+    """Runs the binary, capturing text output, with `env` added to the environment."""
+    return subprocess.run(
+        [str(binary), *args],
+        check=False,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, **(env or {})},
+    )

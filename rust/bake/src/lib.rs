@@ -1,8 +1,9 @@
 //! sssbake: bakes subsurface scattering into textures.
 //!
 //! Lengths are millimetres throughout; scene units are converted once, when
-//! a scene is read. UV space is [0, 1]²; texel (x, y) covers
-//! [x/N, (x+1)/N] × [y/N, (y+1)/N], with y growing with v.
+//! a scene is read. UV space is [0, 1]² with v running up the image, as
+//! USD's t does (readers of glTF, whose v runs down, flip it); texel (x, y)
+//! covers [x/N, (x+1)/N] × [y/N, (y+1)/N], with y growing with v.
 
 pub mod dilation;
 pub mod mesh;

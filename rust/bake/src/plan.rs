@@ -128,6 +128,8 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
             LightKind::Directional => "directional",
             LightKind::Point => "point",
             LightKind::Spot { .. } => "spot",
+            LightKind::Area => "area",
+            LightKind::Environment => "environment",
         };
         lights.push(format!(
             "`{}`: {kind}, intensity {}",

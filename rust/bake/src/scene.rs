@@ -93,6 +93,10 @@ pub enum LightKind {
     Directional,
     /// Light from a point.
     Point,
+    /// A light with a surface (USD rect and disk lights).
+    Area,
+    /// Light from every direction (USD dome lights).
+    Environment,
     /// A point light limited to a cone (angles in radians).
     Spot {
         /// Full intensity inside this angle from the axis.

@@ -159,7 +159,11 @@ fn read_mesh(
             let Some(coords) = reader.read_tex_coords(set) else {
                 break;
             };
-            let coords: Vec<Vec2> = coords.into_f32().map(Vec2::from).collect();
+            // glTF's v runs down the image; sssbake's, like USD's t, runs up.
+            let coords: Vec<Vec2> = coords
+                .into_f32()
+                .map(|[u, v]| Vec2::new(u, 1.0 - v))
+                .collect();
             if uv_sets.len() <= set as usize {
                 uv_sets.push(vec![Vec2::ZERO; base as usize]);
             }

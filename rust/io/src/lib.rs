@@ -1,9 +1,11 @@
-//! Reading scenes into sssbake's model (glTF now) and, later, writing
+//! Reading scenes into sssbake's model (glTF and USD) and, later, writing
 //! textures and assets. Scene units become millimetres here, once.
 
 pub mod gltf_reader;
+pub mod usd_reader;
 
 pub use gltf_reader::read_gltf;
+pub use usd_reader::read_usd;
 
 use sssbake::Scene;
 use std::path::Path;
@@ -37,13 +39,11 @@ pub fn read_scene(path: &Path, options: &ReadOptions) -> Result<Scene, InputErro
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
         Some("gltf" | "glb") => read_gltf(path, options),
-        Some("usd" | "usda" | "usdc" | "usdz") => Err(InputError {
-            file: path.display().to_string(),
-            message: "USD input is not supported yet; export the scene to glTF".into(),
-        }),
+        Some("usd" | "usda" | "usdc" | "usdz") => read_usd(path, options),
         _ => Err(InputError {
             file: path.display().to_string(),
-            message: "unknown scene format (expected .gltf or .glb)".into(),
+            message: "unknown scene format (expected .gltf, .glb, .usd, .usda, .usdc or .usdz)"
+                .into(),
         }),
     }
 }

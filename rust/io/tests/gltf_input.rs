@@ -90,7 +90,11 @@ fn a_quad_arrives_in_millimetres_with_its_transform() {
     assert!(object.mesh.positions[1].distance(Vec3::new(1200.0, 0.0, 0.0)) < 1e-3);
     assert_eq!(object.mesh.normals[0], Vec3::Z);
     assert_eq!(object.uv_sets.len(), 2);
-    assert_eq!(object.mesh.uvs.as_ref().unwrap()[2], glam::Vec2::ONE);
+    // TEXCOORD_0 (1, 1) with v flipped to run up.
+    assert_eq!(
+        object.mesh.uvs.as_ref().unwrap()[2],
+        glam::Vec2::new(1.0, 0.0)
+    );
     let material = object.material.as_ref().unwrap();
     assert_eq!(
         (material.name.as_str(), material.base_color),

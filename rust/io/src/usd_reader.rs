@@ -1,0 +1,188 @@
+//! USD (.usda, .usdc, .usdz) through usd-core: no maintained Rust reader
+//! builds with this toolchain, so `usd/read_stage.py` (embedded here) runs
+//! in a Python with usd-core, chosen by $SSSBAKE_PYTHON (default
+//! `python3`), and hands meshes and lights over as JSON. Units come from
+//! the stage's metersPerUnit.
+
+use crate::{InputError, ReadOptions};
+use glam::{Vec2, Vec3};
+use serde_json::Value;
+use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
+use std::io::Write;
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+const READ_STAGE: &str = include_str!("../../../usd/read_stage.py");
+
+/// Reads a USD stage.
+pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<Scene, InputError> {
+    let file = path.display().to_string();
+    let error = |message: String| InputError {
+        file: file.clone(),
+        message,
+    };
+    if !path.is_file() {
+        return Err(error("cannot read: no such file".into()));
+    }
+    let python = std::env::var("SSSBAKE_PYTHON").unwrap_or_else(|_| "python3".into());
+    let uv_set = if options.uv_set == 0 {
+        String::new()
+    } else {
+        format!("st{}", options.uv_set)
+    };
+    let mut child = Command::new(&python)
+        .arg("-")
+        .arg(path)
+        .arg(&uv_set)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| error(format!("reading USD needs Python with usd-core; `{python}` did not start ({e}); set SSSBAKE_PYTHON")))?;
+    if let Some(mut stdin) = child.stdin.take() {
+        stdin
+            .write_all(READ_STAGE.as_bytes())
+            .map_err(|e| error(format!("cannot start the USD reader: {e}")))?;
+    }
+    let output = child
+        .wait_with_output()
+        .map_err(|e| error(format!("the USD reader failed: {e}")))?;
+    if !output.status.success() {
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let reason = stderr
+            .lines()
+            .rev()
+            .find(|l| !l.trim().is_empty())
+            .unwrap_or("no message");
+        return Err(error(format!("usd-core could not read it: {reason}")));
+    }
+    let value: Value = serde_json::from_slice(&output.stdout)
+        .map_err(|e| error(format!("the USD reader's output is not JSON: {e}")))?;
+    scene_from_json(&value, &file, options)
+}
+
+/// Builds the scene from the reader's JSON (see `usd/read_stage.py`).
+pub fn scene_from_json(
+    value: &Value,
+    file: &str,
+    options: &ReadOptions,
+) -> Result<Scene, InputError> {
+    let error = |message: String| InputError {
+        file: file.to_string(),
+        message,
+    };
+    let meters_per_unit = value["meters_per_unit"]
+        .as_f64()
+        .filter(|m| *m > 0.0)
+        .unwrap_or(0.01);
+    let scale = options.unit_scale.unwrap_or(meters_per_unit * 1000.0);
+    let mut scene = Scene {
+        source: file.to_string(),
+        millimetres_per_unit: scale,
+        ..Default::default()
+    };
+    for mesh in value["meshes"].as_array().into_iter().flatten() {
+        let name = mesh["name"].as_str().unwrap_or("mesh").to_string();
+        let points =
+            vec3s(&mesh["points"]).map_err(|m| error(format!("object `{name}`: points {m}")))?;
+        let corners: Vec<u32> = mesh["corner_vertices"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|v| v.as_u64().unwrap_or(u64::MAX) as u32)
+            .collect();
+        if let Some(bad) = corners.iter().find(|&&c| c as usize >= points.len()) {
+            return Err(error(format!(
+                "object `{name}`: a face refers to point {bad}, but there are {} points",
+                points.len()
+            )));
+        }
+        // One vertex per face corner, so per-corner UVs and normals stay exact.
+        let positions: Vec<Vec3> = corners
+            .iter()
+            .map(|&c| points[c as usize] * scale as f32)
+            .collect();
+        let triangles: Vec<[u32; 3]> = mesh["triangles"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|t| [0, 1, 2].map(|k| t[k].as_u64().unwrap_or(u64::MAX) as u32))
+            .collect();
+        let uvs = mesh["uvs"].as_array().map(|a| {
+            a.iter()
+                .map(|uv| Vec2::new(num(&uv[0]), num(&uv[1])))
+                .collect::<Vec<_>>()
+        });
+        let normals = match &mesh["normals"] {
+            Value::Array(_) => Some(
+                vec3s(&mesh["normals"])
+                    .map_err(|m| error(format!("object `{name}`: normals {m}")))?,
+            ),
+            _ => None,
+        };
+        if triangles.is_empty() {
+            scene
+                .notes
+                .push(format!("object `{name}`: has no faces and is left out"));
+            continue;
+        }
+        let (mesh_out, warnings) = Mesh::new(&name, positions, normals, uvs.clone(), triangles)
+            .map_err(|e| error(e.to_string()))?;
+        if warnings.degenerate_triangles > 0 {
+            scene.notes.push(format!(
+                "object `{name}`: {} zero-area triangles left out",
+                warnings.degenerate_triangles
+            ));
+        }
+        if uvs.is_none() {
+            scene.notes.push(format!(
+                "object `{name}`: has no st primvar; it will be unwrapped"
+            ));
+        }
+        scene.objects.push(SceneObject {
+            mesh: mesh_out,
+            uv_sets: uvs.into_iter().collect(),
+            material: None,
+        });
+    }
+    for light in value["lights"].as_array().into_iter().flatten() {
+        let kind = match light["type"].as_str().unwrap_or("") {
+            "DistantLight" => LightKind::Directional,
+            "SphereLight" => LightKind::Point,
+            "DomeLight" => LightKind::Environment,
+            _ => LightKind::Area,
+        };
+        let exposure = num(&light["exposure"]);
+        let color = light["color"]
+            .as_array()
+            .map_or([1.0; 3], |c| [0, 1, 2].map(|k| num(&c[k])));
+        let direction = vec3(&light["direction"]).unwrap_or(Vec3::NEG_Z);
+        scene.lights.push(Light {
+            name: light["name"].as_str().unwrap_or("light").to_string(),
+            kind,
+            color,
+            intensity: num(&light["intensity"]) * exposure.exp2(),
+            position: vec3(&light["position"]).unwrap_or(Vec3::ZERO) * scale as f32,
+            direction: direction.normalize_or(Vec3::NEG_Z),
+        });
+    }
+    scene.objects.sort_by(|a, b| a.mesh.name.cmp(&b.mesh.name));
+    Ok(scene)
+}
+
+fn num(v: &Value) -> f32 {
+    v.as_f64().unwrap_or(f64::NAN) as f32
+}
+
+fn vec3(v: &Value) -> Option<Vec3> {
+    let a = v.as_array().filter(|a| a.len() == 3)?;
+    Some(Vec3::new(num(&a[0]), num(&a[1]), num(&a[2])))
+}
+
+fn vec3s(v: &Value) -> Result<Vec<Vec3>, String> {
+    v.as_array()
+        .ok_or_else(|| "are missing".to_string())?
+        .iter()
+        .map(|p| vec3(p).ok_or_else(|| "have an entry that is not three numbers".to_string()))
+        .collect()
+}

@@ -1,0 +1,59 @@
+//! The USD reader's hand-over: JSON in the shape `usd/read_stage.py`
+//! prints, turned into a scene (the Python side is tested under tests/).
+
+use serde_json::json;
+use sssbake::LightKind;
+use sssbake_io::ReadOptions;
+use sssbake_io::usd_reader::scene_from_json;
+
+fn quad(corner_vertices: Vec<u32>) -> serde_json::Value {
+    json!({
+        "meters_per_unit": 0.01,
+        "up_axis": "Y",
+        "meshes": [{
+            "name": "Card", "path": "/World/Card",
+            "points": [[0, 0, 0], [10, 0, 0], [10, 10, 0], [0, 10, 0]],
+            "corner_vertices": corner_vertices,
+            "triangles": [[0, 1, 2], [0, 2, 3]],
+            "uvs": [[0, 0], [1, 0], [1, 1], [0, 1]],
+            "normals": null,
+            "faces": 1, "subsets": []
+        }],
+        "lights": [{"name": "Key", "type": "SphereLight", "intensity": 10.0, "exposure": 1.0,
+                    "color": [1, 1, 1], "position": [0, 0, 50], "direction": [0, 0, -1]}]
+    })
+}
+
+#[test]
+fn stage_units_become_millimetres() {
+    let scene = scene_from_json(
+        &quad(vec![0, 1, 2, 3]),
+        "card.usda",
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(scene.millimetres_per_unit, 10.0);
+    let card = &scene.objects[0];
+    assert_eq!(card.mesh.name, "Card");
+    assert!((card.mesh.area() - 100.0 * 100.0).abs() < 1e-3);
+    assert_eq!(card.mesh.uvs.as_ref().unwrap()[2], glam::Vec2::ONE);
+    let light = &scene.lights[0];
+    assert_eq!(light.kind, LightKind::Point);
+    assert_eq!(light.intensity, 20.0, "intensity × 2^exposure");
+    assert_eq!(light.position, glam::Vec3::new(0.0, 0.0, 500.0));
+}
+
+#[test]
+fn a_face_pointing_past_the_points_is_refused() {
+    let error = scene_from_json(
+        &quad(vec![0, 1, 2, 7]),
+        "card.usda",
+        &ReadOptions::default(),
+    )
+    .unwrap_err();
+    let message = error.to_string();
+    assert!(
+        message.starts_with("card.usda: object `Card`") && message.contains("point 7"),
+        "{message}"
+    );
+}

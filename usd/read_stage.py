@@ -1,0 +1,156 @@
+"""Reads a USD stage with usd-core and prints what sssbake bakes from it as JSON.
+
+Run as `python read_stage.py STAGE [UV_SET]`. Every UsdGeomMesh becomes an
+object with world-space points (in stage units), fan-triangulated faces and,
+per triangle corner, the chosen st primvar and normals expanded from any
+interpolation. UsdLux lights come with their world transforms. The stage's
+metersPerUnit and upAxis come along; sssbake converts to millimetres.
+"""
+
+import json
+import sys
+
+
+def fail(message: str) -> None:
+    print(message, file=sys.stderr)
+    sys.exit(2)
+
+
+try:
+    from pxr import Gf, Usd, UsdGeom, UsdLux
+except ImportError:
+    fail("this Python has no usd-core (pip install usd-core), which reading USD needs")
+
+
+def corner_values(primvar, counts, indices, face_count):
+    """The primvar's values for every face corner, in face order, or None."""
+    if not primvar or not primvar.HasValue():
+        return None
+    values = primvar.ComputeFlattened()
+    if values is None:
+        return None
+    interpolation = primvar.GetInterpolation()
+    corners = []
+    corner = 0
+    for face, count in enumerate(counts):
+        for k in range(count):
+            if interpolation == UsdGeom.Tokens.faceVarying:
+                value = values[corner + k]
+            elif interpolation in (UsdGeom.Tokens.vertex, UsdGeom.Tokens.varying):
+                value = values[indices[corner + k]]
+            elif interpolation == UsdGeom.Tokens.uniform:
+                value = values[face]
+            else:
+                value = values[0]
+            corners.append(list(value))
+        corner += count
+    return corners
+
+
+def read_mesh(prim, cache, uv_set):
+    mesh = UsdGeom.Mesh(prim)
+    points = mesh.GetPointsAttr().Get() or []
+    counts = list(mesh.GetFaceVertexCountsAttr().Get() or [])
+    indices = list(mesh.GetFaceVertexIndicesAttr().Get() or [])
+    world = cache.GetLocalToWorldTransform(prim)
+    world_points = [list(world.Transform(Gf.Vec3d(*p))) for p in points]
+    normal_matrix = world.GetInverse().GetTranspose()
+    mirrored = world.GetDeterminant() < 0
+    if mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded:
+        mirrored = not mirrored
+    api = UsdGeom.PrimvarsAPI(prim)
+    names = [uv_set] if uv_set else ["st", "UVMap", "uv", "st0"]
+    st = next((api.GetPrimvar(n) for n in names if api.HasPrimvar(n)), None)
+    uvs = corner_values(st, counts, indices, len(counts)) if st else None
+    normals_primvar = api.GetPrimvar("normals") if api.HasPrimvar("normals") else None
+    normals = corner_values(normals_primvar, counts, indices, len(counts)) if normals_primvar else None
+    if normals is None and mesh.GetNormalsAttr().HasValue():
+        raw = mesh.GetNormalsAttr().Get()
+        interpolation = mesh.GetNormalsInterpolation()
+        normals = []
+        corner = 0
+        for face, count in enumerate(counts):
+            for k in range(count):
+                if interpolation == UsdGeom.Tokens.faceVarying:
+                    normals.append(list(raw[corner + k]))
+                elif interpolation == UsdGeom.Tokens.uniform:
+                    normals.append(list(raw[face]))
+                else:
+                    normals.append(list(raw[indices[corner + k]]))
+            corner += count
+    if normals is not None:
+        normals = [list(normal_matrix.TransformDir(Gf.Vec3d(*n)).GetNormalized()) for n in normals]
+    # Fan-triangulate every face over its corners.
+    triangles = []
+    corner = 0
+    for count in counts:
+        for k in range(1, count - 1):
+            tri = [corner, corner + k, corner + k + 1]
+            triangles.append([tri[0], tri[2], tri[1]] if mirrored else tri)
+        corner += count
+    subsets = [s.GetPrim().GetName() for s in UsdGeom.Subset.GetAllGeomSubsets(mesh)]
+    # Exporters such as Blender's put each mesh under an Xform named after
+    # the object; that is the name people select by.
+    parent = prim.GetParent()
+    siblings = [c for c in parent.GetChildren() if c.IsA(UsdGeom.Mesh)] if parent else []
+    named_by_parent = parent and parent.IsA(UsdGeom.Xform) and len(siblings) == 1
+    return {
+        "name": parent.GetName() if named_by_parent else prim.GetName(),
+        "path": str(prim.GetPath()),
+        "points": world_points,
+        "corner_vertices": indices,
+        "triangles": triangles,
+        "uvs": uvs,
+        "normals": normals,
+        "faces": len(counts),
+        "subsets": subsets,
+    }
+
+
+def read_light(prim, cache):
+    world = cache.GetLocalToWorldTransform(prim)
+    light = UsdLux.LightAPI(prim)
+    kind = prim.GetTypeName()
+    return {
+        "name": prim.GetName(),
+        "type": kind,
+        "intensity": light.GetIntensityAttr().Get() or 0.0,
+        "exposure": light.GetExposureAttr().Get() or 0.0,
+        "color": list(light.GetColorAttr().Get() or (1.0, 1.0, 1.0)),
+        "position": list(world.Transform(Gf.Vec3d(0, 0, 0))),
+        "direction": list(world.TransformDir(Gf.Vec3d(0, 0, -1)).GetNormalized()),
+    }
+
+
+def main():
+    if len(sys.argv) < 2:
+        fail("usage: read_stage.py STAGE [UV_SET]")
+    stage = Usd.Stage.Open(sys.argv[1])
+    if stage is None:
+        fail("cannot open the stage")
+    uv_set = sys.argv[2] if len(sys.argv) > 2 and sys.argv[2] else None
+    cache = UsdGeom.XformCache(Usd.TimeCode.Default())
+    meshes, lights = [], []
+    for prim in stage.Traverse():
+        if (
+            UsdGeom.Imageable(prim)
+            and UsdGeom.Imageable(prim).ComputeVisibility() == UsdGeom.Tokens.invisible
+        ):
+            continue
+        if prim.IsA(UsdGeom.Mesh):
+            meshes.append(read_mesh(prim, cache, uv_set))
+        elif prim.HasAPI(UsdLux.LightAPI) or "Light" in prim.GetTypeName():
+            lights.append(read_light(prim, cache))
+    json.dump(
+        {
+            "meters_per_unit": UsdGeom.GetStageMetersPerUnit(stage),
+            "up_axis": str(UsdGeom.GetStageUpAxis(stage)),
+            "meshes": meshes,
+            "lights": lights,
+        },
+        sys.stdout,
+    )
+
+
+if __name__ == "__main__":
+    main()
