@@ -2,6 +2,7 @@
 
 use crate::scene::{LightKind, Scene};
 use crate::texels::rasterize;
+use crate::topology::{TopologyReport, topology_report};
 use crate::turk::point_count;
 use crate::uv_analysis::analyse_uvs;
 use std::time::Instant;
@@ -32,6 +33,8 @@ pub struct ObjectPlan {
     pub triangles: usize,
     /// Surface area, mm².
     pub area_mm2: f64,
+    /// The surface's shape in words: parts, open edges, non-manifold edges.
+    pub topology: String,
     /// The UV verdict in words.
     pub uv_verdict: String,
     /// Whether the mesh is unwrapped first.
@@ -80,6 +83,7 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
         .map(|object| {
             let mesh = &object.mesh;
             let report = analyse_uvs(mesh, None, settings.resolution);
+            let shape = topology_report(mesh);
             let unwrap = settings.force_unwrap || !report.usable();
             let mut unwrap_seconds = None;
             let layout = if unwrap {
@@ -103,6 +107,7 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
                 name: mesh.name.clone(),
                 triangles: mesh.triangles.len(),
                 area_mm2: mesh.area(),
+                topology: describe(&shape),
                 uv_verdict: report.verdict(),
                 unwrap,
                 unwrap_seconds,
@@ -147,4 +152,28 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
         lights,
         left_out,
     })
+}
+
+/// "1 part, closed", or the parts and the edges that are open or shared by
+/// more than two triangles.
+fn describe(shape: &TopologyReport) -> String {
+    let parts = if shape.parts == 1 {
+        "1 part".to_string()
+    } else {
+        format!("{} parts", shape.parts)
+    };
+    let mut words = vec![parts];
+    if shape.boundary_edges == 0 && shape.non_manifold_edges == 0 {
+        words.push("closed".into());
+    }
+    if shape.boundary_edges > 0 {
+        words.push(format!("{} open edges", shape.boundary_edges));
+    }
+    if shape.non_manifold_edges > 0 {
+        words.push(format!(
+            "{} non-manifold edges (treated as open)",
+            shape.non_manifold_edges
+        ));
+    }
+    words.join(", ")
 }

@@ -1,5 +1,6 @@
 //! Which triangle lies across each edge, with vertices welded by position so
-//! that UV seams (split vertices) do not cut the surface apart.
+//! that UV seams (split vertices) do not cut the surface apart; and what
+//! that says about the mesh (parts, boundaries, non-manifold edges).
 
 use crate::mesh::Mesh;
 use std::collections::HashMap;
@@ -7,10 +8,19 @@ use std::collections::HashMap;
 /// Marks an edge with no triangle across it (a boundary).
 pub const NONE: u32 = u32::MAX;
 
-/// For every triangle and each of its edges (corner i to corner i + 1),
-/// the triangle across that edge, or [`NONE`]. Non-manifold edges (three or
-/// more triangles) are treated as boundaries.
-pub fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
+/// The shape of a mesh's surface.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct TopologyReport {
+    /// Separate pieces (triangles joined through shared edges).
+    pub parts: usize,
+    /// Edges with one triangle.
+    pub boundary_edges: usize,
+    /// Edges with three or more triangles.
+    pub non_manifold_edges: usize,
+}
+
+/// Each welded edge and the (triangle, edge index) pairs that use it.
+fn edges(mesh: &Mesh) -> HashMap<(u32, u32), Vec<(u32, usize)>> {
     let weld = welded_vertices(mesh);
     let mut edges: HashMap<(u32, u32), Vec<(u32, usize)>> = HashMap::new();
     for (t, tri) in mesh.triangles.iter().enumerate() {
@@ -22,8 +32,15 @@ pub fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
                 .push((t as u32, e));
         }
     }
+    edges
+}
+
+/// For every triangle and each of its edges (corner i to corner i + 1),
+/// the triangle across that edge, or [`NONE`]. Non-manifold edges (three or
+/// more triangles) are treated as boundaries.
+pub fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
     let mut across = vec![[NONE; 3]; mesh.triangles.len()];
-    for sharing in edges.values() {
+    for sharing in edges(mesh).values() {
         if let [(t0, e0), (t1, e1)] = sharing[..] {
             across[t0 as usize][e0] = t1;
             across[t1 as usize][e1] = t0;
@@ -32,8 +49,36 @@ pub fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
     across
 }
 
+/// Counts the mesh's parts, boundary edges and non-manifold edges.
+pub fn topology_report(mesh: &Mesh) -> TopologyReport {
+    let mut report = TopologyReport::default();
+    let mut parent: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    for sharing in edges(mesh).values() {
+        match sharing.len() {
+            1 => report.boundary_edges += 1,
+            2 => {}
+            _ => report.non_manifold_edges += 1,
+        }
+        for pair in sharing.windows(2) {
+            let (a, b) = (root(&mut parent, pair[0].0), root(&mut parent, pair[1].0));
+            parent[a as usize] = b;
+        }
+    }
+    report.parts = (0..parent.len() as u32)
+        .filter(|&t| root(&mut parent, t) == t)
+        .count();
+    report
+}
+
 /// A canonical vertex per distinct position.
-fn welded_vertices(mesh: &Mesh) -> Vec<u32> {
+pub(crate) fn welded_vertices(mesh: &Mesh) -> Vec<u32> {
     let mut first: HashMap<[u32; 3], u32> = HashMap::new();
     mesh.positions
         .iter()

@@ -179,3 +179,56 @@ fn bad_meshes_are_refused_with_their_name() {
     );
     assert_eq!(mesh.normals[0], Vec3::Z);
 }
+
+#[test]
+fn topology_counts_parts_and_open_edges() {
+    use sssbake::topology::topology_report;
+    // The cube's faces are separate UV islands with split vertices, yet
+    // welded by position it is one closed part.
+    let cube = topology_report(&cube(10.0));
+    assert_eq!(
+        (cube.parts, cube.boundary_edges, cube.non_manifold_edges),
+        (1, 0, 0)
+    );
+    let quads = topology_report(&overlapping_quads());
+    assert_eq!((quads.parts, quads.boundary_edges), (2, 8));
+    // Three triangles on one edge.
+    let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::NEG_Y, Vec3::Z];
+    let (fan, _) = Mesh::new("fan", p, None, None, vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]]).unwrap();
+    assert_eq!(topology_report(&fan).non_manifold_edges, 1);
+}
+
+#[test]
+fn seam_aware_dilation_continues_the_surface_across_seams() {
+    use sssbake::dilation::seam_aware_offsets;
+    let mesh = cube(10.0);
+    let uvs = mesh.uvs.clone().unwrap();
+    let n = 128;
+    let surfels = rasterize(&mesh, &uvs, n);
+    let nearest = dilation_offsets(&surfels.index, n, 4);
+    let aware = seam_aware_offsets(&mesh, &uvs, &surfels, 4);
+    assert_eq!(nearest.len(), aware.len());
+    let texel_mm = 10.0 / ((1.0 / 3.0 - 0.04) * n as f32);
+    let mut crossed = 0;
+    for (&(target, near), &(same_target, far)) in nearest.iter().zip(&aware) {
+        assert_eq!(target, same_target);
+        let (i, j) = (surfels.index[near as usize], surfels.index[far as usize]);
+        assert_ne!(j, EMPTY, "texel {far} is empty");
+        if near != far {
+            crossed += 1;
+            // The carried texel is another face's, but close on the surface:
+            // it continues the surface past the seam.
+            let (ti, tj) = (
+                surfels.triangle[i as usize] / 2,
+                surfels.triangle[j as usize] / 2,
+            );
+            assert_ne!(ti, tj, "a seam crossing lands on another face");
+            let gap = surfels.position[i as usize].distance(surfels.position[j as usize]);
+            assert!(
+                gap < 6.0 * texel_mm,
+                "texel {target}: {gap} mm between the two sources"
+            );
+        }
+    }
+    assert!(crossed > 100, "only {crossed} texels crossed a seam");
+}

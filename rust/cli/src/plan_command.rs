@@ -105,7 +105,7 @@ fn plan_text(plan: &Plan, material: &str, mean_free_path: f64) -> String {
             "object `{}`: {} triangles, {:.1} mm²\n",
             o.name, o.triangles, o.area_mm2
         );
-        text += &format!("  UVs: {}\n", o.uv_verdict);
+        text += &format!("  surface: {}\n  UVs: {}\n", o.topology, o.uv_verdict);
         if let Some(seconds) = o.unwrap_seconds {
             text += &format!("  unwrap: yes, with xatlas ({seconds:.2} s)\n");
         }
@@ -142,6 +142,7 @@ fn plan_json(plan: &Plan, material: &str) -> serde_json::Value {
             "name": o.name,
             "triangles": o.triangles,
             "area_mm2": o.area_mm2,
+            "topology": o.topology,
             "uv_verdict": o.uv_verdict,
             "unwrap": o.unwrap,
             "unwrap_seconds": o.unwrap_seconds,

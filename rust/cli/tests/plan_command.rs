@@ -65,6 +65,7 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
     assert_eq!(square["name"], "Square");
     assert!((square["area_mm2"].as_f64().unwrap() - 10_000.0).abs() < 1e-2);
     assert_eq!(square["unwrap"], true);
+    assert_eq!(square["topology"], "1 part, 4 open edges");
     assert!(square["uv_verdict"].as_str().unwrap().contains("no UVs"));
     // marble's shortest mean free path is 1/(0.0071 + 3.00) mm: N = A/(πℓ²).
     let ell: f64 = 1.0 / 3.0071;

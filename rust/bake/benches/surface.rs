@@ -1,0 +1,77 @@
+//! Surface sampling at scale: rasterising a million triangles at 4096²
+//! (goal: under 2 s), relaxing a million Turk points for ten iterations
+//! (goal: under 10 s on 2 cores), and unwrapping with xatlas (time
+//! reported). Run: `cargo bench -p sssbake`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use glam::{Vec2, Vec3};
+use sssbake::turk::{place_points, relax};
+use sssbake::unwrap::unwrap;
+use sssbake::{Mesh, rasterize};
+use std::hint::black_box;
+use std::time::Duration;
+
+/// A UV sphere of about `2 · rings · segments` triangles with lat-long UVs.
+fn sphere(rings: u32, segments: u32) -> Mesh {
+    let (mut positions, mut uvs, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..=rings {
+        let theta = (i as f32 / rings as f32) * std::f32::consts::PI;
+        for j in 0..=segments {
+            let phi = (j as f32 / segments as f32) * std::f32::consts::TAU;
+            positions.push(
+                50.0 * Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                ),
+            );
+            uvs.push(Vec2::new(
+                j as f32 / segments as f32,
+                1.0 - i as f32 / rings as f32,
+            ));
+        }
+    }
+    let row = segments + 1;
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b, c, d) = (
+                i * row + j,
+                i * row + j + 1,
+                (i + 1) * row + j + 1,
+                (i + 1) * row + j,
+            );
+            triangles.extend([[a, d, c], [a, c, b]]);
+        }
+    }
+    let normals = positions.iter().map(|p| p.normalize()).collect();
+    Mesh::new("sphere", positions, Some(normals), Some(uvs), triangles)
+        .unwrap()
+        .0
+}
+
+fn rasterisation(c: &mut Criterion) {
+    let mesh = sphere(500, 1000); // 1,000,000 triangles
+    let uvs = mesh.uvs.clone().unwrap();
+    let mut group = c.benchmark_group("surface");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20));
+    group.bench_function("rasterise 1M triangles at 4096²", |b| {
+        b.iter(|| rasterize(black_box(&mesh), &uvs, 4096).len())
+    });
+    let (points, weights) = place_points(&mesh, 1_000_000, 1);
+    group.bench_function("relax 1M Turk points, 10 iterations", |b| {
+        b.iter(|| {
+            let (mut p, mut w) = (points.clone(), weights.clone());
+            relax(&mesh, &mut p, &mut w, 10).spread_after
+        })
+    });
+    let small = sphere(100, 200); // 40,000 triangles
+    group.bench_function("unwrap 40k triangles with xatlas", |b| {
+        b.iter(|| unwrap(black_box(&small), 2048, 4).unwrap().triangles.len())
+    });
+    group.finish();
+}
+
+criterion_group!(benches, rasterisation);
+criterion_main!(benches);
