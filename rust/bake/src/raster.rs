@@ -37,12 +37,41 @@ pub fn barycentric(p: DVec2, t: &TexelTriangle) -> Option<[f64; 3]> {
     Some([w0, w1, 1.0 - w0 - w1])
 }
 
-/// The area of triangle `t` inside texel (x, y), in texel units (0..=1),
-/// by clipping the triangle against the texel's four sides.
+/// The area of triangle `t` inside texel (x, y), in texel units (0..=1).
+/// Texels wholly inside or outside are decided from their corners; the
+/// rest are clipped against the texel's four sides.
 pub fn coverage(t: &TexelTriangle, x: u32, y: u32) -> f64 {
     let (x0, y0) = (x as f64, y as f64);
-    let mut polygon: Vec<DVec2> = t.to_vec();
-    // Keep the side where `inside` ≥ 0 of each of the four edges.
+    let orientation = signed_area2(t).signum();
+    let corners = [
+        DVec2::new(x0, y0),
+        DVec2::new(x0 + 1.0, y0),
+        DVec2::new(x0, y0 + 1.0),
+        DVec2::new(x0 + 1.0, y0 + 1.0),
+    ];
+    let mut inside_all = true;
+    for i in 0..3 {
+        let (a, b) = (t[i], t[(i + 1) % 3]);
+        let side = |p: DVec2| orientation * (b - a).perp_dot(p - a);
+        let outside = corners.iter().filter(|&&p| side(p) < 0.0).count();
+        if outside == 4 {
+            return 0.0;
+        }
+        inside_all &= outside == 0;
+    }
+    if inside_all {
+        return 1.0;
+    }
+    clipped_area(t, x0, y0)
+}
+
+/// Sutherland–Hodgman clipping of the triangle to [x0, x0+1] × [y0, y0+1],
+/// on the stack: a triangle cut by four lines has at most seven corners.
+fn clipped_area(t: &TexelTriangle, x0: f64, y0: f64) -> f64 {
+    let mut polygon = [DVec2::ZERO; 8];
+    polygon[..3].copy_from_slice(t);
+    let mut len = 3;
+    // Keep the side where normal·p + offset ≥ 0 of each edge.
     let planes: [(DVec2, f64); 4] = [
         (DVec2::X, -x0),
         (DVec2::NEG_X, x0 + 1.0),
@@ -51,26 +80,30 @@ pub fn coverage(t: &TexelTriangle, x: u32, y: u32) -> f64 {
     ];
     for (normal, offset) in planes {
         let inside = |p: DVec2| normal.dot(p) + offset;
-        let mut clipped = Vec::with_capacity(polygon.len() + 2);
-        for i in 0..polygon.len() {
-            let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+        let mut clipped = [DVec2::ZERO; 8];
+        let mut count = 0;
+        for i in 0..len {
+            let (a, b) = (polygon[i], polygon[(i + 1) % len]);
             let (da, db) = (inside(a), inside(b));
-            if da >= 0.0 {
-                clipped.push(a);
+            if da >= 0.0 && count < 8 {
+                clipped[count] = a;
+                count += 1;
             }
-            if (da >= 0.0) != (db >= 0.0) {
-                clipped.push(a + (b - a) * (da / (da - db)));
+            if (da >= 0.0) != (db >= 0.0) && count < 8 {
+                clipped[count] = a + (b - a) * (da / (da - db));
+                count += 1;
             }
         }
         polygon = clipped;
-        if polygon.len() < 3 {
+        len = count;
+        if len < 3 {
             return 0.0;
         }
     }
-    let twice: f64 = (0..polygon.len())
-        .map(|i| polygon[i].perp_dot(polygon[(i + 1) % polygon.len()]))
+    let twice: f64 = (0..len)
+        .map(|i| polygon[i].perp_dot(polygon[(i + 1) % len]))
         .sum();
-    (0.5 * twice).abs()
+    (0.5 * twice).abs().min(1.0)
 }
 
 #[cfg(test)]

@@ -58,6 +58,8 @@ struct Prepared {
     bounds: (u32, u32, u32, u32),
     /// mm² of surface per texel² of layout.
     density: f64,
+    /// Surface length of one texel step along u and v, mm.
+    stretch: Vec2,
 }
 
 /// The best claim on a texel so far and the area gathered there.
@@ -90,6 +92,7 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
                 bounds: texel_bounds(&uv, n),
                 uv,
                 density,
+                stretch: stretch(mesh, uvs, t) / n as f32,
             }
         })
         .collect();
@@ -103,34 +106,46 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
             }
         }
     }
-    let claims: Vec<Vec<Claim>> = buckets
+    let bands: Vec<TexelSurfels> = buckets
         .par_iter()
         .enumerate()
-        .map(|(band, triangles)| rasterize_band(&prepared, triangles, band as u32, n))
+        .map(|(band, triangles)| {
+            let claims = rasterize_band(&prepared, triangles, band as u32, n);
+            let first_texel = band as u32 * BAND * n;
+            let mut part = TexelSurfels::default();
+            for (offset, claim) in claims.iter().enumerate() {
+                let Some((_, _, t)) = claim.owner else {
+                    continue;
+                };
+                let texel = first_texel + offset as u32;
+                let p = &prepared[t as usize];
+                let (position, normal) = interpolate(mesh, &p.uv, t, texel % n, texel / n);
+                part.texel.push(texel);
+                part.position.push(position);
+                part.normal.push(normal);
+                part.triangle.push(t);
+                part.area.push(claim.area as f32);
+                part.stretch.push(p.stretch);
+            }
+            part
+        })
         .collect();
 
     let mut out = TexelSurfels {
         resolution: n,
-        index: vec![EMPTY; (n * n) as usize],
+        index: vec![EMPTY; (n as usize) * (n as usize)],
         ..Default::default()
     };
-    for (band, claims) in claims.iter().enumerate() {
-        let first_texel = band as u32 * BAND * n;
-        for (offset, claim) in claims.iter().enumerate() {
-            let Some((_, _, t)) = claim.owner else {
-                continue;
-            };
-            let texel = first_texel + offset as u32;
-            let (x, y) = (texel % n, texel / n);
-            let (position, normal) = interpolate(mesh, &prepared[t as usize].uv, t, x, y);
+    for part in bands {
+        for &texel in &part.texel {
             out.index[texel as usize] = out.texel.len() as u32;
             out.texel.push(texel);
-            out.position.push(position);
-            out.normal.push(normal);
-            out.triangle.push(t);
-            out.area.push(claim.area as f32);
-            out.stretch.push(stretch(mesh, uvs, t as usize) / n as f32);
         }
+        out.position.extend(part.position);
+        out.normal.extend(part.normal);
+        out.triangle.extend(part.triangle);
+        out.area.extend(part.area);
+        out.stretch.extend(part.stretch);
     }
     out
 }

@@ -9,6 +9,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use sssbake_profile::rng::Rng;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 /// Points on a mesh's surface, structure of arrays.
 #[derive(Clone, Debug, Default)]
@@ -274,38 +275,82 @@ pub fn nearest_neighbour_spread(positions: &[Vec3], radius: f64) -> f64 {
     variance.sqrt() / mean
 }
 
-/// A uniform grid of cell size `radius` over the points.
+/// A uniform grid of cell size `radius` over the points: the points sorted
+/// by cell, and each occupied cell's range in that order.
 struct Grid {
     cell: f64,
-    cells: HashMap<(i32, i32, i32), Vec<usize>>,
+    order: Vec<u32>,
+    ranges: HashMap<u64, (u32, u32), BuildHasherDefault<CellHasher>>,
 }
 
 impl Grid {
     fn new(positions: &[Vec3], radius: f64) -> Self {
         let cell = radius.max(1e-12);
-        let mut cells: HashMap<(i32, i32, i32), Vec<usize>> = HashMap::new();
-        for (i, p) in positions.iter().enumerate() {
-            cells.entry(Self::key(*p, cell)).or_default().push(i);
+        let keys: Vec<u64> = positions
+            .par_iter()
+            .map(|p| Self::key(*p, cell, (0, 0, 0)))
+            .collect();
+        let mut order: Vec<u32> = (0..positions.len() as u32).collect();
+        order.par_sort_unstable_by_key(|&i| keys[i as usize]);
+        let mut ranges =
+            HashMap::with_capacity_and_hasher(positions.len() / 2, BuildHasherDefault::default());
+        let mut start = 0;
+        while start < order.len() {
+            let key = keys[order[start] as usize];
+            let mut end = start + 1;
+            while end < order.len() && keys[order[end] as usize] == key {
+                end += 1;
+            }
+            ranges.insert(key, (start as u32, end as u32));
+            start = end;
         }
-        Self { cell, cells }
+        Self {
+            cell,
+            order,
+            ranges,
+        }
     }
 
-    fn key(p: Vec3, cell: f64) -> (i32, i32, i32) {
-        let k = |v: f32| (v as f64 / cell).floor() as i32;
-        (k(p.x), k(p.y), k(p.z))
+    /// The cell of `p` shifted by `offset` cells, packed in 63 bits.
+    fn key(p: Vec3, cell: f64, offset: (i64, i64, i64)) -> u64 {
+        let k = |v: f32, o: i64| (((v as f64 / cell).floor() as i64 + o) & 0x1F_FFFF) as u64;
+        k(p.x, offset.0) | (k(p.y, offset.1) << 21) | (k(p.z, offset.2) << 42)
     }
 
     /// Calls `f` with every point in the 27 cells around `p`.
     fn for_each_near(&self, p: Vec3, mut f: impl FnMut(usize)) {
-        let (x, y, z) = Self::key(p, self.cell);
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    if let Some(points) = self.cells.get(&(x + dx, y + dy, z + dz)) {
-                        points.iter().for_each(|&j| f(j));
+                    if let Some(&(start, end)) =
+                        self.ranges.get(&Self::key(p, self.cell, (dx, dy, dz)))
+                    {
+                        self.order[start as usize..end as usize]
+                            .iter()
+                            .for_each(|&j| f(j as usize));
                     }
                 }
             }
         }
+    }
+}
+
+/// A fast hash for packed cell keys (a multiply and a fold; the keys are
+/// not chosen by an adversary).
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    fn write_u64(&mut self, key: u64) {
+        let x = (self.0 ^ key).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        self.0 = x ^ (x >> 29);
     }
 }
