@@ -6,6 +6,7 @@
 //! covers [x/N, (x+1)/N] × [y/N, (y+1)/N], with y growing with v.
 
 pub mod dilation;
+pub mod fast_hash;
 pub mod mesh;
 pub mod plan;
 pub mod raster;

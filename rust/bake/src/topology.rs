@@ -2,6 +2,7 @@
 //! that UV seams (split vertices) do not cut the surface apart; and what
 //! that says about the mesh (parts, boundaries, non-manifold edges).
 
+use crate::fast_hash::FastHash;
 use crate::mesh::Mesh;
 use std::collections::HashMap;
 
@@ -20,9 +21,10 @@ pub struct TopologyReport {
 }
 
 /// Each welded edge and the (triangle, edge index) pairs that use it.
-fn edges(mesh: &Mesh) -> HashMap<(u32, u32), Vec<(u32, usize)>> {
+fn edges(mesh: &Mesh) -> HashMap<(u32, u32), Vec<(u32, usize)>, FastHash> {
     let weld = welded_vertices(mesh);
-    let mut edges: HashMap<(u32, u32), Vec<(u32, usize)>> = HashMap::new();
+    let mut edges: HashMap<(u32, u32), Vec<(u32, usize)>, FastHash> =
+        HashMap::with_capacity_and_hasher(mesh.triangles.len() * 2, FastHash::default());
     for (t, tri) in mesh.triangles.iter().enumerate() {
         for e in 0..3 {
             let (a, b) = (weld[tri[e] as usize], weld[tri[(e + 1) % 3] as usize]);
@@ -79,7 +81,8 @@ pub fn topology_report(mesh: &Mesh) -> TopologyReport {
 
 /// A canonical vertex per distinct position.
 pub(crate) fn welded_vertices(mesh: &Mesh) -> Vec<u32> {
-    let mut first: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut first: HashMap<[u32; 3], u32, FastHash> =
+        HashMap::with_capacity_and_hasher(mesh.positions.len(), FastHash::default());
     mesh.positions
         .iter()
         .enumerate()

@@ -3,13 +3,13 @@
 //! then pushed apart within a radius 2√(A/N), sliding across edges into
 //! the neighbouring triangles.
 
+use crate::fast_hash::FastHash;
 use crate::mesh::Mesh;
 use crate::topology::{NONE, neighbours};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use sssbake_profile::rng::Rng;
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 
 /// Points on a mesh's surface, structure of arrays.
 #[derive(Clone, Debug, Default)]
@@ -80,7 +80,8 @@ pub fn place_points(mesh: &Mesh, count: usize, seed: u64) -> (SurfacePoints, Vec
 }
 
 /// Relaxes `points` (with their barycentric `weights`) for `iterations`
-/// rounds of repulsion with a linear force.
+/// rounds of repulsion with a linear force. The points come back sorted by
+/// place, which keeps neighbours near each other in memory.
 pub fn relax(
     mesh: &Mesh,
     points: &mut SurfacePoints,
@@ -91,16 +92,26 @@ pub fn relax(
     let radius = 2.0 * (mesh.area() / count.max(1) as f64).sqrt();
     let across = neighbours(mesh);
     let spread_before = nearest_neighbour_spread(&points.position, radius);
+    let order = Grid::new(&points.position, radius).order;
+    let sorted_weights: Vec<[f64; 3]> = order.iter().map(|&i| weights[i as usize]).collect();
+    weights.copy_from_slice(&sorted_weights);
+    let triangles: Vec<u32> = order.iter().map(|&i| points.triangle[i as usize]).collect();
+    let area = points.area.first().copied().unwrap_or(0.0);
+    *points = points_at(mesh, &triangles, weights, area);
     let mut moves = Vec::with_capacity(iterations as usize);
     for _ in 0..iterations {
         let grid = Grid::new(&points.position, radius);
-        let pushes: Vec<DVec3> = (0..count)
-            .into_par_iter()
-            .map(|i| {
-                let p = points.position[i].as_dvec3();
+        // Walk the points cell by cell so neighbours are read from nearby memory.
+        let sorted_pushes: Vec<DVec3> = grid
+            .order
+            .par_iter()
+            .zip(&grid.sorted)
+            .map(|(&i, &position)| {
+                let i = i as usize;
+                let p = position.as_dvec3();
                 let mut push = DVec3::ZERO;
-                grid.for_each_near(points.position[i], |j| {
-                    let away = p - points.position[j].as_dvec3();
+                grid.for_each_near(position, |j, q| {
+                    let away = p - q.as_dvec3();
                     let d = away.length();
                     if j != i && d < radius && d > 0.0 {
                         push += away / d * (radius - d);
@@ -110,6 +121,10 @@ pub fn relax(
                 push * 0.1
             })
             .collect();
+        let mut pushes = vec![DVec3::ZERO; count];
+        for (&i, push) in grid.order.iter().zip(sorted_pushes) {
+            pushes[i as usize] = push;
+        }
         let moved: Vec<(u32, [f64; 3], f64)> = (0..count)
             .into_par_iter()
             .map(|i| {
@@ -257,13 +272,15 @@ pub fn nearest_neighbour_spread(positions: &[Vec3], radius: f64) -> f64 {
         return 0.0;
     }
     let grid = Grid::new(positions, radius);
-    let distances: Vec<f64> = (0..positions.len())
-        .into_par_iter()
-        .map(|i| {
+    let distances: Vec<f64> = grid
+        .order
+        .par_iter()
+        .zip(&grid.sorted)
+        .map(|(&i, &p)| {
             let mut best = f64::INFINITY;
-            grid.for_each_near(positions[i], |j| {
-                if j != i {
-                    best = best.min(positions[i].as_dvec3().distance(positions[j].as_dvec3()));
+            grid.for_each_near(p, |j, q| {
+                if j != i as usize {
+                    best = best.min(p.as_dvec3().distance(q.as_dvec3()));
                 }
             });
             if best.is_finite() { best } else { radius }
@@ -280,7 +297,9 @@ pub fn nearest_neighbour_spread(positions: &[Vec3], radius: f64) -> f64 {
 struct Grid {
     cell: f64,
     order: Vec<u32>,
-    ranges: HashMap<u64, (u32, u32), BuildHasherDefault<CellHasher>>,
+    /// Positions in `order`, so a cell's points are read from one place.
+    sorted: Vec<Vec3>,
+    ranges: HashMap<u64, (u32, u32), FastHash>,
 }
 
 impl Grid {
@@ -293,7 +312,7 @@ impl Grid {
         let mut order: Vec<u32> = (0..positions.len() as u32).collect();
         order.par_sort_unstable_by_key(|&i| keys[i as usize]);
         let mut ranges =
-            HashMap::with_capacity_and_hasher(positions.len() / 2, BuildHasherDefault::default());
+            HashMap::with_capacity_and_hasher(positions.len() / 2, FastHash::default());
         let mut start = 0;
         while start < order.len() {
             let key = keys[order[start] as usize];
@@ -304,9 +323,11 @@ impl Grid {
             ranges.insert(key, (start as u32, end as u32));
             start = end;
         }
+        let sorted = order.iter().map(|&i| positions[i as usize]).collect();
         Self {
             cell,
             order,
+            sorted,
             ranges,
         }
     }
@@ -317,40 +338,22 @@ impl Grid {
         k(p.x, offset.0) | (k(p.y, offset.1) << 21) | (k(p.z, offset.2) << 42)
     }
 
-    /// Calls `f` with every point in the 27 cells around `p`.
-    fn for_each_near(&self, p: Vec3, mut f: impl FnMut(usize)) {
+    /// Calls `f` with the index and position of every point in the 27
+    /// cells around `p`.
+    fn for_each_near(&self, p: Vec3, mut f: impl FnMut(usize, Vec3)) {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     if let Some(&(start, end)) =
                         self.ranges.get(&Self::key(p, self.cell, (dx, dy, dz)))
                     {
-                        self.order[start as usize..end as usize]
-                            .iter()
-                            .for_each(|&j| f(j as usize));
+                        let range = start as usize..end as usize;
+                        for (&j, &q) in self.order[range.clone()].iter().zip(&self.sorted[range]) {
+                            f(j as usize, q);
+                        }
                     }
                 }
             }
         }
-    }
-}
-
-/// A fast hash for packed cell keys (a multiply and a fold; the keys are
-/// not chosen by an adversary).
-#[derive(Default)]
-struct CellHasher(u64);
-
-impl Hasher for CellHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(b as u64);
-        }
-    }
-    fn write_u64(&mut self, key: u64) {
-        let x = (self.0 ^ key).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        self.0 = x ^ (x >> 29);
     }
 }
