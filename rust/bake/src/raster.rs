@@ -80,6 +80,9 @@ fn clipped_area(t: &TexelTriangle, x0: f64, y0: f64) -> f64 {
     ];
     for (normal, offset) in planes {
         let inside = |p: DVec2| normal.dot(p) + offset;
+        if polygon[..len].iter().all(|&p| inside(p) >= 0.0) {
+            continue; // this side cuts nothing off
+        }
         let mut clipped = [DVec2::ZERO; 8];
         let mut count = 0;
         for i in 0..len {

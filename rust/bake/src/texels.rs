@@ -131,21 +131,37 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
         })
         .collect();
 
+    // Concatenate the bands in order, each array in parallel.
     let mut out = TexelSurfels {
         resolution: n,
         index: vec![EMPTY; (n as usize) * (n as usize)],
-        ..Default::default()
+        texel: bands
+            .par_iter()
+            .flat_map_iter(|b| b.texel.iter().copied())
+            .collect(),
+        position: bands
+            .par_iter()
+            .flat_map_iter(|b| b.position.iter().copied())
+            .collect(),
+        normal: bands
+            .par_iter()
+            .flat_map_iter(|b| b.normal.iter().copied())
+            .collect(),
+        triangle: bands
+            .par_iter()
+            .flat_map_iter(|b| b.triangle.iter().copied())
+            .collect(),
+        area: bands
+            .par_iter()
+            .flat_map_iter(|b| b.area.iter().copied())
+            .collect(),
+        stretch: bands
+            .par_iter()
+            .flat_map_iter(|b| b.stretch.iter().copied())
+            .collect(),
     };
-    for part in bands {
-        for &texel in &part.texel {
-            out.index[texel as usize] = out.texel.len() as u32;
-            out.texel.push(texel);
-        }
-        out.position.extend(part.position);
-        out.normal.extend(part.normal);
-        out.triangle.extend(part.triangle);
-        out.area.extend(part.area);
-        out.stretch.extend(part.stretch);
+    for (surfel, &texel) in out.texel.iter().enumerate() {
+        out.index[texel as usize] = surfel as u32;
     }
     out
 }
@@ -164,8 +180,9 @@ fn rasterize_band(prepared: &[Prepared], triangles: &[u32], band: u32, n: u32) -
                     continue;
                 }
                 let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
-                let holds_centre =
-                    barycentric(centre, &p.uv).is_some_and(|w| w.iter().all(|&w| w >= 0.0));
+                // A wholly covered texel holds its centre; others are tested.
+                let holds_centre = covered >= 1.0
+                    || barycentric(centre, &p.uv).is_some_and(|w| w.iter().all(|&w| w >= 0.0));
                 let claim = &mut claims[((y - row0) * n + x) as usize];
                 claim.area += covered * p.density;
                 let better = match claim.owner {

@@ -11,10 +11,10 @@
 //! light photons without bias. Light leaving without a single scattering
 //! event is tallied apart (it is not diffuse).
 
+use crate::Rgb;
 use crate::fresnel::dielectric_reflectance;
 use crate::material::Layer;
 use crate::rng::Rng;
-use crate::{Rgb, rgb_map};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
@@ -377,7 +377,7 @@ fn scatter(d: [f64; 3], g: f64, rng: &mut Rng) -> [f64; 3] {
     let t = [1.0 + sign * d[0] * d[0] * a, sign * b, -sign * d[0]];
     let s = [b, sign + d[1] * d[1] * a, -d[1]];
     let (x, y) = (sin_theta * cos_phi, sin_theta * sin_phi);
-    let out = rgb_map(|i| x * t[i] + y * s[i] + cos_theta * d[i]);
+    let out: [f64; 3] = std::array::from_fn(|i| x * t[i] + y * s[i] + cos_theta * d[i]);
     let norm = (out[0] * out[0] + out[1] * out[1] + out[2] * out[2]).sqrt();
     out.map(|v| v / norm)
 }

@@ -55,16 +55,16 @@ impl Multipole {
         poles: impl Fn(&SlabChannel, usize) -> f64,
         table: impl Fn(&Tabulated) -> Rgb,
     ) -> Rgb {
-        let tabulated = self.table.as_ref().map(table);
-        rgb_map(|c| match (self.pairs[c], tabulated) {
+        // The table exists exactly when some channel has no pole count.
+        let tabulated = self.table.as_ref().map_or([0.0; 3], table);
+        rgb_map(|c| match self.pairs[c] {
             // A value negative by less than what the left-out images can
             // contribute is zero within the series' accuracy.
-            (Some(n), _) => match poles(&self.slabs[c], n) {
+            Some(n) => match poles(&self.slabs[c], n) {
                 v if v < 0.0 && -v <= self.truncation[c] => 0.0,
                 v => v,
             },
-            (None, Some(t)) => t[c],
-            (None, None) => unreachable!("a table exists whenever a channel lacks a pole count"),
+            None => tabulated[c],
         })
     }
 }
