@@ -37,63 +37,69 @@ pub fn barycentric(p: DVec2, t: &TexelTriangle) -> Option<[f64; 3]> {
     Some([w0, w1, 1.0 - w0 - w1])
 }
 
-/// The area of triangle `t` inside texel (x, y), in texel units (0..=1).
-/// Texels wholly inside or outside are decided from their corners; the
-/// rest are clipped against the texel's four sides.
-pub fn coverage(t: &TexelTriangle, x: u32, y: u32) -> f64 {
-    let (x0, y0) = (x as f64, y as f64);
+/// The three edges of a triangle as functions e(p) = a·x + b·y + c that
+/// are non-negative inside, for either winding.
+pub type EdgeFunctions = [(f64, f64, f64); 3];
+
+/// The edge functions of `t`.
+pub fn edge_functions(t: &TexelTriangle) -> EdgeFunctions {
     let orientation = signed_area2(t).signum();
-    let corners = [
+    std::array::from_fn(|i| {
+        let (a, b) = (t[i], t[(i + 1) % 3]);
+        // (b − a) × (p − a) = (b.x − a.x)(p.y − a.y) − (b.y − a.y)(p.x − a.x)
+        let (dx, dy) = (b.x - a.x, b.y - a.y);
+        (
+            -dy * orientation,
+            dx * orientation,
+            (dy * a.x - dx * a.y) * orientation,
+        )
+    })
+}
+
+/// The area of triangle `t` inside texel (x, y), in texel units (0..=1).
+pub fn coverage(t: &TexelTriangle, x: u32, y: u32) -> f64 {
+    coverage_with(&edge_functions(t), x, y)
+}
+
+/// [`coverage`] from precomputed edge functions. Texels wholly inside or
+/// outside are decided from their corners; for the rest the texel square
+/// is clipped by the edges that cross it (usually one), which is exact:
+/// outside those edges nothing of the square is lost.
+pub fn coverage_with(edges: &EdgeFunctions, x: u32, y: u32) -> f64 {
+    let (x0, y0) = (x as f64, y as f64);
+    let mut polygon = [DVec2::ZERO; 8];
+    polygon[..4].copy_from_slice(&[
         DVec2::new(x0, y0),
         DVec2::new(x0 + 1.0, y0),
-        DVec2::new(x0, y0 + 1.0),
         DVec2::new(x0 + 1.0, y0 + 1.0),
-    ];
-    let mut inside_all = true;
-    for i in 0..3 {
-        let (a, b) = (t[i], t[(i + 1) % 3]);
-        let side = |p: DVec2| orientation * (b - a).perp_dot(p - a);
-        let outside = corners.iter().filter(|&&p| side(p) < 0.0).count();
+        DVec2::new(x0, y0 + 1.0),
+    ]);
+    let mut len = 4;
+    let mut clipped_any = false;
+    for &(a, b, c) in edges {
+        let base = a * x0 + b * y0 + c;
+        let corners = [base, base + a, base + a + b, base + b];
+        let outside = corners.iter().filter(|&&e| e < 0.0).count();
         if outside == 4 {
             return 0.0;
         }
-        inside_all &= outside == 0;
-    }
-    if inside_all {
-        return 1.0;
-    }
-    clipped_area(t, x0, y0)
-}
-
-/// Sutherland–Hodgman clipping of the triangle to [x0, x0+1] × [y0, y0+1],
-/// on the stack: a triangle cut by four lines has at most seven corners.
-fn clipped_area(t: &TexelTriangle, x0: f64, y0: f64) -> f64 {
-    let mut polygon = [DVec2::ZERO; 8];
-    polygon[..3].copy_from_slice(t);
-    let mut len = 3;
-    // Keep the side where normal·p + offset ≥ 0 of each edge.
-    let planes: [(DVec2, f64); 4] = [
-        (DVec2::X, -x0),
-        (DVec2::NEG_X, x0 + 1.0),
-        (DVec2::Y, -y0),
-        (DVec2::NEG_Y, y0 + 1.0),
-    ];
-    for (normal, offset) in planes {
-        let inside = |p: DVec2| normal.dot(p) + offset;
-        if polygon[..len].iter().all(|&p| inside(p) >= 0.0) {
-            continue; // this side cuts nothing off
+        if outside == 0 {
+            continue;
         }
+        clipped_any = true;
+        let side = |p: DVec2| a * p.x + b * p.y + c;
+        // Keep the part of the polygon on the inner side of this edge.
         let mut clipped = [DVec2::ZERO; 8];
         let mut count = 0;
-        for i in 0..len {
-            let (a, b) = (polygon[i], polygon[(i + 1) % len]);
-            let (da, db) = (inside(a), inside(b));
-            if da >= 0.0 && count < 8 {
-                clipped[count] = a;
+        for k in 0..len {
+            let (p, q) = (polygon[k], polygon[(k + 1) % len]);
+            let (dp, dq) = (side(p), side(q));
+            if dp >= 0.0 && count < 8 {
+                clipped[count] = p;
                 count += 1;
             }
-            if (da >= 0.0) != (db >= 0.0) && count < 8 {
-                clipped[count] = a + (b - a) * (da / (da - db));
+            if (dp >= 0.0) != (dq >= 0.0) && count < 8 {
+                clipped[count] = p + (q - p) * (dp / (dp - dq));
                 count += 1;
             }
         }
@@ -103,10 +109,18 @@ fn clipped_area(t: &TexelTriangle, x0: f64, y0: f64) -> f64 {
             return 0.0;
         }
     }
+    if !clipped_any {
+        return 1.0;
+    }
     let twice: f64 = (0..len)
-        .map(|i| polygon[i].perp_dot(polygon[(i + 1) % len]))
+        .map(|k| polygon[k].perp_dot(polygon[(k + 1) % len]))
         .sum();
     (0.5 * twice).abs().min(1.0)
+}
+
+/// True when the point is inside or on the triangle of `edges`.
+pub fn contains(edges: &EdgeFunctions, p: DVec2) -> bool {
+    edges.iter().all(|&(a, b, c)| a * p.x + b * p.y + c >= 0.0)
 }
 
 #[cfg(test)]

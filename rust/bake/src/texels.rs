@@ -2,7 +2,10 @@
 //! normal and area it stands for (Mikkelsen §3.3, eq. 43–44).
 
 use crate::mesh::Mesh;
-use crate::raster::{TexelTriangle, barycentric, coverage, signed_area2, texel_bounds};
+use crate::raster::{
+    EdgeFunctions, TexelTriangle, barycentric, contains, coverage_with, edge_functions,
+    signed_area2, texel_bounds,
+};
 use glam::{DVec2, Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -55,6 +58,7 @@ impl TexelSurfels {
 /// One triangle prepared for rasterisation.
 struct Prepared {
     uv: TexelTriangle,
+    edges: EdgeFunctions,
     bounds: (u32, u32, u32, u32),
     /// mm² of surface per texel² of layout.
     density: f64,
@@ -90,6 +94,7 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
             };
             Prepared {
                 bounds: texel_bounds(&uv, n),
+                edges: edge_functions(&uv),
                 uv,
                 density,
                 stretch: stretch(mesh, uvs, t) / n as f32,
@@ -112,7 +117,16 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
         .map(|(band, triangles)| {
             let claims = rasterize_band(&prepared, triangles, band as u32, n);
             let first_texel = band as u32 * BAND * n;
-            let mut part = TexelSurfels::default();
+            let owned = claims.iter().filter(|c| c.owner.is_some()).count();
+            let mut part = TexelSurfels {
+                texel: Vec::with_capacity(owned),
+                position: Vec::with_capacity(owned),
+                normal: Vec::with_capacity(owned),
+                triangle: Vec::with_capacity(owned),
+                area: Vec::with_capacity(owned),
+                stretch: Vec::with_capacity(owned),
+                ..Default::default()
+            };
             for (offset, claim) in claims.iter().enumerate() {
                 let Some((_, _, t)) = claim.owner else {
                     continue;
@@ -175,14 +189,13 @@ fn rasterize_band(prepared: &[Prepared], triangles: &[u32], band: u32, n: u32) -
         let (x0, x1, y0, y1) = p.bounds;
         for y in y0.max(row0)..y1.min(row0 + rows) {
             for x in x0..x1 {
-                let covered = coverage(&p.uv, x, y);
+                let covered = coverage_with(&p.edges, x, y);
                 if covered <= 0.0 {
                     continue;
                 }
                 let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
                 // A wholly covered texel holds its centre; others are tested.
-                let holds_centre = covered >= 1.0
-                    || barycentric(centre, &p.uv).is_some_and(|w| w.iter().all(|&w| w >= 0.0));
+                let holds_centre = covered >= 1.0 || contains(&p.edges, centre);
                 let claim = &mut claims[((y - row0) * n + x) as usize];
                 claim.area += covered * p.density;
                 let better = match claim.owner {
