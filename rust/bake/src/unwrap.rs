@@ -62,6 +62,7 @@ struct Atlas {
 /// `resolution`² map with `padding` texels between charts. Charts are cut
 /// and packed deterministically; vertices on seams are split. If the charts
 /// do not fit one map at xatlas's scale, the scale shrinks until they do.
+/// Faces xatlas cannot chart (degenerate slivers) keep no UV area.
 pub fn unwrap(mesh: &Mesh, resolution: u32, padding: u32) -> Result<Mesh, UnwrapError> {
     let error = |reason: String| UnwrapError {
         object: mesh.name.clone(),
@@ -71,7 +72,8 @@ pub fn unwrap(mesh: &Mesh, resolution: u32, padding: u32) -> Result<Mesh, Unwrap
     let mut scale = 0.0f32;
     for _ in 0..24 {
         let atlas = run_xatlas(mesh, resolution, padding, scale).map_err(error)?;
-        if atlas.atlases <= 1 && atlas.atlas_index.iter().all(|&a| a == 0) {
+        // Vertices of faces xatlas leaves out (degenerate ones) have atlas −1.
+        if atlas.atlases <= 1 && atlas.atlas_index.iter().all(|&a| a <= 0) {
             return Ok(unwrapped_mesh(mesh, &atlas));
         }
         scale = atlas.texels_per_unit * 0.8;

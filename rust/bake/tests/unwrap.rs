@@ -84,3 +84,18 @@ fn unwrapping_is_deterministic_and_respects_padding() {
     }
     assert!(charts.len() >= 2, "a cube needs more than one chart");
 }
+
+#[test]
+fn slivers_do_not_stop_the_unwrap() {
+    // Pole triangles of a fine lat-long sphere are slivers xatlas leaves out.
+    let mut mesh = sphere(10.0, 30, 60);
+    let area = mesh.area();
+    mesh.uvs = None;
+    let unwrapped = unwrap(&mesh, 1024, 4).unwrap();
+    let surfels = rasterize(&unwrapped, unwrapped.uvs.as_ref().unwrap(), 1024);
+    assert!(
+        (surfels.total_area() - area).abs() < 0.01 * area,
+        "{} vs {area}",
+        surfels.total_area()
+    );
+}
