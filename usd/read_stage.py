@@ -22,14 +22,8 @@ except ImportError:
     fail("this Python has no usd-core (pip install usd-core), which reading USD needs")
 
 
-def corner_values(primvar, counts, indices, face_count):
-    """The primvar's values for every face corner, in face order, or None."""
-    if not primvar or not primvar.HasValue():
-        return None
-    values = primvar.ComputeFlattened()
-    if values is None:
-        return None
-    interpolation = primvar.GetInterpolation()
+def per_corner(values, interpolation, counts, indices):
+    """Values of any interpolation expanded to every face corner, in face order."""
     corners = []
     corner = 0
     for face, count in enumerate(counts):
@@ -47,6 +41,16 @@ def corner_values(primvar, counts, indices, face_count):
     return corners
 
 
+def primvar_corners(primvar, counts, indices):
+    """The primvar's (flattened) values per face corner, or None."""
+    if not primvar or not primvar.HasValue():
+        return None
+    values = primvar.ComputeFlattened()
+    if values is None:
+        return None
+    return per_corner(values, primvar.GetInterpolation(), counts, indices)
+
+
 def read_mesh(prim, cache, uv_set):
     mesh = UsdGeom.Mesh(prim)
     points = mesh.GetPointsAttr().Get() or []
@@ -61,23 +65,11 @@ def read_mesh(prim, cache, uv_set):
     api = UsdGeom.PrimvarsAPI(prim)
     names = [uv_set] if uv_set else ["st", "UVMap", "uv", "st0"]
     st = next((api.GetPrimvar(n) for n in names if api.HasPrimvar(n)), None)
-    uvs = corner_values(st, counts, indices, len(counts)) if st else None
+    uvs = primvar_corners(st, counts, indices) if st else None
     normals_primvar = api.GetPrimvar("normals") if api.HasPrimvar("normals") else None
-    normals = corner_values(normals_primvar, counts, indices, len(counts)) if normals_primvar else None
+    normals = primvar_corners(normals_primvar, counts, indices) if normals_primvar else None
     if normals is None and mesh.GetNormalsAttr().HasValue():
-        raw = mesh.GetNormalsAttr().Get()
-        interpolation = mesh.GetNormalsInterpolation()
-        normals = []
-        corner = 0
-        for face, count in enumerate(counts):
-            for k in range(count):
-                if interpolation == UsdGeom.Tokens.faceVarying:
-                    normals.append(list(raw[corner + k]))
-                elif interpolation == UsdGeom.Tokens.uniform:
-                    normals.append(list(raw[face]))
-                else:
-                    normals.append(list(raw[indices[corner + k]]))
-            corner += count
+        normals = per_corner(mesh.GetNormalsAttr().Get(), mesh.GetNormalsInterpolation(), counts, indices)
     if normals is not None:
         normals = [list(normal_matrix.TransformDir(Gf.Vec3d(*n)).GetNormalized()) for n in normals]
     # Fan-triangulate every face over its corners.

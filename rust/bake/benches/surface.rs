@@ -4,49 +4,18 @@
 //! reported). Run: `cargo bench -p sssbake`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use glam::{Vec2, Vec3};
 use sssbake::turk::{place_points, relax};
 use sssbake::unwrap::unwrap;
 use sssbake::{Mesh, rasterize};
 use std::hint::black_box;
 use std::time::Duration;
 
-/// A UV sphere of about `2 · rings · segments` triangles with lat-long UVs.
+#[path = "../tests/shapes.rs"]
+mod shapes;
+
+/// A UV sphere of radius 50 mm with `2 · rings · segments` triangles.
 fn sphere(rings: u32, segments: u32) -> Mesh {
-    let (mut positions, mut uvs, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
-    for i in 0..=rings {
-        let theta = (i as f32 / rings as f32) * std::f32::consts::PI;
-        for j in 0..=segments {
-            let phi = (j as f32 / segments as f32) * std::f32::consts::TAU;
-            positions.push(
-                50.0 * Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                ),
-            );
-            uvs.push(Vec2::new(
-                j as f32 / segments as f32,
-                1.0 - i as f32 / rings as f32,
-            ));
-        }
-    }
-    let row = segments + 1;
-    for i in 0..rings {
-        for j in 0..segments {
-            let (a, b, c, d) = (
-                i * row + j,
-                i * row + j + 1,
-                (i + 1) * row + j + 1,
-                (i + 1) * row + j,
-            );
-            triangles.extend([[a, d, c], [a, c, b]]);
-        }
-    }
-    let normals = positions.iter().map(|p| p.normalize()).collect();
-    Mesh::new("sphere", positions, Some(normals), Some(uvs), triangles)
-        .unwrap()
-        .0
+    shapes::sphere(50.0, rings, segments)
 }
 
 fn rasterisation(c: &mut Criterion) {
