@@ -86,17 +86,18 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
             let shape = topology_report(mesh);
             let unwrap = settings.force_unwrap || !report.usable();
             let mut unwrap_seconds = None;
+            let unwrapped;
             let layout = if unwrap {
                 let start = Instant::now();
-                let unwrapped = crate::unwrap::unwrap(mesh, settings.resolution, settings.padding)
+                unwrapped = crate::unwrap::unwrap(mesh, settings.resolution, settings.padding)
                     .map_err(|e| e.to_string())?;
                 unwrap_seconds = Some(start.elapsed().as_secs_f64());
-                unwrapped
+                &unwrapped
             } else {
-                mesh.clone()
+                mesh
             };
             let uvs = layout.uvs.as_deref().unwrap_or_default();
-            let surfels = rasterize(&layout, uvs, settings.resolution);
+            let surfels = rasterize(layout, uvs, settings.resolution);
             let (texels, texel_area_mm2) = (surfels.len(), surfels.total_area());
             let material = match &object.material {
                 None => "none".to_string(),
