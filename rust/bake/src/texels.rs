@@ -111,69 +111,77 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
             }
         }
     }
-    let bands: Vec<TexelSurfels> = buckets
+    let claims: Vec<Vec<Claim>> = buckets
         .par_iter()
         .enumerate()
-        .map(|(band, triangles)| {
-            let claims = rasterize_band(&prepared, triangles, band as u32, n);
-            let first_texel = band as u32 * BAND * n;
-            let owned = claims.iter().filter(|c| c.owner.is_some()).count();
-            let mut part = TexelSurfels {
-                texel: Vec::with_capacity(owned),
-                position: Vec::with_capacity(owned),
-                normal: Vec::with_capacity(owned),
-                triangle: Vec::with_capacity(owned),
-                area: Vec::with_capacity(owned),
-                stretch: Vec::with_capacity(owned),
-                ..Default::default()
-            };
-            for (offset, claim) in claims.iter().enumerate() {
-                let Some((_, _, t)) = claim.owner else {
-                    continue;
-                };
-                let texel = first_texel + offset as u32;
-                let p = &prepared[t as usize];
-                let (position, normal) = interpolate(mesh, &p.uv, t, texel % n, texel / n);
-                part.texel.push(texel);
-                part.position.push(position);
-                part.normal.push(normal);
-                part.triangle.push(t);
-                part.area.push(claim.area as f32);
-                part.stretch.push(p.stretch);
-            }
-            part
-        })
+        .map(|(band, triangles)| rasterize_band(&prepared, triangles, band as u32, n))
         .collect();
 
-    // Concatenate the bands in order, each array in parallel.
+    // Each band's surfels go straight to their place in the output arrays.
+    let counts: Vec<usize> = claims
+        .iter()
+        .map(|c| c.iter().filter(|c| c.owner.is_some()).count())
+        .collect();
+    let total: usize = counts.iter().sum();
     let mut out = TexelSurfels {
         resolution: n,
         index: vec![EMPTY; (n as usize) * (n as usize)],
-        texel: bands
-            .par_iter()
-            .flat_map_iter(|b| b.texel.iter().copied())
-            .collect(),
-        position: bands
-            .par_iter()
-            .flat_map_iter(|b| b.position.iter().copied())
-            .collect(),
-        normal: bands
-            .par_iter()
-            .flat_map_iter(|b| b.normal.iter().copied())
-            .collect(),
-        triangle: bands
-            .par_iter()
-            .flat_map_iter(|b| b.triangle.iter().copied())
-            .collect(),
-        area: bands
-            .par_iter()
-            .flat_map_iter(|b| b.area.iter().copied())
-            .collect(),
-        stretch: bands
-            .par_iter()
-            .flat_map_iter(|b| b.stretch.iter().copied())
-            .collect(),
+        texel: vec![0; total],
+        position: vec![Vec3::ZERO; total],
+        normal: vec![Vec3::ZERO; total],
+        triangle: vec![0; total],
+        area: vec![0.0; total],
+        stretch: vec![Vec2::ZERO; total],
     };
+    let mut parts = Vec::with_capacity(counts.len());
+    let (mut texel, mut position, mut normal) = (
+        &mut out.texel[..],
+        &mut out.position[..],
+        &mut out.normal[..],
+    );
+    let (mut triangle, mut area, mut stretch) = (
+        &mut out.triangle[..],
+        &mut out.area[..],
+        &mut out.stretch[..],
+    );
+    for &count in &counts {
+        let (a, rest) = std::mem::take(&mut texel).split_at_mut(count);
+        texel = rest;
+        let (b, rest) = std::mem::take(&mut position).split_at_mut(count);
+        position = rest;
+        let (c, rest) = std::mem::take(&mut normal).split_at_mut(count);
+        normal = rest;
+        let (d, rest) = std::mem::take(&mut triangle).split_at_mut(count);
+        triangle = rest;
+        let (e, rest) = std::mem::take(&mut area).split_at_mut(count);
+        area = rest;
+        let (f, rest) = std::mem::take(&mut stretch).split_at_mut(count);
+        stretch = rest;
+        parts.push((a, b, c, d, e, f));
+    }
+    parts
+        .into_par_iter()
+        .zip(claims.par_iter())
+        .enumerate()
+        .for_each(|(band, (part, claims))| {
+            let (texels, positions, normals, triangles, areas, stretches) = part;
+            let first_texel = band as u32 * BAND * n;
+            let owned = claims
+                .iter()
+                .enumerate()
+                .filter_map(|(offset, c)| c.owner.map(|(_, _, t)| (offset, c.area, t)));
+            for (k, (offset, covered_area, t)) in owned.enumerate() {
+                let texel = first_texel + offset as u32;
+                let p = &prepared[t as usize];
+                let (position, normal) = interpolate(mesh, &p.uv, t, texel % n, texel / n);
+                texels[k] = texel;
+                positions[k] = position;
+                normals[k] = normal;
+                triangles[k] = t;
+                areas[k] = covered_area as f32;
+                stretches[k] = p.stretch;
+            }
+        });
     for (surfel, &texel) in out.texel.iter().enumerate() {
         out.index[texel as usize] = surfel as u32;
     }
