@@ -39,11 +39,12 @@ pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<Scene, InputError>
         .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| error(format!("reading USD needs Python with usd-core; `{python}` did not start ({e}); set SSSBAKE_PYTHON")))?;
-    if let Some(mut stdin) = child.stdin.take() {
-        stdin
-            .write_all(READ_STAGE.as_bytes())
-            .map_err(|e| error(format!("cannot start the USD reader: {e}")))?;
-    }
+    // A Python that stops early (no usd-core) closes its input: what it
+    // says on exit explains more than the broken pipe would.
+    let fed = child
+        .stdin
+        .take()
+        .map(|mut stdin| stdin.write_all(READ_STAGE.as_bytes()));
     let output = child
         .wait_with_output()
         .map_err(|e| error(format!("the USD reader failed: {e}")))?;
@@ -55,6 +56,9 @@ pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<Scene, InputError>
             .find(|l| !l.trim().is_empty())
             .unwrap_or("no message");
         return Err(error(format!("usd-core could not read it: {reason}")));
+    }
+    if let Some(Err(e)) = fed {
+        return Err(error(format!("cannot hand the USD reader its script: {e}")));
     }
     let value: Value = serde_json::from_slice(&output.stdout)
         .map_err(|e| error(format!("the USD reader's output is not JSON: {e}")))?;
