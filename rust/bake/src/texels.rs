@@ -243,16 +243,22 @@ fn interpolate(mesh: &Mesh, uv: &TexelTriangle, t: u32, x: u32, y: u32) -> (Vec3
 
 /// |∂P/∂u| and |∂P/∂v| of triangle `t`, mm per unit of UV.
 pub fn stretch(mesh: &Mesh, uvs: &[Vec2], t: usize) -> Vec2 {
+    uv_jacobian(mesh, uvs, t).map_or(Vec2::ZERO, |(du, dv)| {
+        Vec2::new(du.length() as f32, dv.length() as f32)
+    })
+}
+
+/// ∂P/∂u and ∂P/∂v of triangle `t` (mm per unit of UV); `None` when the
+/// triangle has no UV area.
+pub fn uv_jacobian(mesh: &Mesh, uvs: &[Vec2], t: usize) -> Option<(glam::DVec3, glam::DVec3)> {
     let tri = mesh.triangles[t];
     let [p0, p1, p2] = tri.map(|i| mesh.positions[i as usize].as_dvec3());
     let [u0, u1, u2] = tri.map(|i| uvs[i as usize].as_dvec2());
     let (e1, e2) = (u1 - u0, u2 - u0);
     let det = e1.perp_dot(e2);
     if det.abs() < 1e-300 {
-        return Vec2::ZERO;
+        return None;
     }
     let (q1, q2) = (p1 - p0, p2 - p0);
-    let du = (q1 * e2.y - q2 * e1.y) / det;
-    let dv = (q2 * e1.x - q1 * e2.x) / det;
-    Vec2::new(du.length() as f32, dv.length() as f32)
+    Some(((q1 * e2.y - q2 * e1.y) / det, (q2 * e1.x - q1 * e2.x) / det))
 }

@@ -91,8 +91,9 @@ pub fn relax(
     let count = points.position.len();
     let radius = 2.0 * (mesh.area() / count.max(1) as f64).sqrt();
     let across = neighbours(mesh);
-    let spread_before = nearest_neighbour_spread(&points.position, radius);
-    let order = Grid::new(&points.position, radius).order;
+    let start = Grid::new(&points.position, radius);
+    let spread_before = spread_in(&start, radius);
+    let order = start.order;
     let sorted_weights: Vec<[f64; 3]> = order.iter().map(|&i| weights[i as usize]).collect();
     weights.copy_from_slice(&sorted_weights);
     let triangles: Vec<u32> = order.iter().map(|&i| points.triangle[i as usize]).collect();
@@ -268,10 +269,14 @@ fn barycentric_3d(p: DVec3, c: &[DVec3; 3]) -> [f64; 3] {
 /// Coefficient of variation (standard deviation over mean) of every
 /// point's distance to its nearest neighbour.
 pub fn nearest_neighbour_spread(positions: &[Vec3], radius: f64) -> f64 {
-    if positions.len() < 2 {
+    spread_in(&Grid::new(positions, radius), radius)
+}
+
+/// [`nearest_neighbour_spread`] of the points already in `grid`.
+fn spread_in(grid: &Grid, radius: f64) -> f64 {
+    if grid.order.len() < 2 {
         return 0.0;
     }
-    let grid = Grid::new(positions, radius);
     let distances: Vec<f64> = grid
         .order
         .par_iter()

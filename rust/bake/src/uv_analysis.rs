@@ -3,6 +3,7 @@
 
 use crate::mesh::Mesh;
 use crate::raster::{barycentric, signed_area2, texel_bounds};
+use crate::texels::uv_jacobian;
 use glam::{DVec2, Vec2};
 
 /// Above this ratio of a triangle's largest to smallest stretch, or of its
@@ -131,14 +132,9 @@ pub fn analyse_uvs(mesh: &Mesh, uvs: Option<&[Vec2]>, resolution: u32) -> UvRepo
 
 /// Ratio of the largest to the smallest singular value of ∂P/∂(u, v).
 fn anisotropy(mesh: &Mesh, uvs: &[Vec2], t: usize) -> f64 {
-    let tri = mesh.triangles[t];
-    let [p0, p1, p2] = tri.map(|i| mesh.positions[i as usize].as_dvec3());
-    let [u0, u1, u2] = tri.map(|i| uvs[i as usize].as_dvec2());
-    let (e1, e2) = (u1 - u0, u2 - u0);
-    let det = e1.perp_dot(e2);
-    let (q1, q2) = (p1 - p0, p2 - p0);
-    let du = (q1 * e2.y - q2 * e1.y) / det;
-    let dv = (q2 * e1.x - q1 * e2.x) / det;
+    let Some((du, dv)) = uv_jacobian(mesh, uvs, t) else {
+        return f64::INFINITY;
+    };
     let (a, b, c) = (du.length_squared(), du.dot(dv), dv.length_squared());
     let root = ((a - c).powi(2) + 4.0 * b * b).sqrt();
     let (large, small) = (0.5 * (a + c + root), 0.5 * (a + c - root));
