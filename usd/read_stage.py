@@ -111,7 +111,37 @@ def read_light(prim, cache):
         "color": list(light.GetColorAttr().Get() or (1.0, 1.0, 1.0)),
         "position": list(world.Transform(Gf.Vec3d(0, 0, 0))),
         "direction": list(world.TransformDir(Gf.Vec3d(0, 0, -1)).GetNormalized()),
+        "tangent": list(world.TransformDir(Gf.Vec3d(1, 0, 0)).GetNormalized()),
+        "normalize": bool(light.GetNormalizeAttr().Get()),
+        "scale": world.TransformDir(Gf.Vec3d(1, 0, 0)).GetLength(),
+        **shape_of(prim, kind),
     }
+
+
+def shape_of(prim, kind):
+    """The light's size attributes, in stage units and degrees, by kind."""
+
+    def value(name, default):
+        attribute = prim.GetAttribute(name)
+        got = attribute.Get() if attribute and attribute.HasAuthoredValue() else None
+        return default if got is None else got
+
+    if kind == "DistantLight":
+        return {"angle": float(value("inputs:angle", 0.53))}
+    if kind == "SphereLight":
+        return {"radius": float(value("inputs:radius", 0.5))}
+    if kind == "DiskLight":
+        return {"radius": float(value("inputs:radius", 0.5))}
+    if kind == "RectLight":
+        return {
+            "width": float(value("inputs:width", 1.0)),
+            "height": float(value("inputs:height", 1.0)),
+        }
+    if kind == "DomeLight":
+        texture = value("inputs:texture:file", None)
+        path = texture.resolvedPath or texture.path if texture else ""
+        return {"texture": path}
+    return {}
 
 
 def main():

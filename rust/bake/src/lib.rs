@@ -5,14 +5,20 @@
 //! USD's t does (readers of glTF, whose v runs down, flip it); texel (x, y)
 //! covers [x/N, (x+1)/N] × [y/N, (y+1)/N], with y growing with v.
 
+pub mod control;
 pub mod dilation;
 pub mod fast_hash;
+pub mod image;
+pub mod irradiance;
 pub mod mesh;
+pub mod pipeline;
 pub mod plan;
 pub mod raster;
+pub mod rays;
 pub mod scene;
 pub mod texels;
 pub mod topology;
+pub mod transport;
 pub mod turk;
 pub mod unwrap;
 pub mod uv_analysis;

@@ -1,6 +1,6 @@
 //! What a bake of a scene will do, and what it leaves out and why.
 
-use crate::scene::{LightKind, Scene};
+use crate::scene::Scene;
 use crate::texels::rasterize;
 use crate::topology::{TopologyReport, topology_report};
 use crate::turk::point_count;
@@ -130,13 +130,7 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
             left_out.push(format!("light `{}`: gives no light", light.name));
             continue;
         }
-        let kind = match light.kind {
-            LightKind::Directional => "directional",
-            LightKind::Point => "point",
-            LightKind::Spot { .. } => "spot",
-            LightKind::Area => "area",
-            LightKind::Environment => "environment",
-        };
+        let kind = light.kind.name();
         lights.push(format!(
             "`{}`: {kind}, intensity {}",
             light.name, light.intensity

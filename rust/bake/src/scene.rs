@@ -68,42 +68,90 @@ impl MaterialHint {
     }
 }
 
-/// A light source in world space.
+/// A light source in world space, in radiometric units.
+///
+/// Readers convert each format's units once (README, "Lights and units"):
+/// glTF lux and candela as Blender's glTF exporter writes them (a sun's
+/// lux is its W/m²; a point's candela is 683 lm/W · W/(4π sr)), USD
+/// intensity × 2^exposure as UsdLux defines it, Blender's own units as
+/// Cycles reads them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {
     /// Name for reports.
     pub name: String,
-    /// What kind of light.
+    /// What kind of light, with its shape.
     pub kind: LightKind,
-    /// Linear RGB colour.
+    /// Linear RGB colour (multiplies the intensity).
     pub color: [f32; 3],
-    /// Intensity in the source format's unit (glTF: lux for directional
-    /// lights, candela for point and spot lights).
+    /// Strength in the unit [`LightKind`] gives for the kind.
     pub intensity: f32,
     /// Position, mm.
     pub position: Vec3,
-    /// Direction the light points, unit.
+    /// Direction the light points (its −Z axis), unit.
     pub direction: Vec3,
+    /// The light's local X axis, unit: orients rectangles.
+    pub tangent: Vec3,
 }
 
-/// Kinds of light.
+/// Kinds of light, with the unit of [`Light::intensity`] for each.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightKind {
-    /// Parallel light from infinitely far.
-    Directional,
-    /// Light from a point.
-    Point,
-    /// A light with a surface (USD rect and disk lights).
-    Area,
-    /// Light from every direction (USD dome lights).
-    Environment,
-    /// A point light limited to a cone (angles in radians).
+    /// Parallel light from far away; intensity is the irradiance on a
+    /// surface facing it, W/m². `angle` is the sun's angular diameter,
+    /// radians (0: a hard shadow).
+    Directional {
+        /// Angular diameter, radians.
+        angle: f32,
+    },
+    /// Light from a point or a sphere of `radius_mm`; intensity is the
+    /// radiant intensity, W/sr.
+    Point {
+        /// Sphere radius, mm (0 for a point).
+        radius_mm: f32,
+    },
+    /// A point light limited to a cone; intensity in W/sr on its axis.
     Spot {
-        /// Full intensity inside this angle from the axis.
+        /// Sphere radius, mm.
+        radius_mm: f32,
+        /// Full intensity inside this angle from the axis, radians.
         inner_cone: f32,
-        /// No light beyond this angle.
+        /// No light beyond this angle, radians.
         outer_cone: f32,
     },
+    /// A rectangle emitting from its front face; intensity is radiance,
+    /// W/(m²·sr).
+    Rectangle {
+        /// Extent along the light's X axis, mm.
+        width_mm: f32,
+        /// Extent along its Y axis, mm.
+        height_mm: f32,
+    },
+    /// A disk emitting from its front face; intensity is radiance,
+    /// W/(m²·sr).
+    Disk {
+        /// Radius, mm.
+        radius_mm: f32,
+    },
+    /// Light from every direction; intensity is radiance, W/(m²·sr),
+    /// multiplied by the equirectangular image when there is one.
+    Environment {
+        /// The image file, as the asset names it.
+        texture: Option<String>,
+    },
+}
+
+impl LightKind {
+    /// The kind's name in reports.
+    pub fn name(&self) -> &'static str {
+        match self {
+            LightKind::Directional { .. } => "directional",
+            LightKind::Point { .. } => "point",
+            LightKind::Spot { .. } => "spot",
+            LightKind::Rectangle { .. } => "rectangle",
+            LightKind::Disk { .. } => "disk",
+            LightKind::Environment { .. } => "environment",
+        }
+    }
 }
 
 impl Scene {

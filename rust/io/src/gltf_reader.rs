@@ -297,12 +297,13 @@ fn read_light(
 ) -> Light {
     use gltf::khr_lights_punctual::Kind;
     let kind = match light.kind() {
-        Kind::Directional => LightKind::Directional,
-        Kind::Point => LightKind::Point,
+        Kind::Directional => LightKind::Directional { angle: 0.0 },
+        Kind::Point => LightKind::Point { radius_mm: 0.0 },
         Kind::Spot {
             inner_cone_angle,
             outer_cone_angle,
         } => LightKind::Spot {
+            radius_mm: 0.0,
             inner_cone: inner_cone_angle,
             outer_cone: outer_cone_angle,
         },
@@ -313,10 +314,19 @@ fn read_light(
             .map_or_else(|| format!("light on node {node}"), String::from),
         kind,
         color: light.color(),
-        intensity: light.intensity(),
+        intensity: match light.kind() {
+            // Blender's exporter writes a sun's W/m² as lux unchanged.
+            Kind::Directional => light.intensity(),
+            // ... and a point's W/(4π sr) times 683 lm/W as candela.
+            _ => light.intensity() / LUMENS_PER_WATT,
+        },
         position: world.transform_point3(Vec3::ZERO) * scale as f32,
         direction: world
             .transform_vector3(Vec3::NEG_Z)
             .normalize_or(Vec3::NEG_Z),
+        tangent: world.transform_vector3(Vec3::X).normalize_or(Vec3::X),
     }
 }
+
+/// The luminous efficacy glTF exporters (Blender's among them) assume.
+const LUMENS_PER_WATT: f32 = 683.0;

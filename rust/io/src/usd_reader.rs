@@ -150,13 +150,23 @@ pub fn scene_from_json(
         });
     }
     for light in value["lights"].as_array().into_iter().flatten() {
-        let kind = match light["type"].as_str().unwrap_or("") {
-            "DistantLight" => LightKind::Directional,
-            "SphereLight" => LightKind::Point,
-            "DomeLight" => LightKind::Environment,
-            _ => LightKind::Area,
+        let Some((kind, normalizing_area_m2)) = usd_light_kind(light, scale) else {
+            scene.notes.push(format!(
+                "light `{}`: a {} is not a kind sssbake bakes; left out",
+                light["name"].as_str().unwrap_or("light"),
+                light["type"].as_str().unwrap_or("light of no type")
+            ));
+            continue;
         };
         let exposure = num(&light["exposure"]);
+        let mut intensity = num(&light["intensity"]) * exposure.exp2();
+        if light["normalize"].as_bool() == Some(true) && normalizing_area_m2 > 0.0 {
+            intensity /= normalizing_area_m2;
+        } else if let LightKind::Point { radius_mm } | LightKind::Spot { radius_mm, .. } = kind {
+            // A sphere of radiance L shines π r² L watts per steradian.
+            let r_m = radius_mm * 1e-3;
+            intensity *= std::f32::consts::PI * r_m * r_m;
+        }
         let color = light["color"]
             .as_array()
             .map_or([1.0; 3], |c| [0, 1, 2].map(|k| num(&c[k])));
@@ -165,9 +175,10 @@ pub fn scene_from_json(
             name: light["name"].as_str().unwrap_or("light").to_string(),
             kind,
             color,
-            intensity: num(&light["intensity"]) * exposure.exp2(),
+            intensity,
             position: vec3(&light["position"]).unwrap_or(Vec3::ZERO) * scale as f32,
             direction: direction.normalize_or(Vec3::NEG_Z),
+            tangent: vec3(&light["tangent"]).map_or(Vec3::X, |t| t.normalize_or(Vec3::X)),
         });
     }
     scene.objects.sort_by(|a, b| a.mesh.name.cmp(&b.mesh.name));
@@ -189,4 +200,50 @@ fn vec3s(v: &Value) -> Result<Vec<Vec3>, String> {
         .iter()
         .map(|p| vec3(p).ok_or_else(|| "have an entry that is not three numbers".to_string()))
         .collect()
+}
+
+/// A UsdLux light's kind with its size in mm, and the area (m²) its
+/// `normalize` divides by; `None` for kinds not baked.
+fn usd_light_kind(light: &Value, scale: f64) -> Option<(LightKind, f32)> {
+    // The light's own transform scales its size; absent, it is 1.
+    let own = num(&light["scale"]);
+    let scale = scale as f32
+        * if own.is_finite() && own > 0.0 {
+            own
+        } else {
+            1.0
+        };
+    let size = |key: &str| (num(&light[key]) * scale).max(0.0);
+    let radius_mm = size("radius");
+    let disk_m2 = std::f32::consts::PI * (radius_mm * 1e-3).powi(2);
+    Some(match light["type"].as_str().unwrap_or("") {
+        "DistantLight" => (
+            LightKind::Directional {
+                angle: num(&light["angle"]).to_radians().max(0.0),
+            },
+            0.0,
+        ),
+        "SphereLight" => (LightKind::Point { radius_mm }, 4.0 * disk_m2),
+        "DiskLight" => (LightKind::Disk { radius_mm }, disk_m2),
+        "RectLight" => {
+            let (width_mm, height_mm) = (size("width"), size("height"));
+            (
+                LightKind::Rectangle {
+                    width_mm,
+                    height_mm,
+                },
+                width_mm * height_mm * 1e-6,
+            )
+        }
+        "DomeLight" => (
+            LightKind::Environment {
+                texture: light["texture"]
+                    .as_str()
+                    .filter(|t| !t.is_empty())
+                    .map(String::from),
+            },
+            0.0,
+        ),
+        _ => return None,
+    })
 }

@@ -164,7 +164,7 @@ fn translucent_materials_and_lights_are_read() {
     assert_eq!(material.diffuse_transmission, Some(([1.0, 0.5, 0.4], 0.5)));
     assert_eq!(scene.lights.len(), 2);
     let sun = scene.lights.iter().find(|l| l.name == "sun").unwrap();
-    assert_eq!(sun.kind, LightKind::Directional);
+    assert_eq!(sun.kind, LightKind::Directional { angle: 0.0 });
     assert!(
         sun.direction.distance(Vec3::NEG_Y) < 1e-5,
         "{:?}",
@@ -186,11 +186,11 @@ fn a_glb_reads_like_the_gltf() {
     let bin = std::fs::read(dir.join("quad.bin")).unwrap();
     document["buffers"] = json!([{"byteLength": bin.len()}]);
     let mut json_chunk = serde_json::to_vec(&document).unwrap();
-    while json_chunk.len() % 4 != 0 {
+    while !json_chunk.len().is_multiple_of(4) {
         json_chunk.push(b' ');
     }
     let mut bin_chunk = bin.clone();
-    while bin_chunk.len() % 4 != 0 {
+    while !bin_chunk.len().is_multiple_of(4) {
         bin_chunk.push(0);
     }
     let total = 12 + 8 + json_chunk.len() + 8 + bin_chunk.len();

@@ -19,7 +19,7 @@ fn quad(corner_vertices: Vec<u32>) -> serde_json::Value {
             "normals": null,
             "faces": 1, "subsets": []
         }],
-        "lights": [{"name": "Key", "type": "SphereLight", "intensity": 10.0, "exposure": 1.0,
+        "lights": [{"name": "Key", "type": "SphereLight", "intensity": 10.0, "exposure": 1.0, "radius": 0.5,
                     "color": [1, 1, 1], "position": [0, 0, 50], "direction": [0, 0, -1]}]
     })
 }
@@ -38,8 +38,10 @@ fn stage_units_become_millimetres() {
     assert!((card.mesh.area() - 100.0 * 100.0).abs() < 1e-3);
     assert_eq!(card.mesh.uvs.as_ref().unwrap()[2], glam::Vec2::ONE);
     let light = &scene.lights[0];
-    assert_eq!(light.kind, LightKind::Point);
-    assert_eq!(light.intensity, 20.0, "intensity × 2^exposure");
+    assert_eq!(light.kind, LightKind::Point { radius_mm: 5.0 });
+    // Radiance 10 × 2¹ over a sphere of 5 mm: π r² L W/sr.
+    let expected = 20.0 * std::f32::consts::PI * 0.005f32.powi(2);
+    assert!((light.intensity - expected).abs() < 1e-6 * expected);
     assert_eq!(light.position, glam::Vec3::new(0.0, 0.0, 500.0));
 }
 

@@ -93,6 +93,49 @@ impl Profile for Dipole {
         }))
     }
 
+    /// Mertens et al. 2003 §4: pick the real or the virtual source by its
+    /// share of the reflectance inside `r_max`, then invert that source's
+    /// enclosed fraction ½(e^{−σz} − z e^{−σρ}/ρ) for ρ = √(r² + z²) by
+    /// Newton's method on σρ + ln ρ (increasing and concave, so Newton from
+    /// ρ = z climbs to the root without overshooting).
+    fn sample_radius(&self, channel: usize, xi: [f64; 2], r_max: f64) -> Option<f64> {
+        let ch = self.channels.get(channel)?;
+        let sigma = ch.sigma_tr;
+        if !(sigma > 0.0 && r_max > 0.0) {
+            return None;
+        }
+        let mass = |z: f64| {
+            let rho = (r_max * r_max + z * z).sqrt();
+            0.5 * ((-sigma * z).exp() - z * (-sigma * rho).exp() / rho)
+        };
+        let (m_r, m_v) = (mass(ch.z_r), mass(ch.z_v));
+        if (m_r + m_v).is_nan() || m_r + m_v <= 0.0 {
+            return None;
+        }
+        let z = if xi[0] * (m_r + m_v) < m_r {
+            ch.z_r
+        } else {
+            ch.z_v
+        };
+        let target = (-sigma * z).exp() - 2.0 * xi[1].clamp(0.0, 1.0) * mass(z);
+        let rho_max = (r_max * r_max + z * z).sqrt();
+        if target.is_nan() || target <= 0.0 {
+            return Some(r_max);
+        }
+        let goal = z.ln() - target.ln();
+        let mut rho = z;
+        for _ in 0..50 {
+            let h = sigma * rho + rho.ln() - goal;
+            let step = h / (sigma + 1.0 / rho);
+            rho -= step;
+            if step.abs() <= 1e-12 * rho {
+                break;
+            }
+        }
+        let rho = rho.clamp(z, rho_max);
+        Some((rho * rho - z * z).max(0.0).sqrt())
+    }
+
     fn enclosed_reflectance(&self, r: f64) -> Rgb {
         rgb_map(|c| {
             let ch = &self.channels[c];

@@ -99,7 +99,9 @@ pub struct GaussianFit {
 pub fn fit_gaussians(profile: &dyn Profile, count: usize) -> GaussianFit {
     let count = count.clamp(1, 16);
     let reach = profile.d_max(1e-5);
+    use rayon::prelude::*;
     let fits: Vec<(Vec<(f64, f64)>, f64)> = (0..3)
+        .into_par_iter()
         .map(|c| {
             fit_channel(
                 |r| profile.reflectance(r)[c],

@@ -56,6 +56,13 @@ pub trait Profile: Send + Sync {
         None
     }
 
+    /// Draws a radius (mm) in [0, `r_max`] from channel `channel`'s density
+    /// ∝ 2πr R(r), from two uniform numbers, where the model can do so
+    /// exactly; `None` sends callers to a tabulated inverse CDF.
+    fn sample_radius(&self, _channel: usize, _xi: [f64; 2], _r_max: f64) -> Option<f64> {
+        None
+    }
+
     /// The radius d_max (mm) holding all but a fraction `epsilon` of the
     /// reflectance (Mikkelsen eq. 40 generalised), per channel.
     fn d_max(&self, epsilon: f64) -> Rgb {

@@ -1,0 +1,88 @@
+//! Progress and cancellation shared between a long computation and whoever
+//! started it (the command line's progress bar, the Blender add-on's modal
+//! operator, the C ABI's callback).
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+/// A computation stopped because its caller asked it to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("cancelled")]
+pub struct Cancelled;
+
+/// Counts work done against work planned, and carries a cancel flag that
+/// every long loop checks. Shared by reference across threads.
+#[derive(Debug, Default)]
+pub struct Control {
+    done: AtomicU64,
+    total: AtomicU64,
+    cancel: AtomicBool,
+}
+
+impl Control {
+    /// A fresh control: nothing planned, not cancelled.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds `units` of work to the plan (stages announce their work as
+    /// they start, so the fraction may step back when a stage begins).
+    pub fn plan(&self, units: u64) {
+        self.total.fetch_add(units, Ordering::Relaxed);
+    }
+
+    /// Records `units` of work as done; fails once cancellation is asked.
+    pub fn advance(&self, units: u64) -> Result<(), Cancelled> {
+        self.done.fetch_add(units, Ordering::Relaxed);
+        self.check()
+    }
+
+    /// Fails once cancellation is asked.
+    pub fn check(&self) -> Result<(), Cancelled> {
+        if self.cancel.load(Ordering::Relaxed) {
+            Err(Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Asks the computation to stop at its next check.
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+
+    /// True once cancellation was asked.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+
+    /// Fraction of the planned work done, in [0, 1] (0 before any plan).
+    pub fn fraction(&self) -> f64 {
+        let total = self.total.load(Ordering::Relaxed);
+        if total == 0 {
+            return 0.0;
+        }
+        (self.done.load(Ordering::Relaxed) as f64 / total as f64).min(1.0)
+    }
+}
+
+/// Fills `out[i] = item(i)` in parallel chunks of `chunk` items, advancing
+/// `control` after each chunk and stopping at the first cancellation.
+pub fn parallel_fill<T: Send>(
+    out: &mut [T],
+    chunk: usize,
+    control: &Control,
+    item: impl Fn(usize) -> T + Sync,
+) -> Result<(), Cancelled> {
+    use rayon::prelude::*;
+    let chunk = chunk.max(1);
+    control.plan(out.len() as u64);
+    out.par_chunks_mut(chunk)
+        .enumerate()
+        .try_for_each(|(c, slot)| {
+            control.check()?;
+            for (k, value) in slot.iter_mut().enumerate() {
+                *value = item(c * chunk + k);
+            }
+            control.advance(slot.len() as u64)
+        })
+}

@@ -1,0 +1,103 @@
+//! The irradiance transmitted into the surface at texels and sample
+//! points: every light, shadowed by the whole scene, times the entry
+//! Fresnel transmittance (DESIGN.md: the `irradiance` output).
+
+pub mod emitters;
+pub mod entry;
+pub mod environment;
+pub mod sequence;
+
+use crate::control::{Cancelled, Control, parallel_fill};
+use crate::rays::RayScene;
+use emitters::Emitter;
+use entry::EntryTransmittance;
+use glam::Vec3;
+
+/// Points on one mesh to light.
+#[derive(Clone, Copy, Debug)]
+pub struct Receivers<'a> {
+    /// Which mesh of the [`RayScene`] they lie on.
+    pub mesh: u32,
+    /// Positions, mm.
+    pub position: &'a [Vec3],
+    /// Unit normals.
+    pub normal: &'a [Vec3],
+    /// The triangle of the mesh each lies on.
+    pub triangle: &'a [u32],
+}
+
+/// How the irradiance is gathered.
+#[derive(Clone, Debug)]
+pub struct IrradianceSettings {
+    /// Samples per receiver for each light with a size and for the
+    /// environment (lights without a size take one).
+    pub samples: u32,
+    /// Trace shadow rays (the plan turns them off when nothing can occlude).
+    pub shadows: bool,
+}
+
+impl Default for IrradianceSettings {
+    fn default() -> Self {
+        IrradianceSettings {
+            samples: 16,
+            shadows: true,
+        }
+    }
+}
+
+/// Transmitted irradiance E_t (W/m², linear RGB) at each receiver:
+/// Σ over lights of ∫ ρt(θ) L(ω) cos θ dω with visibility through `rays`.
+pub fn transmitted_irradiance(
+    receivers: Receivers,
+    emitters: &[Emitter],
+    rays: &RayScene,
+    entry: &EntryTransmittance,
+    settings: &IrradianceSettings,
+    control: &Control,
+) -> Result<Vec<[f32; 3]>, Cancelled> {
+    let mut out = vec![[0.0f32; 3]; receivers.position.len()];
+    let lit: Vec<&Emitter> = emitters.iter().filter(|e| !e.is_dark()).collect();
+    parallel_fill(&mut out, 1024, control, |i| {
+        let p = receivers.position[i];
+        let n = receivers.normal[i];
+        let skip = rays.scene_triangle(receivers.mesh, receivers.triangle[i]);
+        let origin = p + n * rays.epsilon();
+        let mut e = [0.0f32; 3];
+        for (l, emitter) in lit.iter().enumerate() {
+            let count = if emitter.is_delta() {
+                1
+            } else {
+                settings.samples.max(1)
+            };
+            let rotation = sequence::rotation(i as u64, l as u64);
+            let mut sum = [0.0f32; 3];
+            for s in 0..count {
+                let u = sequence::hammersley(s, count, rotation);
+                let Some(sample) = emitter.sample(p, n, u, s) else {
+                    continue;
+                };
+                let cos = sample.direction.dot(n);
+                if cos <= 0.0 {
+                    continue;
+                }
+                if settings.shadows
+                    && rays.occluded(origin, sample.direction, sample.distance, skip)
+                {
+                    continue;
+                }
+                let f = cos * entry.at(cos);
+                for (s, w) in sum.iter_mut().zip(sample.weight) {
+                    *s += w * f;
+                }
+            }
+            for c in 0..3 {
+                let v = sum[c] / count as f32;
+                if v.is_finite() {
+                    e[c] += v;
+                }
+            }
+        }
+        e
+    })?;
+    Ok(out)
+}

@@ -1,0 +1,211 @@
+//! The kernel's disk means tabulated for the sample sizes at hand, so the
+//! integrators' inner loops cost two table reads per pair.
+//!
+//! Each size has a row of means over distance: evenly spaced within NEAR
+//! disk radii, then √-spaced out to d_max (beyond a few radii the disk
+//! mean still exceeds the centre value by about a²∇²R/8, percents where R
+//! curves sharply, so the far field is averaged too). Sizes are spaced
+//! geometrically; a sample's place among them is found once per sample.
+
+use super::kernel::Kernel;
+use std::f32::consts::FRAC_1_PI;
+
+const NEAR: f32 = 4.0;
+/// Distances tabulated evenly in [0, NEAR·a].
+const DISTANCES: usize = 128;
+/// Distances tabulated in [NEAR·a, d_max].
+const FAR: usize = 1024;
+const ROW: usize = DISTANCES + FAR;
+/// Disk radii tabulated across a range of sample areas.
+const SIZES: usize = 24;
+
+/// Share of the circle of radius `r` about the entry point that lies in
+/// the disk of radius `a` centred `d` away.
+pub(super) fn ring_share(r: f32, d: f32, a: f32) -> f32 {
+    if r <= 0.0 || d <= 0.0 {
+        return if r < a { 1.0 } else { 0.0 };
+    }
+    let c = ((d * d + r * r - a * a) / (2.0 * d * r)).clamp(-1.0, 1.0);
+    c.acos() * FRAC_1_PI
+}
+
+/// A sample's place among the tabulated sizes.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Slot {
+    /// Lower row, or `u32::MAX` when the size is outside the table.
+    row: u32,
+    /// Weight of the row above.
+    fraction: f32,
+    /// The sample's disk radius, mm.
+    radius: f32,
+}
+
+/// A kernel with disk means tabulated for a range of sample sizes.
+pub struct DiskKernel<'k> {
+    kernel: &'k Kernel,
+    a0: f32,
+    log_step: f32,
+    /// Each row's disk radius.
+    radii: Vec<f32>,
+    /// [size][distance] → (R mean, T mean).
+    table: Vec<[[f32; 3]; 2]>,
+}
+
+impl<'k> DiskKernel<'k> {
+    /// Tabulates `kernel`'s disk means for sample areas in
+    /// [`area_min`, `area_max`] (mm²).
+    pub fn new(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {
+        let radius = |area: f32| (area.max(0.0) * FRAC_1_PI).sqrt().max(1e-9);
+        let (lo, hi) = (radius(area_min), radius(area_max));
+        let (a0, a1) = (lo.min(hi), lo.max(hi));
+        let sizes = if a1 / a0 < 1.001 { 1 } else { SIZES };
+        let log_step = if sizes > 1 {
+            (a1 / a0).ln() / (sizes - 1) as f32
+        } else {
+            0.0
+        };
+        let radii: Vec<f32> = (0..sizes)
+            .map(|i| a0 * (log_step * i as f32).exp())
+            .collect();
+        let mut table = Vec::with_capacity(sizes * ROW);
+        for &a in &radii {
+            for j in 0..ROW {
+                table.push(kernel.disk_mean(distance(j, a, kernel.d_max), a));
+            }
+        }
+        DiskKernel {
+            kernel,
+            a0,
+            log_step,
+            radii,
+            table,
+        }
+    }
+
+    /// The kernel these means come from.
+    pub fn kernel(&self) -> &Kernel {
+        self.kernel
+    }
+
+    /// Where a sample of `area` (mm²) sits among the tabulated sizes.
+    pub fn slot(&self, area: f32) -> Slot {
+        let radius = (area.max(0.0) * FRAC_1_PI).sqrt();
+        let last = self.radii.len() - 1;
+        let s = if last == 0 {
+            if (radius / self.a0 - 1.0).abs() < 0.01 {
+                0.0
+            } else {
+                -1.0
+            }
+        } else {
+            (radius / self.a0).ln() / self.log_step
+        };
+        if !(-1e-3..=last as f32 + 1e-3).contains(&s) {
+            return Slot {
+                row: u32::MAX,
+                fraction: 0.0,
+                radius,
+            };
+        }
+        let row = (s.max(0.0) as usize).min(last.saturating_sub(1));
+        Slot {
+            row: row as u32,
+            fraction: if last == 0 {
+                0.0
+            } else {
+                (s - row as f32).clamp(0.0, 1.0)
+            },
+            radius,
+        }
+    }
+
+    /// The mean of P = (1 − t)R + tT over the disk of a sample in `slot`
+    /// at distance `d` (mm) with transmission share `t`: what the sample's
+    /// flux is multiplied by, 1/mm². Zero beyond d_max.
+    #[inline]
+    pub fn weight(&self, d: f32, slot: Slot, t: f32) -> [f32; 3] {
+        let k = self.kernel;
+        if d > k.d_max {
+            return [0.0; 3];
+        }
+        if slot.row == u32::MAX {
+            let [r, tr] = self.untabulated(d, slot.radius);
+            return [0, 1, 2].map(|c| (1.0 - t) * r[c] + t * tr[c]);
+        }
+        let m = usize::from(t > 0.0 && k.transmits());
+        let lower = self.read(slot.row as usize, d, m);
+        let mut w = if slot.fraction > 0.0 {
+            let upper = self.read(slot.row as usize + 1, d, m);
+            let f = slot.fraction;
+            let mut w = [0.0; 6];
+            for c in 0..6 {
+                w[c] = lower[c] + (upper[c] - lower[c]) * f;
+            }
+            w
+        } else {
+            lower
+        };
+        if m == 0 {
+            return [w[0], w[1], w[2]];
+        }
+        for c in 0..3 {
+            w[c] = (1.0 - t) * w[c] + t * w[c + 3];
+        }
+        [w[0], w[1], w[2]]
+    }
+
+    /// Octree nodes larger than any sample are taken whole only far away,
+    /// where the centre value is the mean to within (a/d)².
+    fn untabulated(&self, d: f32, a: f32) -> [[f32; 3]; 2] {
+        if d > 8.0 * a {
+            [
+                self.kernel.reflectance(d),
+                self.kernel.point_transmittance(d),
+            ]
+        } else {
+            self.kernel.disk_mean(d, a)
+        }
+    }
+
+    /// R means (and T means after them when `both` is 1), interpolated.
+    #[inline]
+    fn read(&self, row: usize, d: f32, both: usize) -> [f32; 6] {
+        let a = self.radii[row];
+        let (j, f) = index(d, a, self.kernel.d_max);
+        let (p, q) = (&self.table[row * ROW + j], &self.table[row * ROW + j + 1]);
+        let mut out = [0.0; 6];
+        for m in 0..=both {
+            for c in 0..3 {
+                out[3 * m + c] = p[m][c] + (q[m][c] - p[m][c]) * f;
+            }
+        }
+        out
+    }
+}
+
+/// The distance of entry `j` of a row for disk radius `a`.
+fn distance(j: usize, a: f32, d_max: f32) -> f32 {
+    let start = NEAR * a;
+    if j < DISTANCES {
+        start * j as f32 / (DISTANCES - 1) as f32
+    } else {
+        let x = (j - DISTANCES) as f32 / (FAR - 1) as f32;
+        start + (d_max - start).max(0.0) * x * x
+    }
+}
+
+/// The entry below distance `d` in a row for radius `a`, and the fraction
+/// towards the next.
+fn index(d: f32, a: f32, d_max: f32) -> (usize, f32) {
+    let start = NEAR * a;
+    if d < start {
+        let x = (d / start).clamp(0.0, 1.0) * (DISTANCES - 1) as f32;
+        let j = (x as usize).min(DISTANCES - 2);
+        (j, x - j as f32)
+    } else {
+        let span = (d_max - start).max(1e-30);
+        let x = ((d - start) / span).clamp(0.0, 1.0).sqrt() * (FAR - 1) as f32;
+        let j = (x as usize).min(FAR - 2);
+        (DISTANCES + j, x - j as f32)
+    }
+}

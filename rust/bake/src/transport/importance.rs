@@ -1,0 +1,239 @@
+//! Monte Carlo per texel in the manner of Mertens et al. 2003: radii drawn
+//! from the profile (exactly for the dipole, by the tabulated inverse CDF
+//! otherwise, plus a uniform share for shadow borders), angles uniform,
+//! and the surface found by probe rays through the disk point along the
+//! normal or one of the two tangents.
+//!
+//! Every hit on a probe within d_max counts. Its density in surface area
+//! under the whole scheme is Σ_axes q_a |n_h·a| p(r_a), where r_a is its
+//! distance from the target across axis a and p the mixture density on the
+//! disk; dividing by that sum (the balance heuristic over axes and
+//! strategies) gives an unbiased estimate of ∫ P(|x − x_o|) E(x) dA that
+//! stays bounded where the surface turns away from any one axis.
+
+use super::kernel::{Kernel, transmission_share};
+use crate::control::{Cancelled, Control, parallel_fill};
+use crate::irradiance::sequence::basis;
+use crate::mesh::Mesh;
+use crate::rays::RayScene;
+use glam::{Vec2, Vec3};
+use sssbake_profile::profile::Profile;
+use sssbake_profile::rng::Rng;
+use std::f32::consts::{PI, TAU};
+
+/// Probability of probing along the normal, and along each tangent (on
+/// flat ground tangent probes find nothing, so they are kept few).
+const AXES: [f32; 3] = [0.75, 0.125, 0.125];
+/// Probability of each channel's radius distribution; the rest is uniform.
+const CHANNEL: f32 = 0.3;
+const UNIFORM: f32 = 1.0 - 3.0 * CHANNEL;
+/// Fractional parts of the generalised golden ratio's powers (the R₃
+/// sequence): a Kronecker sequence that fills [0, 1)³ evenly.
+const KRONECKER: [f64; 3] = [
+    0.819_172_513_396_164_4,
+    0.671_043_606_703_789_2,
+    0.549_700_477_901_970_4,
+];
+
+/// What the estimator reads the surface from.
+pub struct Surface<'a> {
+    /// The object's mesh (mesh 0 of `probes`).
+    pub mesh: &'a Mesh,
+    /// Its texture coordinates.
+    pub uvs: &'a [Vec2],
+    /// Rays against this object alone.
+    pub probes: &'a RayScene,
+    /// Transmitted irradiance per texel, dilated, row-major N × N.
+    pub irradiance: &'a [[f32; 3]],
+    /// N.
+    pub resolution: u32,
+}
+
+/// Radiant exitance (W/m²) at each target by `samples` probes per target,
+/// from generator `seed` (stream = target index, so any thread count gives
+/// the same numbers).
+#[allow(clippy::too_many_arguments)]
+pub fn integrate(
+    kernel: &Kernel,
+    profile: &dyn Profile,
+    surface: &Surface,
+    position: &[Vec3],
+    normal: &[Vec3],
+    samples: u32,
+    seed: u64,
+    control: &Control,
+) -> Result<Vec<[f32; 3]>, Cancelled> {
+    let totals = kernel.enclosed(kernel.d_max);
+    let exact = (0..3).all(|c| {
+        profile
+            .sample_radius(c, [0.5, 0.5], kernel.d_max as f64)
+            .is_some()
+    });
+    let mut out = vec![[0.0f32; 3]; position.len()];
+    parallel_fill(&mut out, 64, control, |i| {
+        let mut rng = Rng::new(seed, i as u64);
+        let estimate = Estimate {
+            kernel,
+            profile,
+            surface,
+            totals,
+            exact,
+            origin: position[i],
+            normal: normal[i],
+        };
+        let mut sum = [0.0f64; 3];
+        // Each sample's four numbers are uniform on their own (a random
+        // shift of a stratified or Kronecker sequence), so every sample is
+        // an unbiased estimate while the set covers [0, 1)⁴ evenly.
+        let count = samples.max(1);
+        let shift: [f64; 4] = std::array::from_fn(|_| rng.uniform());
+        for s in 0..count {
+            let u = [
+                (s as f64 + shift[0]) / count as f64,
+                (s as f64 * KRONECKER[0] + shift[1]).fract(),
+                (s as f64 * KRONECKER[1] + shift[2]).fract(),
+                (s as f64 * KRONECKER[2] + shift[3]).fract(),
+            ];
+            let v = estimate.sample(u, &mut rng);
+            for c in 0..3 {
+                sum[c] += v[c] as f64;
+            }
+        }
+        sum.map(|s| (s / samples.max(1) as f64) as f32)
+    })?;
+    Ok(out)
+}
+
+struct Estimate<'a> {
+    kernel: &'a Kernel,
+    profile: &'a dyn Profile,
+    surface: &'a Surface<'a>,
+    totals: [f32; 3],
+    exact: bool,
+    origin: Vec3,
+    normal: Vec3,
+}
+
+impl Estimate<'_> {
+    fn axes(&self) -> [Vec3; 3] {
+        let (t, b) = basis(self.normal);
+        [self.normal, t, b]
+    }
+
+    /// The mixture density per unit disk area at radius `r`.
+    fn disk_density(&self, r: f32) -> f32 {
+        let d_max = self.kernel.d_max;
+        if r > d_max {
+            return 0.0;
+        }
+        let density = self.kernel.reflectance(r);
+        let mut p = UNIFORM / (PI * d_max * d_max);
+        for (&r, &total) in density.iter().zip(&self.totals) {
+            // A dark channel's draws fall back to the uniform disk.
+            p += CHANNEL
+                * if total > 0.0 {
+                    r / total
+                } else {
+                    1.0 / (PI * d_max * d_max)
+                };
+        }
+        p
+    }
+
+    /// A radius from the strategy `pick` selects, drawn from `xi`.
+    fn radius(&self, pick: f32, xi: [f64; 2]) -> f32 {
+        let d_max = self.kernel.d_max;
+        let channel = (pick / CHANNEL) as usize;
+        if channel >= 3 || self.totals[channel].is_nan() || self.totals[channel] <= 0.0 {
+            return d_max * (xi[1] as f32).sqrt();
+        }
+        if self.exact
+            && let Some(r) = self.profile.sample_radius(channel, xi, d_max as f64)
+        {
+            return (r as f32).min(d_max);
+        }
+        self.kernel.sample_radius(channel, xi[1] as f32)
+    }
+
+    /// One probe from the four uniform numbers `u` (axis, strategy,
+    /// radius, angle); `rng` splits the dipole's choice of source.
+    fn sample(&self, u: [f64; 4], rng: &mut Rng) -> [f32; 3] {
+        let d_max = self.kernel.d_max;
+        if d_max.is_nan() || d_max <= 0.0 {
+            return [0.0; 3];
+        }
+        let axes = self.axes();
+        let choice = u[0] as f32;
+        let a = if choice < AXES[0] {
+            0
+        } else if choice < AXES[0] + AXES[1] {
+            1
+        } else {
+            2
+        };
+        let axis = axes[a];
+        let (e1, e2) = (axes[(a + 1) % 3], axes[(a + 2) % 3]);
+        let r = self.radius(u[1] as f32, [rng.uniform(), u[2]]);
+        let phi = TAU * u[3] as f32;
+        let q = self.origin + r * (phi.cos() * e1 + phi.sin() * e2);
+        let half = (d_max * d_max - r * r).max(0.0).sqrt();
+        let mut total = [0.0f32; 3];
+        let surface = self.surface;
+        surface
+            .probes
+            .for_each_hit(q - axis * half, axis, 0.0, 2.0 * half, |hit| {
+                let tri = surface.mesh.triangles[hit.triangle as usize];
+                let w = [1.0 - hit.uv.x - hit.uv.y, hit.uv.x, hit.uv.y];
+                let point = q - axis * half + axis * hit.t;
+                let offset = point - self.origin;
+                let d = offset.length();
+                if d > d_max {
+                    return;
+                }
+                let n_hit = (0..3)
+                    .map(|k| surface.mesh.normals[tri[k] as usize] * w[k])
+                    .sum::<Vec3>()
+                    .normalize_or_zero();
+                // Lines cross the facet itself, so the density of hits per
+                // unit area takes the facet's normal, not the shading one.
+                let [p0, p1, p2] = tri.map(|v| surface.mesh.positions[v as usize]);
+                let facet = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                let mut density = 0.0;
+                for (k, &ax) in axes.iter().enumerate() {
+                    let across = (offset - ax * offset.dot(ax)).length();
+                    density += AXES[k] * facet.dot(ax).abs() * self.disk_density(across);
+                }
+                if density.is_nan() || density <= 0.0 {
+                    return;
+                }
+                let uv: Vec2 = (0..3).map(|k| surface.uvs[tri[k] as usize] * w[k]).sum();
+                let e = bilinear(surface.irradiance, surface.resolution, uv);
+                let t = if self.kernel.transmits() {
+                    transmission_share(n_hit, self.normal)
+                } else {
+                    0.0
+                };
+                let p = self.kernel.point(d, t);
+                for c in 0..3 {
+                    total[c] += p[c] * e[c] / density;
+                }
+            });
+        total.map(|v| if v.is_finite() { v } else { 0.0 })
+    }
+}
+
+/// Bilinear lookup of an N × N texture at `uv` (texel centres at
+/// (x + ½)/N, clamped at the borders).
+fn bilinear(image: &[[f32; 3]], n: u32, uv: Vec2) -> [f32; 3] {
+    let n_f = n as f32;
+    let x = (uv.x * n_f - 0.5).clamp(0.0, n_f - 1.0);
+    let y = (uv.y * n_f - 0.5).clamp(0.0, n_f - 1.0);
+    let (x0, y0) = (x.floor() as usize, y.floor() as usize);
+    let (x1, y1) = ((x0 + 1).min(n as usize - 1), (y0 + 1).min(n as usize - 1));
+    let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+    let at = |x: usize, y: usize| image[y * n as usize + x];
+    let (a, b, c, d) = (at(x0, y0), at(x1, y0), at(x0, y1), at(x1, y1));
+    [0, 1, 2].map(|k| {
+        (a[k] * (1.0 - fx) + b[k] * fx) * (1.0 - fy) + (c[k] * (1.0 - fx) + d[k] * fx) * fy
+    })
+}

@@ -1,0 +1,257 @@
+//! The profile as the integrators use it: R(r) and T(r) averaged over the
+//! patch a sample stands for, from tables of the enclosed reflectance and
+//! transmittance, cut at d_max.
+//!
+//! A sample of area A stands for the disk of that area around it: its
+//! weight is the profile's mean over that disk, not R at its centre, which
+//! keeps the discrete sum equal to the integral when the profile is sharp
+//! against the sample spacing (a sample's weight for itself is then
+//! exactly the reflectance within its own disk).
+
+use sssbake_profile::profile::Profile;
+
+/// Table entries per channel; radii grow quadratically so the sharp
+/// centre of a profile is resolved as finely as its tail.
+const ENTRIES: usize = 4096;
+
+/// A profile tabulated for integration.
+#[derive(Clone, Debug)]
+pub struct Kernel {
+    /// The radius beyond which nothing is gathered, mm.
+    pub d_max: f32,
+    /// ∫_0^r 2πs R(s) ds at r = d_max (k/(ENTRIES−1))², per channel.
+    reflectance: Vec<[f32; 3]>,
+    /// The same for T; empty when the profile transmits nothing.
+    transmittance: Vec<[f32; 3]>,
+    /// R at the same radii, for densities.
+    density: Vec<[f32; 3]>,
+    /// T at the same radii; empty when the profile transmits nothing.
+    transmit_density: Vec<[f32; 3]>,
+}
+
+/// The blend of reflection and transmission for two normals (Mikkelsen
+/// §3.1, from Donner & Jensen 2005): t = (1 − n_i·n_o)/2.
+pub fn transmission_share(n_in: glam::Vec3, n_out: glam::Vec3) -> f32 {
+    (0.5 * (1.0 - n_in.dot(n_out))).clamp(0.0, 1.0)
+}
+
+impl Kernel {
+    /// Tabulates `profile` out to the radius holding all but `epsilon` of
+    /// every channel's reflectance and transmittance.
+    pub fn new(profile: &dyn Profile, epsilon: f64) -> Self {
+        let d_r = profile.d_max(epsilon);
+        let transmits = profile.total_transmittance().iter().any(|&t| t > 0.0);
+        let mut d_max = d_r.iter().cloned().fold(0.0, f64::max);
+        if transmits {
+            let scale = profile.length_scale().iter().cloned().fold(0.0, f64::max);
+            let whole = profile.total_transmittance();
+            for (c, &total) in whole.iter().enumerate() {
+                if total > 0.0 {
+                    let target = (1.0 - epsilon) * total;
+                    let enclosed_t = |r: f64| enclosed(|s| profile.transmittance(s)[c], r);
+                    d_max = d_max.max(sssbake_profile::roots::radius_where(
+                        enclosed_t, target, scale,
+                    ));
+                }
+            }
+        }
+        let d_max = if d_max.is_finite() && d_max > 0.0 {
+            d_max
+        } else {
+            0.0
+        };
+        let radius = |k: usize| d_max * (k as f64 / (ENTRIES - 1) as f64).powi(2);
+        let reflectance = (0..ENTRIES)
+            .map(|k| finite(profile.enclosed_reflectance(radius(k))))
+            .collect();
+        let density = (0..ENTRIES)
+            .map(|k| finite(profile.reflectance(radius(k))))
+            .collect();
+        let (transmittance, transmit_density) = if transmits {
+            (
+                cumulative(|r| profile.transmittance(r), &radius),
+                (0..ENTRIES)
+                    .map(|k| finite(profile.transmittance(radius(k))))
+                    .collect(),
+            )
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        Kernel {
+            d_max: d_max as f32,
+            reflectance,
+            transmittance,
+            density,
+            transmit_density,
+        }
+    }
+
+    /// True when the profile carries light to the far face.
+    pub fn transmits(&self) -> bool {
+        !self.transmittance.is_empty()
+    }
+
+    /// The reflectance within radius `r`, per channel.
+    pub fn enclosed(&self, r: f32) -> [f32; 3] {
+        lookup(&self.reflectance, r, self.d_max)
+    }
+
+    /// The transmittance within radius `r`, per channel (zero without
+    /// transmission).
+    pub fn enclosed_transmittance(&self, r: f32) -> [f32; 3] {
+        if self.transmittance.is_empty() {
+            return [0.0; 3];
+        }
+        lookup(&self.transmittance, r, self.d_max)
+    }
+
+    /// R(r) read from the table (zero beyond d_max), 1/mm².
+    pub fn reflectance(&self, r: f32) -> [f32; 3] {
+        if r > self.d_max {
+            return [0.0; 3];
+        }
+        lookup(&self.density, r, self.d_max)
+    }
+
+    /// P(r) = (1 − t)R(r) + tT(r) at a point, read from the tables (zero
+    /// beyond d_max), 1/mm².
+    pub fn point(&self, r: f32, t: f32) -> [f32; 3] {
+        let reflected = self.reflectance(r);
+        if self.transmit_density.is_empty() || t <= 0.0 || r > self.d_max {
+            return reflected.map(|v| v * (1.0 - t));
+        }
+        let transmitted = lookup(&self.transmit_density, r, self.d_max);
+        [0, 1, 2].map(|c| (1.0 - t) * reflected[c] + t * transmitted[c])
+    }
+
+    /// The means of R and of T over a disk of radius `a` whose centre is
+    /// `d` from the point of entry (the 2-D convolution of the profile with
+    /// the disk, so a sample's weight keeps the profile's integral however
+    /// sharp the profile is against the sample spacing). Written as the
+    /// Stieltjes sum Σ g(r) ΔE(r) over rings about the entry point, with
+    /// g the share of each ring inside the disk: the enclosed tables carry
+    /// the mass exactly, even of a profile narrower than the disk.
+    pub(super) fn disk_mean(&self, d: f32, a: f32) -> [[f32; 3]; 2] {
+        let area = std::f32::consts::PI * a * a;
+        let mut out = [[0.0f32; 3]; 2];
+        if area <= 0.0 {
+            return [self.reflectance(d), self.point_transmittance(d)];
+        }
+        let lo = (d - a).abs();
+        let hi = d + a;
+        let tables: [&[[f32; 3]]; 2] = [&self.reflectance, &self.transmittance];
+        for (k, table) in tables.iter().enumerate() {
+            if table.is_empty() {
+                continue;
+            }
+            let e = |r: f32| lookup(table, r, self.d_max);
+            let mut sum = if d < a { e(lo) } else { [0.0; 3] };
+            // Rings clustered at both ends, where g has square-root ends.
+            let rings = 48;
+            let radius = |i: usize| {
+                let x = i as f32 / rings as f32;
+                lo + (hi - lo) * 0.5 * (1.0 - (std::f32::consts::PI * x).cos())
+            };
+            let mut previous = e(radius(0));
+            for i in 0..rings {
+                let r1 = radius(i + 1);
+                let next = e(r1);
+                let mid = 0.5 * (radius(i) + r1);
+                let g = super::disk_kernel::ring_share(mid, d, a);
+                for c in 0..3 {
+                    sum[c] += g * (next[c] - previous[c]);
+                }
+                previous = next;
+            }
+            out[k] = sum.map(|v| (v / area).max(0.0));
+        }
+        out
+    }
+
+    /// T(r) read from the table (zero beyond d_max or without transmission).
+    pub(super) fn point_transmittance(&self, r: f32) -> [f32; 3] {
+        if self.transmit_density.is_empty() || r > self.d_max {
+            return [0.0; 3];
+        }
+        lookup(&self.transmit_density, r, self.d_max)
+    }
+
+    /// Draws a radius in [0, d_max] for channel `c` with density
+    /// ∝ 2πr R(r) by inverting the enclosed-reflectance table.
+    pub fn sample_radius(&self, c: usize, xi: f32) -> f32 {
+        let total = self.reflectance[ENTRIES - 1][c];
+        if total.is_nan() || total <= 0.0 {
+            return xi.sqrt() * self.d_max;
+        }
+        let target = xi.clamp(0.0, 1.0) * total;
+        let k = self
+            .reflectance
+            .partition_point(|e| e[c] < target)
+            .clamp(1, ENTRIES - 1);
+        let (lo, hi) = (self.reflectance[k - 1][c], self.reflectance[k][c]);
+        let f = if hi > lo {
+            (target - lo) / (hi - lo)
+        } else {
+            0.5
+        };
+        let x = (k as f32 - 1.0 + f) / (ENTRIES - 1) as f32;
+        self.d_max * x * x
+    }
+}
+
+fn finite(v: [f64; 3]) -> [f32; 3] {
+    v.map(|x| {
+        if x.is_finite() {
+            x.max(0.0) as f32
+        } else {
+            0.0
+        }
+    })
+}
+
+/// ∫_0^r 2πs f(s) ds by Simpson's rule in s = r x² (dense near 0).
+fn enclosed(f: impl Fn(f64) -> f64, r: f64) -> f64 {
+    let steps = 512;
+    let g = |x: f64| {
+        let s = r * x * x;
+        2.0 * std::f64::consts::PI * s * f(s) * 2.0 * r * x
+    };
+    let h = 1.0 / steps as f64;
+    let mut sum = g(0.0) + g(1.0);
+    for i in 1..steps {
+        sum += g(i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
+    }
+    sum * h / 3.0
+}
+
+/// Running ∫ 2πs f(s) ds over the table's radii, trapezoids in x.
+fn cumulative(f: impl Fn(f64) -> [f64; 3], radius: &impl Fn(usize) -> f64) -> Vec<[f32; 3]> {
+    let mut out = Vec::with_capacity(ENTRIES);
+    let mut sum = [0.0f64; 3];
+    let mut previous: Option<(f64, [f64; 3])> = None;
+    for k in 0..ENTRIES {
+        let r = radius(k);
+        let v = f(r).map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 });
+        if let Some((r0, v0)) = previous {
+            for c in 0..3 {
+                sum[c] += std::f64::consts::PI * (r0 * v0[c] + r * v[c]) * (r - r0);
+            }
+        }
+        previous = Some((r, v));
+        out.push(sum.map(|x| x as f32));
+    }
+    out
+}
+
+/// Linear interpolation in a table indexed by √(r/d_max).
+#[inline]
+fn lookup(table: &[[f32; 3]], r: f32, d_max: f32) -> [f32; 3] {
+    if d_max.is_nan() || d_max <= 0.0 {
+        return [0.0; 3];
+    }
+    let x = (r / d_max).clamp(0.0, 1.0).sqrt() * (ENTRIES - 1) as f32;
+    let k = (x as usize).min(ENTRIES - 2);
+    let f = x - k as f32;
+    let (a, b) = (table[k], table[k + 1]);
+    [0, 1, 2].map(|c| a[c] + (b[c] - a[c]) * f)
+}

@@ -1,0 +1,149 @@
+//! Where light enters: surface samples with their area and transmitted
+//! irradiance, and a uniform grid over them for gathering within d_max.
+
+use glam::{IVec3, Vec3};
+
+/// Samples light enters through, structure of arrays.
+#[derive(Clone, Debug, Default)]
+pub struct Sources {
+    /// Positions, mm.
+    pub position: Vec<Vec3>,
+    /// Unit normals.
+    pub normal: Vec<Vec3>,
+    /// Area each stands for, mm².
+    pub area: Vec<f32>,
+    /// Transmitted irradiance E_t, W/m² per channel.
+    pub irradiance: Vec<[f32; 3]>,
+}
+
+impl Sources {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    /// Σ E_t·A per channel: the flux entering, W/m² · mm².
+    pub fn flux(&self) -> [f64; 3] {
+        let mut sum = [0.0f64; 3];
+        for (e, &a) in self.irradiance.iter().zip(&self.area) {
+            for c in 0..3 {
+                sum[c] += e[c] as f64 * a as f64;
+            }
+        }
+        sum
+    }
+}
+
+/// Points at which exitance is wanted (texel surfels or any others).
+#[derive(Clone, Copy, Debug)]
+pub struct Targets<'a> {
+    /// Positions, mm.
+    pub position: &'a [Vec3],
+    /// Unit normals.
+    pub normal: &'a [Vec3],
+}
+
+/// Sources sorted into cubic cells of a fixed size, each cell's members
+/// contiguous (a counting sort), for gathering within a radius.
+pub struct Grid {
+    cell: f32,
+    origin: Vec3,
+    dims: IVec3,
+    /// Start of each cell's run in `order` (cells + 1 entries).
+    starts: Vec<u32>,
+    /// Source indices, cell by cell (x fastest, so a row of cells is one
+    /// run).
+    pub order: Vec<u32>,
+}
+
+impl Grid {
+    /// A grid over `positions` with cells of about `cell` mm (coarsened if
+    /// the box would need more than ~16M cells).
+    pub fn new(positions: &[Vec3], cell: f32) -> Self {
+        let (lo, hi) = positions.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let (lo, hi) = if positions.is_empty() {
+            (Vec3::ZERO, Vec3::ZERO)
+        } else {
+            (lo, hi)
+        };
+        let extent = (hi - lo).max(Vec3::splat(1e-6));
+        let mut cell = if cell.is_finite() && cell > 0.0 {
+            cell
+        } else {
+            extent.max_element()
+        };
+        while (extent / cell).ceil().max(Vec3::ONE).element_product() > 16.0e6 {
+            cell *= 1.5;
+        }
+        let dims = (extent / cell).floor().as_ivec3() + IVec3::ONE;
+        let cells = (dims.x * dims.y * dims.z) as usize;
+        let key = |p: Vec3| -> usize {
+            let c = ((p - lo) / cell)
+                .floor()
+                .as_ivec3()
+                .clamp(IVec3::ZERO, dims - 1);
+            (c.x + dims.x * (c.y + dims.y * c.z)) as usize
+        };
+        let mut starts = vec![0u32; cells + 1];
+        for &p in positions {
+            starts[key(p) + 1] += 1;
+        }
+        for i in 0..cells {
+            starts[i + 1] += starts[i];
+        }
+        let mut fill = starts.clone();
+        let mut order = vec![0u32; positions.len()];
+        for (i, &p) in positions.iter().enumerate() {
+            let k = key(p);
+            order[fill[k] as usize] = i as u32;
+            fill[k] += 1;
+        }
+        Grid {
+            cell,
+            origin: lo,
+            dims,
+            starts,
+            order,
+        }
+    }
+
+    /// Calls `visit(range)` with the positions in [`Grid::order`] of every
+    /// row of cells that meets the ball of `radius` around `p` (a superset
+    /// of the ball).
+    pub fn for_each_run(
+        &self,
+        p: Vec3,
+        radius: f32,
+        mut visit: impl FnMut(std::ops::Range<usize>),
+    ) {
+        let lo = ((p - radius - self.origin) / self.cell)
+            .floor()
+            .as_ivec3()
+            .max(IVec3::ZERO);
+        let hi = ((p + radius - self.origin) / self.cell)
+            .floor()
+            .as_ivec3()
+            .min(self.dims - 1);
+        for z in lo.z..=hi.z {
+            for y in lo.y..=hi.y {
+                let row = (self.dims.x * (y + self.dims.y * z)) as usize;
+                if lo.x > hi.x {
+                    continue;
+                }
+                let a = self.starts[row + lo.x as usize] as usize;
+                let b = self.starts[row + hi.x as usize + 1] as usize;
+                if b > a {
+                    visit(a..b);
+                }
+            }
+        }
+    }
+}

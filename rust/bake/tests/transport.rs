@@ -1,0 +1,355 @@
+//! The four integrators against closed-form and independent answers.
+
+mod lit_scenes;
+
+use glam::Vec3;
+use lit_scenes::*;
+use sssbake::control::Control;
+use sssbake::pipeline::Prepared;
+use sssbake::transport::kernel::Kernel;
+use sssbake::transport::sources::Targets;
+use sssbake::transport::{Method, MethodSettings, brute, octree};
+use sssbake_profile::material::{Layer, Material, Optics};
+use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::profile::Profile;
+
+fn run(
+    prepared: &Prepared,
+    profile: &dyn Profile,
+    kernel: &Kernel,
+    method: Method,
+) -> Vec<[f32; 3]> {
+    prepared
+        .integrate(
+            profile,
+            kernel,
+            method,
+            &MethodSettings::default(),
+            &Control::new(),
+        )
+        .unwrap()
+        .exitance
+}
+
+/// Mean of exitance over transmitted irradiance on `texels`, per channel.
+fn mean_ratio(prepared: &Prepared, exitance: &[[f32; 3]], texels: &[usize]) -> [f64; 3] {
+    [0, 1, 2].map(|c| {
+        texels
+            .iter()
+            .map(|&s| exitance[s][c] as f64 / prepared.irradiance[s][c] as f64)
+            .sum::<f64>()
+            / texels.len() as f64
+    })
+}
+
+#[test]
+fn a_flat_lit_square_returns_the_total_reflectance() {
+    let scene = scene(
+        vec![centred_square(120.0, "square")],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let profile = profile_of("skin1", Model::Dipole);
+    let kernel = Kernel::new(profile.as_ref(), 1e-3);
+    let prepared = prepared(&scene, "square", 256, 0.67);
+    let inside = interior(&prepared, 60.0, kernel.d_max);
+    assert!(
+        inside.len() > 1000,
+        "d_max {} leaves {}",
+        kernel.d_max,
+        inside.len()
+    );
+    let total = profile.total_reflectance();
+    for (method, tolerance) in [
+        (Method::Brute, 0.01),
+        (Method::Octree, 0.01),
+        (Method::Texture, 0.03),
+        (Method::Importance, 0.03),
+    ] {
+        let exitance = run(&prepared, profile.as_ref(), &kernel, method);
+        assert!(
+            exitance
+                .iter()
+                .flatten()
+                .all(|v| v.is_finite() && *v >= 0.0)
+        );
+        let ratio = mean_ratio(&prepared, &exitance, &inside);
+        for c in 0..3 {
+            let error = (ratio[c] / total[c] - 1.0).abs();
+            assert!(
+                error < tolerance,
+                "{method} channel {c}: M/E = {:.5}, R_total = {:.5}",
+                ratio[c],
+                total[c]
+            );
+        }
+    }
+}
+
+/// ∫ over the half-plane x' > 0 of R(|p − x'|) for a point at signed
+/// distance `s` from the edge (positive on the lit side): rings of radius
+/// r contribute the share of their circumference in the lit half.
+fn half_plane(profile: &dyn Profile, s: f64, channel: usize, reach: f64) -> f64 {
+    let steps = 20000;
+    let h = reach / steps as f64;
+    (0..steps)
+        .map(|i| {
+            let r = (i as f64 + 0.5) * h;
+            let inside = if r <= s.abs() {
+                if s > 0.0 { std::f64::consts::TAU } else { 0.0 }
+            } else {
+                let half = (s.abs() / r).acos();
+                if s > 0.0 {
+                    std::f64::consts::TAU - 2.0 * half
+                } else {
+                    2.0 * half
+                }
+            };
+            profile.reflectance(r)[channel] * r * inside * h
+        })
+        .sum()
+}
+
+#[test]
+fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
+    // A blocker 10 mm above the half x < 0 shadows it from a sun overhead.
+    let mut blocker = centred_square(200.0, "blocker");
+    for p in &mut blocker.positions {
+        p.x = p.x.min(0.0);
+        p.z = 10.0;
+    }
+    let scene = scene(
+        vec![centred_square(120.0, "square"), blocker],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let profile = profile_of("skin1", Model::Dipole);
+    let kernel = Kernel::new(profile.as_ref(), 1e-3);
+    let prepared = prepared(&scene, "square", 256, 0.67);
+    let lit = prepared.irradiance.iter().map(|e| e[1]).fold(0.0, f32::max) as f64;
+    let band: Vec<usize> = (0..prepared.surfels.len())
+        .filter(|&s| {
+            let p = prepared.surfels.position[s];
+            p.x.abs() < 6.0 && p.y.abs() < 5.0
+        })
+        .collect();
+    let total = profile.total_reflectance();
+    for (method, tolerance) in [
+        (Method::Brute, 0.01),
+        // Turk points carry the irradiance of their centres, so the edge is
+        // resolved only to their spacing.
+        (Method::Octree, 0.03),
+        (Method::Texture, 0.03),
+        (Method::Importance, 0.04),
+    ] {
+        // Enough probes that Monte Carlo noise sits well inside the bound.
+        let settings = MethodSettings {
+            samples: 256,
+            ..MethodSettings::default()
+        };
+        let exitance = prepared
+            .integrate(
+                profile.as_ref(),
+                &kernel,
+                method,
+                &settings,
+                &Control::new(),
+            )
+            .unwrap()
+            .exitance;
+        // Average each column of the band (same x) to tame Monte Carlo noise.
+        let mut columns: std::collections::BTreeMap<i32, (f64, [f64; 3], usize)> =
+            Default::default();
+        for &s in &band {
+            let x = prepared.surfels.position[s].x;
+            let entry = columns.entry((x * 100.0).round() as i32).or_default();
+            entry.0 = x as f64;
+            for (sum, &m) in entry.1.iter_mut().zip(&exitance[s]) {
+                *sum += m as f64;
+            }
+            entry.2 += 1;
+        }
+        for (x, sum, count) in columns.values() {
+            for c in 0..3 {
+                let expected = lit * half_plane(profile.as_ref(), *x, c, kernel.d_max as f64);
+                let got = sum[c] / *count as f64;
+                assert!(
+                    (got - expected).abs() < tolerance * lit * total[c],
+                    "{method} channel {c} at x = {x:.2} mm: {got:.5} vs {expected:.5}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_octree_converges_to_the_exact_sum_as_epsilon_shrinks() {
+    let scene = scene(
+        vec![sphere(20.0, 48, 96)],
+        vec![sun_from(Vec3::new(-1.0, -0.3, -0.2))],
+    );
+    let profile = profile_of("skin1", Model::Dipole);
+    let kernel = Kernel::new(profile.as_ref(), 1e-3);
+    let prepared = prepared(&scene, "sphere", 128, 0.67);
+    let sources = prepared.point_sources(2.0, 7, &Control::new()).unwrap();
+    let targets = Targets {
+        position: &prepared.surfels.position,
+        normal: &prepared.surfels.normal,
+    };
+    let exact = brute::integrate(&kernel, &sources, targets, &Control::new()).unwrap();
+    let scale: f64 = exact.iter().map(|m| m[0] as f64).sum::<f64>() / exact.len() as f64;
+    let mut previous = f64::INFINITY;
+    for epsilon in [0.5f32, 0.2, 0.05, 0.01, 0.0] {
+        let tree = octree::integrate(&kernel, &sources, targets, epsilon, &Control::new()).unwrap();
+        let squares: f64 = tree
+            .iter()
+            .zip(&exact)
+            .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2)))
+            .sum();
+        let rmse = (squares / (3 * exact.len()) as f64).sqrt() / scale;
+        assert!(
+            rmse <= previous * 1.05 + 1e-7,
+            "ε = {epsilon}: {rmse} after {previous}"
+        );
+        previous = rmse;
+        if epsilon == 0.0 {
+            assert!(rmse < 1e-5, "at ε = 0 the octree is the exact sum: {rmse}");
+        } else if epsilon == 0.5 {
+            assert!(rmse > 1e-4, "a coarse ε must differ measurably: {rmse}");
+        }
+    }
+}
+
+#[test]
+fn the_importance_estimator_is_unbiased() {
+    let scene = scene(
+        vec![centred_square(120.0, "square")],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let profile = profile_of("skin1", Model::Dipole);
+    let kernel = Kernel::new(profile.as_ref(), 1e-3);
+    let prepared = prepared(&scene, "square", 64, 0.67);
+    let centre: Vec<usize> = interior(&prepared, 60.0, 54.0);
+    assert!(!centre.is_empty());
+    let expected = kernel.enclosed(kernel.d_max);
+    let seeds = 48;
+    let per_seed: Vec<[f64; 3]> = (0..seeds)
+        .map(|seed| {
+            let settings = MethodSettings {
+                samples: 4,
+                seed,
+                ..MethodSettings::default()
+            };
+            let m = prepared
+                .integrate(
+                    profile.as_ref(),
+                    &kernel,
+                    Method::Importance,
+                    &settings,
+                    &Control::new(),
+                )
+                .unwrap()
+                .exitance;
+            mean_ratio(&prepared, &m, &centre)
+        })
+        .collect();
+    for c in 0..3 {
+        let mean = per_seed.iter().map(|v| v[c]).sum::<f64>() / seeds as f64;
+        let var = per_seed.iter().map(|v| (v[c] - mean).powi(2)).sum::<f64>() / (seeds - 1) as f64;
+        let standard_error = (var / seeds as f64).sqrt();
+        let truth = expected[c] as f64;
+        assert!(standard_error > 0.0 && standard_error < 0.02 * truth);
+        assert!(
+            (mean - truth).abs() < 3.0 * standard_error,
+            "channel {c}: {mean:.5} ± {standard_error:.5} vs {truth:.5}"
+        );
+    }
+}
+
+fn grey(albedo: f64, sigma_t: f64, ior: f64, thickness_mm: Option<f64>) -> Material {
+    Material {
+        name: format!("albedo {albedo}, σt {sigma_t}, η {ior}, {thickness_mm:?} mm"),
+        optics: Optics::Layers(vec![Layer {
+            sigma_a: [(1.0 - albedo) * sigma_t; 3],
+            sigma_s: [albedo * sigma_t; 3],
+            g: 0.0,
+            ior,
+            thickness_mm,
+        }]),
+    }
+}
+
+/// How much more than the light that enters each method may send out: the
+/// exact sum caps every source (none); the others carry their own
+/// discretisation or Monte Carlo error, which only shows where the profile
+/// returns nearly all light (R_total → 1).
+fn energy_allowance(method: Method) -> f64 {
+    match method {
+        Method::Brute | Method::Auto => 0.0,
+        Method::Octree => 0.01,
+        Method::Texture | Method::Importance => 0.03,
+    }
+}
+
+#[test]
+fn no_integrator_creates_energy() {
+    let scene = scene(
+        vec![sphere(10.0, 24, 48)],
+        vec![sun_from(Vec3::new(0.3, -1.0, -0.5))],
+    );
+    let prepared = prepared(&scene, "sphere", 64, 0.5);
+    let incoming: f64 = prepared
+        .irradiance
+        .iter()
+        .zip(&prepared.surfels.area)
+        .map(|(e, &a)| e[1] as f64 * a as f64)
+        .sum();
+    let mut materials: Vec<Material> = ["skin1", "marble", "ketchup", "skin3layer"]
+        .iter()
+        .map(|name| sssbake_profile::presets::preset(name).unwrap())
+        .collect();
+    for albedo in [1.0 - 1e-9, 1e-6] {
+        for sigma_t in [1e-2, 1e3] {
+            for ior in [1.0 + 1e-9, 1.33] {
+                for thickness in [None, Some(1.0)] {
+                    materials.push(grey(albedo, sigma_t, ior, thickness));
+                }
+            }
+        }
+    }
+    for material in &materials {
+        let model = Model::default_for(material);
+        let profile = build_profile(material, model, 6).unwrap();
+        let kernel = Kernel::new(profile.as_ref(), 1e-3);
+        for method in Method::ALL {
+            let settings = MethodSettings {
+                samples: 16,
+                gaussians: 3,
+                ..MethodSettings::default()
+            };
+            let m = prepared
+                .integrate(
+                    profile.as_ref(),
+                    &kernel,
+                    method,
+                    &settings,
+                    &Control::new(),
+                )
+                .unwrap()
+                .exitance;
+            assert!(
+                m.iter().flatten().all(|v| v.is_finite() && *v >= 0.0),
+                "{method}, {}",
+                material.name
+            );
+            let outgoing: f64 = m
+                .iter()
+                .zip(&prepared.surfels.area)
+                .map(|(m, &a)| m[1] as f64 * a as f64)
+                .sum();
+            assert!(
+                outgoing <= incoming * (1.0 + energy_allowance(method)),
+                "{method}, {}: {outgoing} out of {incoming}",
+                material.name
+            );
+        }
+    }
+}
