@@ -4,7 +4,7 @@
 #[path = "shapes.rs"]
 mod shapes;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use sssbake::control::Control;
 use sssbake::pipeline::{BakeSettings, Lighting, Prepared, prepare};
 use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
@@ -13,6 +13,7 @@ use sssbake_profile::model::{Model, build_profile};
 use sssbake_profile::presets::preset;
 use sssbake_profile::profile::Profile;
 
+#[allow(unused_imports)]
 pub use shapes::{quad, sphere};
 
 /// A light from straight above (−Z), 1 W/m², no angular size.
@@ -88,9 +89,4 @@ pub fn interior(prepared: &Prepared, half: f32, margin: f32) -> Vec<usize> {
             p.x.abs() < half - margin && p.y.abs() < half - margin
         })
         .collect()
-}
-
-/// Texture coordinates are not used beyond this helper module.
-pub fn uv(x: f32, y: f32) -> Vec2 {
-    Vec2::new(x, y)
 }

@@ -132,6 +132,15 @@ impl Emitter {
         }
     }
 
+    /// How many sampling strategies [`Emitter::sample`] alternates between
+    /// (two for an environment image: the image and the cosine).
+    pub fn strategies(&self) -> u32 {
+        match &self.shape {
+            Shape::Environment { map: Some(_) } => 2,
+            _ => 1,
+        }
+    }
+
     /// True when the light casts nothing.
     pub fn is_dark(&self) -> bool {
         self.power.iter().all(|&p| p <= 0.0)
@@ -145,10 +154,11 @@ impl Emitter {
         )
     }
 
-    /// A sample of the light seen from `p` with normal `n`, from `u`; the
-    /// `index`-th of the receiver's samples picks the strategy where there
-    /// are two. `None` when the sample carries no light.
-    pub fn sample(&self, p: Vec3, n: Vec3, u: Vec2, index: u32) -> Option<LightSample> {
+    /// A sample of the light seen from `p` with normal `n`, from `u`, by
+    /// strategy `strategy` (below [`Emitter::strategies`]; the estimate
+    /// weighs both by the balance heuristic, so callers alternate them
+    /// evenly). `None` when the sample carries no light.
+    pub fn sample(&self, p: Vec3, n: Vec3, u: Vec2, strategy: u32) -> Option<LightSample> {
         let scaled = |w: f32| self.power.map(|c| c * w);
         match &self.shape {
             Shape::Distant { toward, cos_half } => {
@@ -248,7 +258,7 @@ impl Emitter {
                 };
                 // Half the samples follow the image, half the cosine; the
                 // balance heuristic weighs each by both densities.
-                let direction = if index.is_multiple_of(2) {
+                let direction = if strategy == 0 {
                     map.sample(u)?
                 } else {
                     to_world(cosine_hemisphere(u))

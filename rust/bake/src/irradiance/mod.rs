@@ -69,11 +69,17 @@ pub fn transmitted_irradiance(
             } else {
                 settings.samples.max(1)
             };
-            let rotation = sequence::rotation(i as u64, l as u64);
+            // Samples alternate between the emitter's strategies; each
+            // strategy draws from its own point set, so none of them sees
+            // only part of the square.
+            let strategies = emitter.strategies();
             let mut sum = [0.0f32; 3];
             for s in 0..count {
-                let u = sequence::hammersley(s, count, rotation);
-                let Some(sample) = emitter.sample(p, n, u, s) else {
+                let (strategy, j) = (s % strategies, s / strategies);
+                let own = count.div_ceil(strategies);
+                let rotation = sequence::rotation(i as u64, (l as u64) << 8 | strategy as u64);
+                let u = sequence::hammersley(j, own, rotation);
+                let Some(sample) = emitter.sample(p, n, u, strategy) else {
                     continue;
                 };
                 let cos = sample.direction.dot(n);

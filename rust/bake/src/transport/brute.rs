@@ -2,7 +2,7 @@
 //! over every source within d_max, in parallel over targets.
 
 use super::disk_kernel::{DiskKernel, Slot};
-use super::kernel::{Kernel, transmission_share};
+use super::kernel::{Kernel, Separation};
 use super::sources::{Grid, Sources, Targets};
 use crate::control::{Cancelled, Control, parallel_fill};
 use glam::Vec3;
@@ -57,12 +57,16 @@ impl Sorted {
                 if d2 > reach2 {
                     continue;
                 }
-                let t = if kernel.transmits() {
-                    transmission_share(n, self.normal[k])
-                } else {
-                    0.0
-                };
-                let w = disks.weight(d2.sqrt(), slot, t);
+                // The source at p sends to receiver k.
+                let separation = Separation::new(
+                    p,
+                    n,
+                    self.position[k],
+                    self.normal[k],
+                    d2,
+                    kernel.transmits(),
+                );
+                let w = disks.weight(separation, slot);
                 // Receivers carry unit irradiance, so their flux is their area.
                 let area = self.flux[k][0];
                 for c in 0..3 {
@@ -85,12 +89,15 @@ impl Sorted {
                 if d2 > reach2 {
                     continue;
                 }
-                let t = if kernel.transmits() {
-                    transmission_share(self.normal[j], n)
-                } else {
-                    0.0
-                };
-                let w = disks.weight(d2.sqrt(), self.slot[j], t);
+                let separation = Separation::new(
+                    self.position[j],
+                    self.normal[j],
+                    p,
+                    n,
+                    d2,
+                    kernel.transmits(),
+                );
+                let w = disks.weight(separation, self.slot[j]);
                 let f = self.flux[j];
                 for c in 0..3 {
                     sum[c] += (w[c] * f[c]) as f64;

@@ -7,7 +7,7 @@
 //! curves sharply, so the far field is averaged too). Sizes are spaced
 //! geometrically; a sample's place among them is found once per sample.
 
-use super::kernel::Kernel;
+use super::kernel::{Kernel, Separation};
 use std::f32::consts::FRAC_1_PI;
 
 const NEAR: f32 = 4.0;
@@ -120,38 +120,35 @@ impl<'k> DiskKernel<'k> {
     }
 
     /// The mean of P = (1 − t)R + tT over the disk of a sample in `slot`
-    /// at distance `d` (mm) with transmission share `t`: what the sample's
-    /// flux is multiplied by, 1/mm². Zero beyond d_max.
+    /// seen across `separation`: what the sample's flux is multiplied by,
+    /// 1/mm². Zero beyond d_max.
     #[inline]
-    pub fn weight(&self, d: f32, slot: Slot, t: f32) -> [f32; 3] {
+    pub fn weight(&self, separation: Separation, slot: Slot) -> [f32; 3] {
         let k = self.kernel;
-        if d > k.d_max {
+        let t = separation.t;
+        if separation.distance > k.d_max {
             return [0.0; 3];
         }
+        let r = self.mean_at(slot, separation.distance, 0);
+        if t <= 0.0 || !k.transmits() {
+            return r;
+        }
+        let tr = self.mean_at(slot, separation.across, 1);
+        [0, 1, 2].map(|c| (1.0 - t) * r[c] + t * tr[c])
+    }
+
+    /// The disk mean of R (`which` 0) or T (1) at distance `d`.
+    #[inline]
+    fn mean_at(&self, slot: Slot, d: f32, which: usize) -> [f32; 3] {
         if slot.row == u32::MAX {
-            let [r, tr] = self.untabulated(d, slot.radius);
-            return [0, 1, 2].map(|c| (1.0 - t) * r[c] + t * tr[c]);
+            return self.untabulated(d, slot.radius)[which];
         }
-        let m = usize::from(t > 0.0 && k.transmits());
-        let lower = self.read(slot.row as usize, d, m);
-        let mut w = if slot.fraction > 0.0 {
-            let upper = self.read(slot.row as usize + 1, d, m);
-            let f = slot.fraction;
-            let mut w = [0.0; 6];
-            for c in 0..6 {
-                w[c] = lower[c] + (upper[c] - lower[c]) * f;
-            }
-            w
-        } else {
-            lower
-        };
-        if m == 0 {
-            return [w[0], w[1], w[2]];
+        let lower = self.read(slot.row as usize, d, which);
+        if slot.fraction <= 0.0 {
+            return lower;
         }
-        for c in 0..3 {
-            w[c] = (1.0 - t) * w[c] + t * w[c + 3];
-        }
-        [w[0], w[1], w[2]]
+        let upper = self.read(slot.row as usize + 1, d, which);
+        [0, 1, 2].map(|c| lower[c] + (upper[c] - lower[c]) * slot.fraction)
     }
 
     /// Octree nodes larger than any sample are taken whole only far away,
@@ -167,19 +164,16 @@ impl<'k> DiskKernel<'k> {
         }
     }
 
-    /// R means (and T means after them when `both` is 1), interpolated.
+    /// R (`which` 0) or T (1) means of a row at distance `d`, interpolated.
     #[inline]
-    fn read(&self, row: usize, d: f32, both: usize) -> [f32; 6] {
+    fn read(&self, row: usize, d: f32, which: usize) -> [f32; 3] {
         let a = self.radii[row];
         let (j, f) = index(d, a, self.kernel.d_max);
-        let (p, q) = (&self.table[row * ROW + j], &self.table[row * ROW + j + 1]);
-        let mut out = [0.0; 6];
-        for m in 0..=both {
-            for c in 0..3 {
-                out[3 * m + c] = p[m][c] + (q[m][c] - p[m][c]) * f;
-            }
-        }
-        out
+        let (p, q) = (
+            &self.table[row * ROW + j][which],
+            &self.table[row * ROW + j + 1][which],
+        );
+        [0, 1, 2].map(|c| p[c] + (q[c] - p[c]) * f)
     }
 }
 

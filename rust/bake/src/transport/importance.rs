@@ -11,7 +11,7 @@
 //! strategies) gives an unbiased estimate of ∫ P(|x − x_o|) E(x) dA that
 //! stays bounded where the surface turns away from any one axis.
 
-use super::kernel::{Kernel, transmission_share};
+use super::kernel::{Kernel, Separation};
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::irradiance::sequence::basis;
 use crate::mesh::Mesh;
@@ -208,12 +208,15 @@ impl Estimate<'_> {
                 }
                 let uv: Vec2 = (0..3).map(|k| surface.uvs[tri[k] as usize] * w[k]).sum();
                 let e = bilinear(surface.irradiance, surface.resolution, uv);
-                let t = if self.kernel.transmits() {
-                    transmission_share(n_hit, self.normal)
-                } else {
-                    0.0
-                };
-                let p = self.kernel.point(d, t);
+                let separation = Separation::new(
+                    point,
+                    n_hit,
+                    self.origin,
+                    self.normal,
+                    d * d,
+                    self.kernel.transmits(),
+                );
+                let p = self.kernel.point(separation);
                 for c in 0..3 {
                     total[c] += p[c] * e[c] / density;
                 }

@@ -35,6 +35,49 @@ pub fn transmission_share(n_in: glam::Vec3, n_out: glam::Vec3) -> f32 {
     (0.5 * (1.0 - n_in.dot(n_out))).clamp(0.0, 1.0)
 }
 
+/// Where a point of entry sits from a point of exit.
+#[derive(Clone, Copy, Debug)]
+pub struct Separation {
+    /// Straight distance, mm: what R is read at.
+    pub distance: f32,
+    /// Distance across the exit normal, mm: what T is read at, since T(r)
+    /// is a function of the offset along the far face, not of the
+    /// distance through the slab.
+    pub across: f32,
+    /// Share of transmission, (1 − n_i·n_o)/2, or 0 when the profile
+    /// transmits nothing.
+    pub t: f32,
+}
+
+impl Separation {
+    /// The separation of entry `entry` (normal `entry_normal`) from exit
+    /// `exit` (normal `exit_normal`), `distance2` being |entry − exit|².
+    #[inline]
+    pub fn new(
+        entry: glam::Vec3,
+        entry_normal: glam::Vec3,
+        exit: glam::Vec3,
+        exit_normal: glam::Vec3,
+        distance2: f32,
+        transmits: bool,
+    ) -> Self {
+        let distance = distance2.sqrt();
+        if !transmits {
+            return Separation {
+                distance,
+                across: distance,
+                t: 0.0,
+            };
+        }
+        let along = (entry - exit).dot(exit_normal);
+        Separation {
+            distance,
+            across: (distance2 - along * along).max(0.0).sqrt(),
+            t: transmission_share(entry_normal, exit_normal),
+        }
+    }
+}
+
 impl Kernel {
     /// Tabulates `profile` out to the radius holding all but `epsilon` of
     /// every channel's reflectance and transmittance.
@@ -113,14 +156,15 @@ impl Kernel {
         lookup(&self.density, r, self.d_max)
     }
 
-    /// P(r) = (1 − t)R(r) + tT(r) at a point, read from the tables (zero
-    /// beyond d_max), 1/mm².
-    pub fn point(&self, r: f32, t: f32) -> [f32; 3] {
-        let reflected = self.reflectance(r);
-        if self.transmit_density.is_empty() || t <= 0.0 || r > self.d_max {
-            return reflected.map(|v| v * (1.0 - t));
+    /// P = (1 − t)R + tT at a point, read from the tables (zero beyond
+    /// d_max), 1/mm².
+    pub fn point(&self, separation: Separation) -> [f32; 3] {
+        let reflected = self.reflectance(separation.distance);
+        let t = separation.t;
+        if self.transmit_density.is_empty() || t <= 0.0 || separation.distance > self.d_max {
+            return reflected;
         }
-        let transmitted = lookup(&self.transmit_density, r, self.d_max);
+        let transmitted = lookup(&self.transmit_density, separation.across, self.d_max);
         [0, 1, 2].map(|c| (1.0 - t) * reflected[c] + t * transmitted[c])
     }
 

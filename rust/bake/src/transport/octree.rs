@@ -7,7 +7,7 @@
 
 use super::brute::area_range;
 use super::disk_kernel::{DiskKernel, Slot};
-use super::kernel::{Kernel, transmission_share};
+use super::kernel::{Kernel, Separation};
 use super::sources::{Sources, Targets};
 use crate::control::{Cancelled, Control, parallel_fill};
 use glam::Vec3;
@@ -168,18 +168,14 @@ impl Octree {
             if outside.length_squared() > reach * reach {
                 continue;
             }
-            let blend = |normal: Vec3| {
-                if kernel.transmits() {
-                    transmission_share(normal, n)
-                } else {
-                    0.0
-                }
+            let separation = |entry: Vec3, normal: Vec3, d2: f32| {
+                Separation::new(entry, normal, p, n, d2, kernel.transmits())
             };
             if !node.leaf {
                 let d2 = (node.centre - p).length_squared();
                 let inside = outside == Vec3::ZERO;
                 if !inside && node.area < epsilon * d2 {
-                    let w = disks.weight(d2.sqrt(), node.slot, blend(node.normal));
+                    let w = disks.weight(separation(node.centre, node.normal, d2), node.slot);
                     for c in 0..3 {
                         sum[c] += (w[c] * node.flux[c]) as f64;
                     }
@@ -193,7 +189,10 @@ impl Octree {
                 if d2 > reach * reach {
                     continue;
                 }
-                let w = disks.weight(d2.sqrt(), self.slot[j], blend(self.normal[j]));
+                let w = disks.weight(
+                    separation(self.position[j], self.normal[j], d2),
+                    self.slot[j],
+                );
                 let f = self.flux[j];
                 for c in 0..3 {
                     sum[c] += (w[c] * f[c]) as f64;
