@@ -12,16 +12,15 @@ use crate::irradiance::{IrradianceSettings, Receivers, transmitted_irradiance};
 use crate::mesh::Mesh;
 use crate::rays::RayScene;
 use crate::scene::{LightKind, Scene};
-use crate::texels::{TexelSurfels, rasterize};
+use crate::texels::{TexelSurfels, rasterize, uv_jacobian};
 use crate::transport::choice::{Choice, choose};
 use crate::transport::clusters::cluster;
-use crate::transport::emission_cap::cap_emission;
 use crate::transport::kernel::Kernel;
 use crate::transport::sources::{Sources, Targets};
 use crate::transport::{Method, MethodSettings, brute, importance, octree, texture_space};
 use crate::turk::{place_points, point_count, relax};
 use crate::uv_analysis::analyse_uvs;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use sssbake_profile::gaussians::fit_gaussians;
 use sssbake_profile::profile::Profile;
 use std::time::Instant;
@@ -278,11 +277,24 @@ impl Prepared {
 
     /// The texels as sources of light.
     pub fn texel_sources(&self) -> Sources {
+        let n = self.surfels.resolution as f32;
+        let footprint = self
+            .surfels
+            .triangle
+            .iter()
+            .map(|&t| {
+                uv_jacobian(&self.mesh, &self.uvs, t as usize)
+                    .map_or([Vec3::ZERO; 2], |(du, dv)| {
+                        [du.as_vec3() / n, dv.as_vec3() / n]
+                    })
+            })
+            .collect();
         Sources {
             position: self.surfels.position.clone(),
             normal: self.surfels.normal.clone(),
             area: self.surfels.area.clone(),
             irradiance: self.entering(),
+            footprint,
         }
     }
 
@@ -349,8 +361,7 @@ impl Prepared {
         };
         let (mut exitance, sources) = match choice.method {
             Method::Auto | Method::Brute => {
-                let mut sources = self.texel_sources();
-                cap_emission(kernel, &mut sources, control)?;
+                let sources = self.texel_sources();
                 (
                     brute::integrate(kernel, &sources, targets, control)?,
                     sources.len(),

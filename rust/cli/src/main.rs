@@ -9,6 +9,9 @@ mod material_choice;
 mod plan_command;
 mod plot;
 mod profile_command;
+mod report_command;
+mod report_plot;
+mod scene_options;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -32,6 +35,9 @@ enum Command {
     Plan(plan_command::PlanArgs),
     /// List the material presets.
     Presets,
+    /// Run every integrator on a scene across a ladder of settings and
+    /// report each one's error against the exact sum and its run time.
+    Report(report_command::ReportArgs),
 }
 
 /// A failure with the exit code it maps to.
@@ -47,6 +53,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Profile(args) => profile_command::run(&args),
         Command::Plan(args) => plan_command::run(&args),
+        Command::Report(args) => report_command::run(&args),
         Command::Presets => {
             for (name, description) in sssbake_profile::presets::list() {
                 println!("{name:<12} {description}");

@@ -314,12 +314,9 @@ fn read_light(
             .map_or_else(|| format!("light on node {node}"), String::from),
         kind,
         color: light.color(),
-        intensity: match light.kind() {
-            // Blender's exporter writes a sun's W/m² as lux unchanged.
-            Kind::Directional => light.intensity(),
-            // ... and a point's W/(4π sr) times 683 lm/W as candela.
-            _ => light.intensity() / LUMENS_PER_WATT,
-        },
+        // Blender's exporter writes a sun's W/m² times 683 lm/W as lux, and
+        // a point's W/(4π sr) times 683 lm/W as candela.
+        intensity: light.intensity() / LUMENS_PER_WATT,
         position: world.transform_point3(Vec3::ZERO) * scale as f32,
         direction: world
             .transform_vector3(Vec3::NEG_Z)

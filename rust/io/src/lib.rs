@@ -2,9 +2,11 @@
 //! textures and assets. Scene units become millimetres here, once.
 
 pub mod gltf_reader;
+pub mod image_reader;
 pub mod usd_reader;
 
 pub use gltf_reader::read_gltf;
+pub use image_reader::read_image;
 pub use usd_reader::read_usd;
 
 use sssbake::Scene;

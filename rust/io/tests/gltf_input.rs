@@ -165,6 +165,8 @@ fn translucent_materials_and_lights_are_read() {
     assert_eq!(scene.lights.len(), 2);
     let sun = scene.lights.iter().find(|l| l.name == "sun").unwrap();
     assert_eq!(sun.kind, LightKind::Directional { angle: 0.0 });
+    // Blender's exporter writes W/m² × 683 lm/W as lux; read back as W/m².
+    assert!((sun.intensity - 3.0 / 683.0).abs() < 1e-7);
     assert!(
         sun.direction.distance(Vec3::NEG_Y) < 1e-5,
         "{:?}",
@@ -176,6 +178,10 @@ fn translucent_materials_and_lights_are_read() {
         .find(|l| matches!(l.kind, LightKind::Spot { .. }))
         .unwrap();
     assert!(spot.position.distance(Vec3::new(0.0, 0.0, 2000.0)) < 1e-3);
+    assert!(
+        (spot.intensity - 50.0 / 683.0).abs() < 1e-6,
+        "W/sr from candela"
+    );
 }
 
 #[test]

@@ -7,6 +7,9 @@ use super::sources::{Grid, Sources, Targets};
 use crate::control::{Cancelled, Control, parallel_fill};
 use glam::Vec3;
 
+/// Sub-samples per side of a texel's parallelogram in the near field.
+const SUBDIVISIONS: usize = 4;
+
 /// Sources copied into grid order, so a row of cells is a contiguous run.
 pub(super) struct Sorted {
     pub grid: Grid,
@@ -14,74 +17,57 @@ pub(super) struct Sorted {
     pub normal: Vec<Vec3>,
     pub slot: Vec<Slot>,
     pub flux: Vec<[f32; 3]>,
+    /// Texel parallelograms (empty for shapeless samples), with the slot of
+    /// a sub-sample and the squared radius within which they are used.
+    pub footprint: Vec<([Vec3; 2], Slot, f32)>,
 }
 
 impl Sorted {
     pub fn new(sources: &Sources, cell: f32, disks: &DiskKernel) -> Self {
         let grid = Grid::new(&sources.position, cell);
+        let order = &grid.order;
         let pick = |i: &u32| *i as usize;
+        let shaped = sources.footprint.len() == sources.len();
+        let sub = (SUBDIVISIONS * SUBDIVISIONS) as f32;
         Sorted {
-            position: grid
-                .order
-                .iter()
-                .map(|i| sources.position[pick(i)])
-                .collect(),
-            normal: grid.order.iter().map(|i| sources.normal[pick(i)]).collect(),
-            slot: grid
-                .order
+            position: order.iter().map(|i| sources.position[pick(i)]).collect(),
+            normal: order.iter().map(|i| sources.normal[pick(i)]).collect(),
+            slot: order
                 .iter()
                 .map(|i| disks.slot(sources.area[pick(i)]))
                 .collect(),
-            flux: grid
-                .order
+            flux: order
                 .iter()
                 .map(|i| {
                     let a = sources.area[pick(i)];
                     sources.irradiance[pick(i)].map(|e| e * a)
                 })
                 .collect(),
+            footprint: if shaped {
+                order
+                    .iter()
+                    .map(|i| {
+                        let [u, v] = sources.footprint[pick(i)];
+                        let near = 2.0 * (u.length() + v.length());
+                        ([u, v], disks.slot(sources.area[pick(i)] / sub), near * near)
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            },
             grid,
         }
     }
 
-    /// Σ over the samples within reach of a source at `p` with normal `n`
-    /// in `slot` of its weight for them × their area: how much of its flux
-    /// the source would send out.
-    pub fn spread(&self, disks: &DiskKernel, p: Vec3, n: Vec3, slot: Slot) -> [f64; 3] {
-        let kernel = disks.kernel();
-        let reach2 = kernel.d_max * kernel.d_max;
-        let mut sum = [0.0f64; 3];
-        self.grid.for_each_run(p, kernel.d_max, |run| {
-            for k in run {
-                let d2 = (self.position[k] - p).length_squared();
-                if d2 > reach2 {
-                    continue;
-                }
-                // The source at p sends to receiver k.
-                let separation = Separation::new(
-                    p,
-                    n,
-                    self.position[k],
-                    self.normal[k],
-                    d2,
-                    kernel.transmits(),
-                );
-                let w = disks.weight(separation, slot);
-                // Receivers carry unit irradiance, so their flux is their area.
-                let area = self.flux[k][0];
-                for c in 0..3 {
-                    sum[c] += (w[c] * area) as f64;
-                }
-            }
-        });
-        sum
-    }
-
-    /// Σ over sources within the kernel's reach of `p` of P·flux.
+    /// Σ over sources within the kernel's reach of `p` of P·flux. Texels
+    /// near `p` are integrated over their parallelogram, in sub-samples,
+    /// rather than as one disk: a stretched texel's footprint is long and
+    /// thin, and texels crowded at a UV pole overlap as disks.
     #[inline]
     pub fn gather(&self, disks: &DiskKernel, p: Vec3, n: Vec3) -> [f64; 3] {
         let kernel = disks.kernel();
         let reach2 = kernel.d_max * kernel.d_max;
+        let transmits = kernel.transmits();
         let mut sum = [0.0f64; 3];
         self.grid.for_each_run(p, kernel.d_max, |run| {
             for j in run {
@@ -89,15 +75,16 @@ impl Sorted {
                 if d2 > reach2 {
                     continue;
                 }
-                let separation = Separation::new(
-                    self.position[j],
-                    self.normal[j],
-                    p,
-                    n,
-                    d2,
-                    kernel.transmits(),
-                );
-                let w = disks.weight(separation, self.slot[j]);
+                let w = match self.footprint.get(j) {
+                    Some(&(edges, sub_slot, near2)) if d2 < near2 => {
+                        self.footprint_weight(disks, j, edges, sub_slot, p, n)
+                    }
+                    _ => {
+                        let separation =
+                            Separation::new(self.position[j], self.normal[j], p, n, d2, transmits);
+                        disks.weight(separation, self.slot[j])
+                    }
+                };
                 let f = self.flux[j];
                 for c in 0..3 {
                     sum[c] += (w[c] * f[c]) as f64;
@@ -105,6 +92,36 @@ impl Sorted {
             }
         });
         sum
+    }
+
+    /// The mean weight over source `j`'s parallelogram `edges`, from
+    /// SUBDIVISIONS² sub-samples each standing for its share of the area.
+    fn footprint_weight(
+        &self,
+        disks: &DiskKernel,
+        j: usize,
+        edges: [Vec3; 2],
+        sub_slot: Slot,
+        p: Vec3,
+        n: Vec3,
+    ) -> [f32; 3] {
+        let transmits = disks.kernel().transmits();
+        let mut w = [0.0f32; 3];
+        let step = 1.0 / SUBDIVISIONS as f32;
+        for a in 0..SUBDIVISIONS {
+            for b in 0..SUBDIVISIONS {
+                let offset = edges[0] * ((a as f32 + 0.5) * step - 0.5)
+                    + edges[1] * ((b as f32 + 0.5) * step - 0.5);
+                let q = self.position[j] + offset;
+                let d2 = (q - p).length_squared();
+                let separation = Separation::new(q, self.normal[j], p, n, d2, transmits);
+                let v = disks.weight(separation, sub_slot);
+                for c in 0..3 {
+                    w[c] += v[c];
+                }
+            }
+        }
+        w.map(|v| v * step * step)
     }
 }
 
@@ -116,7 +133,14 @@ pub fn integrate(
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
     let (lo, hi) = area_range(&sources.area);
-    let disks = DiskKernel::new(kernel, lo, hi);
+    // Texels' sub-samples need the table to reach down to their size.
+    let shaped = sources.footprint.len() == sources.len() && !sources.is_empty();
+    let smallest = if shaped {
+        lo / (SUBDIVISIONS * SUBDIVISIONS) as f32
+    } else {
+        lo
+    };
+    let disks = DiskKernel::new(kernel, smallest, hi);
     let sorted = Sorted::new(sources, 0.5 * kernel.d_max, &disks);
     let mut out = vec![[0.0f32; 3]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {

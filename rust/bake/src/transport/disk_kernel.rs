@@ -151,10 +151,11 @@ impl<'k> DiskKernel<'k> {
         [0, 1, 2].map(|c| lower[c] + (upper[c] - lower[c]) * slot.fraction)
     }
 
-    /// Octree nodes larger than any sample are taken whole only far away,
-    /// where the centre value is the mean to within (a/d)².
+    /// Sizes outside the table are octree nodes taken whole: their centre
+    /// value stands for them, as in Jensen & Buhler (the error ε bounds);
+    /// only a node close to its own size gets a disk mean.
     fn untabulated(&self, d: f32, a: f32) -> [[f32; 3]; 2] {
-        if d > 8.0 * a {
+        if d > 2.0 * a {
             [
                 self.kernel.reflectance(d),
                 self.kernel.point_transmittance(d),

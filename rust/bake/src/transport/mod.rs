@@ -5,7 +5,6 @@ pub mod brute;
 pub mod choice;
 pub mod clusters;
 pub mod disk_kernel;
-pub mod emission_cap;
 pub mod importance;
 pub mod kernel;
 pub mod octree;

@@ -14,6 +14,9 @@ pub struct Sources {
     pub area: Vec<f32>,
     /// Transmitted irradiance E_t, W/m² per channel.
     pub irradiance: Vec<[f32; 3]>,
+    /// For texels: the surface steps of one texel along u and v, mm (the
+    /// parallelogram each stands for); empty for samples without a shape.
+    pub footprint: Vec<[Vec3; 2]>,
 }
 
 impl Sources {

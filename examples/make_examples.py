@@ -1,0 +1,138 @@
+"""Builds the example scenes with Blender (bpy) and exports each as glTF and USD.
+
+Run from the repository root with the test environment's Python:
+
+    .venv/bin/python examples/make_examples.py
+
+It writes examples/<name>/<name>.gltf (+ .bin) and examples/<name>/<name>.usda for
+`head` (Suzanne, subdivided, skin), `marble` (a sphere of marble) and `ear` (a thin
+curved shell lit from behind, for light crossing thin parts). Everything is built
+from Blender's own primitives, so the files are the same on every run.
+"""
+
+import math
+import pathlib
+import sys
+
+import bpy
+
+HERE = pathlib.Path(__file__).resolve().parent
+
+
+def reset():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.context.scene.unit_settings.system = "METRIC"
+
+
+def translucent_material(name, colour, radius, scale):
+    """A Principled BSDF with subsurface scattering (Blender's own parameters)."""
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
+    bsdf.inputs["Subsurface Weight"].default_value = 1.0
+    bsdf.inputs["Subsurface Radius"].default_value = radius
+    bsdf.inputs["Subsurface Scale"].default_value = scale
+    bsdf.inputs["Roughness"].default_value = 0.4
+    return material
+
+
+def finish(obj, material):
+    obj.data.materials.append(material)
+    for modifier in list(obj.modifiers):
+        bpy.context.view_layer.objects.active = obj
+        bpy.ops.object.modifier_apply(modifier=modifier.name)
+    bpy.ops.object.select_all(action="DESELECT")
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.object.transform_apply(location=False, rotation=True, scale=True)
+    bpy.ops.object.shade_smooth()
+
+
+def sun(name, rotation, strength, angle_degrees=0.53):
+    bpy.ops.object.light_add(type="SUN", rotation=rotation)
+    light = bpy.context.active_object
+    light.name = name
+    light.data.energy = strength
+    light.data.angle = math.radians(angle_degrees)
+    return light
+
+
+def point(name, location, power, radius):
+    bpy.ops.object.light_add(type="POINT", location=location)
+    light = bpy.context.active_object
+    light.name = name
+    light.data.energy = power
+    light.data.shadow_soft_size = radius
+    return light
+
+
+def export(name):
+    folder = HERE / name
+    folder.mkdir(exist_ok=True)
+    bpy.ops.export_scene.gltf(
+        filepath=str(folder / f"{name}.gltf"),
+        export_format="GLTF_SEPARATE",
+        export_lights=True,
+        export_yup=True,
+    )
+    bpy.ops.wm.usd_export(filepath=str(folder / f"{name}.usda"))
+
+
+def head():
+    """Suzanne at the size of a head (about 20 cm across), twice subdivided."""
+    reset()
+    bpy.ops.mesh.primitive_monkey_add(size=0.2)
+    obj = bpy.context.active_object
+    obj.name = "Head"
+    obj.rotation_euler = (math.radians(90), 0, 0)
+    obj.modifiers.new("smooth", "SUBSURF").levels = 2
+    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), 0.01))
+    sun("Key", (math.radians(50), 0, math.radians(30)), 3.0)
+    point("Rim", (0.05, 0.4, 0.1), 40.0, 0.05)
+    export("head")
+
+
+def marble():
+    """A 10 cm marble ball lit by a low sun."""
+    reset()
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.05, segments=96, ring_count=48)
+    obj = bpy.context.active_object
+    obj.name = "Ball"
+    finish(obj, translucent_material("Marble", (0.83, 0.79, 0.75), (0.9, 0.8, 0.7), 0.02))
+    sun("Sun", (math.radians(60), 0, math.radians(-20)), 3.0)
+    export("marble")
+
+
+def ear():
+    """A bent shell 3 mm thick, 6 cm × 4 cm, with the light behind it."""
+    reset()
+    bpy.ops.mesh.primitive_plane_add(size=1.0)
+    obj = bpy.context.active_object
+    obj.name = "Ear"
+    obj.scale = (0.06, 0.04, 1.0)
+    bpy.ops.object.transform_apply(scale=True)
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.subdivide(number_cuts=24)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    bend = obj.modifiers.new("bend", "SIMPLE_DEFORM")
+    bend.deform_method = "BEND"
+    bend.deform_axis = "Y"
+    bend.angle = math.radians(70)
+    obj.modifiers.new("thickness", "SOLIDIFY").thickness = 0.003
+    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), 0.01))
+    # Solidify repeats the UVs on both faces: give the shell its own layout.
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.select_all(action="SELECT")
+    bpy.ops.uv.smart_project(island_margin=0.02)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    sun("Back", (math.radians(180), 0, 0), 3.0)
+    sun("Front", (0, 0, 0), 0.3)
+    export("ear")
+
+
+if __name__ == "__main__":
+    names = sys.argv[1:] or ["head", "marble", "ear"]
+    for example in names:
+        {"head": head, "marble": marble, "ear": ear}[example]()
+        print(f"wrote examples/{example}")

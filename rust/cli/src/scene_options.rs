@@ -1,0 +1,194 @@
+//! The options every command that bakes shares: the scene, the objects,
+//! the material, the map size, the light, and turning them into the
+//! library's inputs.
+
+use crate::Failure;
+use crate::material_choice;
+use sssbake::Scene;
+use sssbake::irradiance::entry::Boundary;
+use sssbake::irradiance::environment::EnvironmentMap;
+use sssbake::pipeline::{BakeSettings, Lighting};
+use sssbake::scene::LightKind;
+use sssbake_io::{ReadOptions, read_image, read_scene};
+use sssbake_profile::Material;
+use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::profile::Profile;
+use std::path::{Path, PathBuf};
+
+/// Options shared by the baking commands.
+#[derive(clap::Args, Clone, Debug)]
+pub struct SceneOptions {
+    /// The scene: .gltf, .glb, .usd, .usda, .usdc or .usdz.
+    pub input: PathBuf,
+    /// An object to bake (repeat for more) [default: every object].
+    #[arg(long = "object", value_name = "NAME")]
+    pub objects: Vec<String>,
+    /// A material preset [default: skin1].
+    #[arg(long, conflicts_with = "material")]
+    pub preset: Option<String>,
+    /// A TOML material file.
+    #[arg(long)]
+    pub material: Option<PathBuf>,
+    /// The profile model [default: chosen for the material].
+    #[arg(long)]
+    pub model: Option<Model>,
+    /// Texels per side of each map.
+    #[arg(long, default_value_t = 1024)]
+    pub resolution: u32,
+    /// The texture-coordinate set to bake into.
+    #[arg(long, default_value_t = 0)]
+    pub uv_set: usize,
+    /// Millimetres per scene unit, overriding the file's units.
+    #[arg(long)]
+    pub unit_scale: Option<f64>,
+    /// An image (.exr linear, .png sRGB) in the object's UV layout to use
+    /// as the transmitted irradiance instead of the scene's lights.
+    #[arg(long, value_name = "IMAGE")]
+    pub irradiance: Option<PathBuf>,
+    /// An equirectangular image (.exr) for the scene's environment light.
+    #[arg(long, value_name = "IMAGE")]
+    pub environment: Option<PathBuf>,
+    /// Samples per soft light and for the environment, per texel.
+    #[arg(long, default_value_t = 16)]
+    pub light_samples: u32,
+    /// RMS slope of a rough surface (Donner & Jensen 2005 §2.4) [default: smooth].
+    #[arg(long)]
+    pub roughness: Option<f64>,
+    /// Random seed for sample points and Monte Carlo.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads [default: every core].
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Everything a bake needs, read and checked.
+pub struct Loaded {
+    /// The scene.
+    pub scene: Scene,
+    /// The names of the objects to bake.
+    pub objects: Vec<String>,
+    /// The material.
+    pub material: Material,
+    /// Its profile.
+    pub profile: Box<dyn Profile>,
+    /// Where the light comes from.
+    pub lighting: Lighting,
+    /// The bake settings.
+    pub settings: BakeSettings,
+}
+
+impl SceneOptions {
+    /// Checks the options, reads the scene, material and images.
+    pub fn load(&self) -> Result<Loaded, Failure> {
+        if !(1..=16384).contains(&self.resolution) {
+            return Err(Failure::Input(format!(
+                "--resolution: {} must be between 1 and 16384",
+                self.resolution
+            )));
+        }
+        if let Some(s) = self.unit_scale.filter(|s| !(s.is_finite() && *s > 0.0)) {
+            return Err(Failure::Input(format!(
+                "--unit-scale: {s} must be a positive number of millimetres"
+            )));
+        }
+        if let Some(m) = self.roughness.filter(|m| !(m.is_finite() && *m > 0.0)) {
+            return Err(Failure::Input(format!("--roughness: {m} must be positive")));
+        }
+        if let Some(threads) = self.threads {
+            // Only the first call sets the pool; later ones keep it.
+            let _ = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads.max(1))
+                .build_global();
+        }
+        let preset = self
+            .preset
+            .as_deref()
+            .or(self.material.is_none().then_some("skin1"));
+        let material = material_choice::load(preset, self.material.as_deref())?;
+        let model = self.model.unwrap_or_else(|| Model::default_for(&material));
+        let profile =
+            build_profile(&material, model, 6).map_err(|e| Failure::Input(e.to_string()))?;
+        let options = ReadOptions {
+            uv_set: self.uv_set,
+            unit_scale: self.unit_scale,
+        };
+        let scene = read_scene(&self.input, &options).map_err(|e| Failure::Input(e.to_string()))?;
+        let objects: Vec<String> = scene
+            .select(&self.objects)
+            .map_err(Failure::Input)?
+            .iter()
+            .map(|o| o.mesh.name.clone())
+            .collect();
+        if objects.is_empty() {
+            return Err(Failure::Input(format!(
+                "{}: has no object to bake",
+                self.input.display()
+            )));
+        }
+        let lighting = self.lighting(&scene)?;
+        let settings = BakeSettings {
+            resolution: self.resolution,
+            irradiance: sssbake::irradiance::IrradianceSettings {
+                samples: self.light_samples.max(1),
+                shadows: true,
+            },
+            boundary: self
+                .roughness
+                .map_or(Boundary::Smooth, |roughness| Boundary::Rough { roughness }),
+            eta: top_index(&material),
+            mean_free_path_mm: material_choice::mean_free_path(&material),
+            ..BakeSettings::default()
+        };
+        Ok(Loaded {
+            scene,
+            objects,
+            material,
+            profile,
+            lighting,
+            settings,
+        })
+    }
+
+    fn lighting(&self, scene: &Scene) -> Result<Lighting, Failure> {
+        if let Some(path) = &self.irradiance {
+            let image = read_image(path).map_err(|e| Failure::Input(e.to_string()))?;
+            return Ok(Lighting::Irradiance(image));
+        }
+        // The environment image: named on the command line, or by the
+        // scene's environment light, relative to the scene file.
+        let named = scene.lights.iter().find_map(|l| match &l.kind {
+            LightKind::Environment { texture: Some(t) } => Some(t.clone()),
+            _ => None,
+        });
+        let path = match (&self.environment, named) {
+            (Some(p), _) => Some(p.clone()),
+            (None, Some(t)) => Some(relative_to(&self.input, &t)),
+            (None, None) => None,
+        };
+        let Some(path) = path else {
+            return Ok(Lighting::SceneLights);
+        };
+        let image = read_image(&path).map_err(|e| Failure::Input(e.to_string()))?;
+        let environment = EnvironmentMap::new(image.width, image.height, image.texels)
+            .map_err(|e| Failure::Input(format!("{}: {e}", path.display())))?;
+        Ok(Lighting::SceneLightsWith { environment })
+    }
+}
+
+/// The index of refraction light enters through: the top layer's (1.3 for
+/// a measured Gaussian profile, which carries none).
+fn top_index(material: &Material) -> f64 {
+    match &material.optics {
+        sssbake_profile::Optics::Layers(layers) => layers.first().map_or(1.3, |l| l.ior),
+        sssbake_profile::Optics::Gaussians(_) => 1.3,
+    }
+}
+
+fn relative_to(scene: &Path, file: &str) -> PathBuf {
+    let path = Path::new(file);
+    if path.is_absolute() {
+        return path.to_path_buf();
+    }
+    scene.parent().unwrap_or(Path::new(".")).join(path)
+}
