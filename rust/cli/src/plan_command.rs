@@ -4,7 +4,11 @@ use crate::Failure;
 use crate::material_choice;
 use serde_json::json;
 use sssbake::plan::{Plan, PlanSettings, make_plan};
+use sssbake::transport::MethodSettings;
+use sssbake::transport::choice::{Choice, choose};
+use sssbake::transport::kernel::Kernel;
 use sssbake_io::{ReadOptions, read_scene};
+use sssbake_profile::model::{Model, build_profile};
 use std::path::PathBuf;
 
 /// Options of `sssbake plan`.
@@ -82,25 +86,37 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         padding: args.margin,
     };
     let plan = make_plan(&scene, &settings).map_err(Failure::Input)?;
+    let profile = build_profile(&material, Model::default_for(&material), 6)
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    let kernel = Kernel::new(profile.as_ref(), MethodSettings::default().d_max_epsilon);
+    let choices: Vec<Choice> = plan
+        .objects
+        .iter()
+        .map(|o| {
+            let mean_area = o.texel_area_mm2 / o.texels.max(1) as f64;
+            choose(o.texels, mean_area, kernel.d_max as f64, kernel.transmits())
+        })
+        .collect();
     let text = if args.json {
         format!(
             "{}\n",
-            serde_json::to_string_pretty(&plan_json(&plan, &material.name)).unwrap_or_default()
+            serde_json::to_string_pretty(&plan_json(&plan, &material.name, &choices))
+                .unwrap_or_default()
         )
     } else {
-        plan_text(&plan, &material.name, settings.mean_free_path_mm)
+        plan_text(&plan, &material.name, settings.mean_free_path_mm, &choices)
     };
     use std::io::Write;
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
     Ok(())
 }
 
-fn plan_text(plan: &Plan, material: &str, mean_free_path: f64) -> String {
+fn plan_text(plan: &Plan, material: &str, mean_free_path: f64, choices: &[Choice]) -> String {
     let mut text = format!(
         "scene {}: {} mm per unit, maps of {}² texels, material {material} (ℓ = {mean_free_path:.3} mm)\n",
         plan.source, plan.millimetres_per_unit, plan.resolution
     );
-    for o in &plan.objects {
+    for (o, choice) in plan.objects.iter().zip(choices) {
         text += &format!(
             "object `{}`: {} triangles, {:.1} mm²\n",
             o.name, o.triangles, o.area_mm2
@@ -117,6 +133,10 @@ fn plan_text(plan: &Plan, material: &str, mean_free_path: f64) -> String {
             "  sample points: {}\n  asset material: {}\n",
             o.points, o.material
         );
+        text += &format!(
+            "  integrator (auto): {}: {}\n",
+            choice.method, choice.reason
+        );
     }
     text += &format!(
         "lights: {}\n",
@@ -132,13 +152,13 @@ fn plan_text(plan: &Plan, material: &str, mean_free_path: f64) -> String {
     text
 }
 
-fn plan_json(plan: &Plan, material: &str) -> serde_json::Value {
+fn plan_json(plan: &Plan, material: &str, choices: &[Choice]) -> serde_json::Value {
     json!({
         "source": plan.source,
         "millimetres_per_unit": plan.millimetres_per_unit,
         "resolution": plan.resolution,
         "material": material,
-        "objects": plan.objects.iter().map(|o| json!({
+        "objects": plan.objects.iter().zip(choices).map(|(o, choice)| json!({
             "name": o.name,
             "triangles": o.triangles,
             "area_mm2": o.area_mm2,
@@ -150,6 +170,8 @@ fn plan_json(plan: &Plan, material: &str) -> serde_json::Value {
             "texel_area_mm2": o.texel_area_mm2,
             "points": o.points,
             "asset_material": o.material,
+            "integrator": choice.method.name(),
+            "integrator_reason": choice.reason,
         })).collect::<Vec<_>>(),
         "lights": plan.lights,
         "left_out": plan.left_out,

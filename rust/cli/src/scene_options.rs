@@ -48,6 +48,14 @@ pub struct SceneOptions {
     /// An equirectangular image (.exr) for the scene's environment light.
     #[arg(long, value_name = "IMAGE")]
     pub environment: Option<PathBuf>,
+    /// A base colour image (.exr linear, .png sRGB) in the object's UVs,
+    /// applied as C^α before scattering and C^(1−α) after.
+    #[arg(long = "base-color", value_name = "IMAGE")]
+    pub base_color: Option<PathBuf>,
+    /// α of the colour split (Mikkelsen §3.5): 0 colours after scattering
+    /// only, 1 before only.
+    #[arg(long, default_value_t = 0.5)]
+    pub colour_split: f32,
     /// Samples per soft light and for the environment, per texel.
     #[arg(long, default_value_t = 16)]
     pub light_samples: u32,
@@ -95,6 +103,12 @@ impl SceneOptions {
         if let Some(m) = self.roughness.filter(|m| !(m.is_finite() && *m > 0.0)) {
             return Err(Failure::Input(format!("--roughness: {m} must be positive")));
         }
+        if !(0.0..=1.0).contains(&self.colour_split) {
+            return Err(Failure::Input(format!(
+                "--colour-split: {} must be between 0 and 1",
+                self.colour_split
+            )));
+        }
         if let Some(threads) = self.threads {
             // Only the first call sets the pool; later ones keep it.
             let _ = rayon::ThreadPoolBuilder::new()
@@ -127,6 +141,10 @@ impl SceneOptions {
             )));
         }
         let lighting = self.lighting(&scene)?;
+        let base_colour = match &self.base_color {
+            Some(path) => Some(read_image(path).map_err(|e| Failure::Input(e.to_string()))?),
+            None => None,
+        };
         let settings = BakeSettings {
             resolution: self.resolution,
             irradiance: sssbake::irradiance::IrradianceSettings {
@@ -138,6 +156,8 @@ impl SceneOptions {
                 .map_or(Boundary::Smooth, |roughness| Boundary::Rough { roughness }),
             eta: top_index(&material),
             mean_free_path_mm: material_choice::mean_free_path(&material),
+            base_colour,
+            colour_split: self.colour_split,
             ..BakeSettings::default()
         };
         Ok(Loaded {

@@ -94,6 +94,10 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
     let texel_area = square["texel_area_mm2"].as_f64().unwrap();
     assert!((texel_area - 10_000.0).abs() < 100.0, "{texel_area}");
     assert!(square["texels"].as_u64().unwrap() > 0);
+    // Auto names its integrator and says why.
+    let method = square["integrator"].as_str().unwrap();
+    assert!(["brute", "octree", "texture"].contains(&method), "{method}");
+    assert!(square["integrator_reason"].as_str().unwrap().len() > 20);
 
     let unknown = sssbake(&["plan", scene.to_str().unwrap(), "--object", "Cube"]);
     assert_eq!(unknown.status.code(), Some(1));

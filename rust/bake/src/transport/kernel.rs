@@ -139,15 +139,6 @@ impl Kernel {
         lookup(&self.reflectance, r, self.d_max)
     }
 
-    /// The transmittance within radius `r`, per channel (zero without
-    /// transmission).
-    pub fn enclosed_transmittance(&self, r: f32) -> [f32; 3] {
-        if self.transmittance.is_empty() {
-            return [0.0; 3];
-        }
-        lookup(&self.transmittance, r, self.d_max)
-    }
-
     /// R(r) read from the table (zero beyond d_max), 1/mm².
     pub fn reflectance(&self, r: f32) -> [f32; 3] {
         if r > self.d_max {

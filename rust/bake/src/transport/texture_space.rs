@@ -107,13 +107,12 @@ fn blur(
             }
             let reach = ((3.0 * sigma).ceil() as u32).min(MAX_REACH) as i64;
             weights.clear();
-            let mut norm = 0.0f32;
-            for k in -reach..=reach {
-                let w = (-(k * k) as f32 / (2.0 * sigma * sigma)).exp();
-                weights.push(w);
-                norm += w;
-            }
-            let mut sum = 0.0f32;
+            weights
+                .extend((-reach..=reach).map(|k| (-(k * k) as f32 / (2.0 * sigma * sigma)).exp()));
+            // Taps beyond the image's edge are left out and the rest
+            // renormalised: a chart touching the edge continues past it (a
+            // seam the layout cut there); it does not end.
+            let (mut sum, mut norm) = (0.0f32, 0.0f32);
             for (i, k) in (-reach..=reach).enumerate() {
                 let (sx, sy) = match axis {
                     Axis::U => (x as i64 + k, y as i64),
@@ -123,32 +122,11 @@ fn blur(
                     continue;
                 }
                 sum += weights[i] * image[sy as usize * n + sx as usize];
+                norm += weights[i];
             }
-            *value = sum / norm;
+            *value = if norm > 0.0 { sum / norm } else { image[texel] };
         }
         control.advance(n as u64)
     })?;
     Ok(out)
-}
-
-/// How far (texels) the widest Gaussian of `gaussians` reaches at the
-/// finest stretch of `surfels`: the dilation margin the blurs need.
-pub fn reach_in_texels(gaussians: &SumOfGaussians, surfels: &TexelSurfels) -> u32 {
-    let widest = gaussians
-        .terms
-        .iter()
-        .flatten()
-        .map(|&(_, v)| v)
-        .fold(0.0f64, f64::max)
-        .sqrt();
-    let finest = surfels
-        .stretch
-        .iter()
-        .map(|s| s.x.min(s.y))
-        .filter(|&s| s > 0.0)
-        .fold(f32::INFINITY, f32::min);
-    if !(finest.is_finite() && widest > 0.0) {
-        return 0;
-    }
-    ((3.0 * widest / finest as f64).ceil() as u32).min(MAX_REACH)
 }

@@ -1,0 +1,215 @@
+//! The integrators at scale, as ratios against the exact sum measured in
+//! the same run: a 100k-triangle bumpy head-sized sphere at 2048² in skin1.
+//! The exact sum over every texel would take many minutes, so it runs on
+//! an evenly spread subset of texels (the same per-texel work) and its
+//! full time is that × the texel count; errors are measured on the same
+//! subset. Run: `cargo bench -p sssbake --bench transport`
+//! (`SSSBAKE_BENCH_RESOLUTION=1024` for a quicker look).
+
+use glam::Vec3;
+use sssbake::control::Control;
+use sssbake::pipeline::{BakeSettings, Lighting, Prepared, prepare};
+use sssbake::rays::RayScene;
+use sssbake::transport::importance::{self, Surface};
+use sssbake::transport::kernel::Kernel;
+use sssbake::transport::sources::Targets;
+use sssbake::transport::{Method, MethodSettings, brute};
+use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
+use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::presets::preset;
+use std::time::Instant;
+
+#[path = "../tests/shapes.rs"]
+mod shapes;
+
+/// An 80 mm sphere of 99,856 triangles with 3 mm bumps: curved, with
+/// concave dips, about a head's size.
+fn bumpy_sphere() -> Mesh {
+    let mut mesh = shapes::sphere(80.0, 158, 316);
+    for (p, n) in mesh.positions.iter_mut().zip(mesh.normals.iter_mut()) {
+        let dir = p.normalize();
+        let bump = 3.0 * (6.0 * dir.z.acos()).sin() * (6.0 * dir.y.atan2(dir.x)).sin();
+        *p = dir * (80.0 + bump);
+        *n = dir;
+    }
+    Mesh::new("head", mesh.positions, None, mesh.uvs, mesh.triangles)
+        .unwrap()
+        .0
+}
+
+fn scene() -> Scene {
+    let light = |name: &str, kind, intensity, position, direction: Vec3| Light {
+        name: name.into(),
+        kind,
+        color: [1.0; 3],
+        intensity,
+        position,
+        direction: direction.normalize(),
+        tangent: Vec3::X,
+    };
+    Scene {
+        source: "benchmark".into(),
+        millimetres_per_unit: 1.0,
+        objects: vec![SceneObject {
+            mesh: bumpy_sphere(),
+            uv_sets: vec![],
+            material: None,
+        }],
+        lights: vec![
+            light(
+                "key",
+                LightKind::Directional { angle: 0.0 },
+                1.0,
+                Vec3::ZERO,
+                Vec3::new(-1.0, -0.4, -0.6),
+            ),
+            light(
+                "rim",
+                LightKind::Point { radius_mm: 20.0 },
+                0.2,
+                Vec3::new(150.0, 150.0, 0.0),
+                Vec3::NEG_Z,
+            ),
+        ],
+        notes: vec![],
+    }
+}
+
+/// Relative RMSE and max error (of the peak) of `got` against `reference`.
+fn errors(got: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
+    let (mut d2, mut r2, mut worst, mut peak) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (g, r) in got.iter().zip(reference) {
+        for c in 0..3 {
+            let d = (g[c] - r[c]) as f64;
+            d2 += d * d;
+            r2 += (r[c] as f64).powi(2);
+            worst = worst.max(d.abs());
+            peak = peak.max(r[c] as f64);
+        }
+    }
+    ((d2 / r2).sqrt(), worst / peak)
+}
+
+fn main() {
+    let resolution: u32 = std::env::var("SSSBAKE_BENCH_RESOLUTION")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(2048);
+    let material = preset("skin1").unwrap();
+    let profile = build_profile(&material, Model::Dipole, 6).unwrap();
+    let kernel = Kernel::new(profile.as_ref(), 1e-3);
+    let scene = scene();
+    let settings = BakeSettings {
+        resolution,
+        mean_free_path_mm: 0.671,
+        ..BakeSettings::default()
+    };
+    let control = Control::new();
+    let start = Instant::now();
+    let prepared: Prepared =
+        prepare(&scene, "head", Lighting::SceneLights, &settings, &control).unwrap();
+    let texels = prepared.surfels.len();
+    println!(
+        "{} triangles, {resolution}² → {texels} texels, d_max {:.1} mm, {} threads; prepared in {:.2} s",
+        prepared.mesh.triangles.len(),
+        kernel.d_max,
+        rayon::current_num_threads(),
+        start.elapsed().as_secs_f64()
+    );
+    // Every k-th texel: about 4000 targets for the exact sum.
+    let stride = (texels / 4000).max(1);
+    let subset: Vec<usize> = (0..texels).step_by(stride).collect();
+    let position: Vec<Vec3> = subset
+        .iter()
+        .map(|&s| prepared.surfels.position[s])
+        .collect();
+    let normal: Vec<Vec3> = subset.iter().map(|&s| prepared.surfels.normal[s]).collect();
+    let targets = Targets {
+        position: &position,
+        normal: &normal,
+    };
+    let start = Instant::now();
+    let reference =
+        brute::integrate(&kernel, &prepared.texel_sources(), targets, &control).unwrap();
+    let brute_full = start.elapsed().as_secs_f64() * texels as f64 / subset.len() as f64;
+    println!(
+        "{:<34} {:>10} {:>9} {:>11} {:>9}",
+        "method", "seconds", "speed-up", "rel. RMSE", "max"
+    );
+    println!(
+        "{:<34} {:>10.1} {:>9} {:>11} {:>9}",
+        "brute (timed on 1 texel in stride)", brute_full, "1×", "—", "—"
+    );
+    let report = |name: &str, seconds: f64, got: &[[f32; 3]]| {
+        let (rmse, max) = errors(got, &reference);
+        println!(
+            "{name:<34} {seconds:>10.2} {:>8.0}× {:>10.2}% {:>8.2}%",
+            brute_full / seconds,
+            100.0 * rmse,
+            100.0 * max
+        );
+    };
+    for (name, method, settings) in [
+        ("octree ε 0.05", Method::Octree, MethodSettings::default()),
+        (
+            "octree ε 0.2",
+            Method::Octree,
+            MethodSettings {
+                octree_epsilon: 0.2,
+                ..Default::default()
+            },
+        ),
+        (
+            "texture 6 Gaussians",
+            Method::Texture,
+            MethodSettings::default(),
+        ),
+        (
+            "texture 3 Gaussians",
+            Method::Texture,
+            MethodSettings {
+                gaussians: 3,
+                ..Default::default()
+            },
+        ),
+    ] {
+        let result = prepared
+            .integrate(profile.as_ref(), &kernel, method, &settings, &control)
+            .unwrap();
+        let picked: Vec<[f32; 3]> = subset.iter().map(|&s| result.exitance[s]).collect();
+        report(name, result.seconds, &picked);
+    }
+    // Monte Carlo is per texel too: timed on the subset and scaled.
+    let probes = RayScene::new(&[&prepared.mesh]);
+    let n = prepared.surfels.resolution as usize;
+    let mut texture = vec![[0.0f32; 3]; n * n];
+    for (s, e) in prepared.texel_sources().irradiance.iter().enumerate() {
+        texture[prepared.surfels.texel[s] as usize] = *e;
+    }
+    for &(to, from) in &prepared.dilation {
+        texture[to as usize] = texture[from as usize];
+    }
+    let surface = Surface {
+        mesh: &prepared.mesh,
+        uvs: &prepared.uvs,
+        probes: &probes,
+        irradiance: &texture,
+        resolution: prepared.surfels.resolution,
+    };
+    for samples in [64u32, 256] {
+        let start = Instant::now();
+        let got = importance::integrate(
+            &kernel,
+            profile.as_ref(),
+            &surface,
+            &position,
+            &normal,
+            samples,
+            1,
+            &control,
+        )
+        .unwrap();
+        let seconds = start.elapsed().as_secs_f64() * texels as f64 / subset.len() as f64;
+        report(&format!("importance {samples} spp (scaled)"), seconds, &got);
+    }
+}
