@@ -10,6 +10,7 @@ pub mod dilation;
 pub mod fast_hash;
 pub mod image;
 pub mod irradiance;
+pub mod maps;
 pub mod mesh;
 pub mod pipeline;
 pub mod plan;

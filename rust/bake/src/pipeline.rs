@@ -113,18 +113,6 @@ pub struct Prepared {
     seconds: f64,
 }
 
-/// Where the texels' irradiance comes from.
-enum LightingAt {
-    Lights {
-        emitters: Vec<Emitter>,
-        rays: RayScene,
-        entry: EntryTransmittance,
-        /// Index of this object among the ray scene's meshes.
-        mesh: u32,
-    },
-    Image(Image),
-}
-
 /// Lays out `object` of `scene`, finds its texels and lights them.
 pub fn prepare(
     scene: &Scene,
@@ -178,59 +166,46 @@ pub fn prepare(
             .collect(),
         None => vec![[1.0; 3]; surfels.len()],
     };
-    let lighting_at = match lighting {
-        Lighting::Irradiance(image) => LightingAt::Image(image),
+    let irradiance = match &lighting {
+        Lighting::Irradiance(image) => (0..surfels.len())
+            .map(|s| image.sample(texel_uv(s)))
+            .collect(),
         Lighting::SceneLights | Lighting::SceneLightsWith { .. } => {
             let environment = match &lighting {
-                Lighting::SceneLightsWith { environment } => Some(environment.clone()),
+                Lighting::SceneLightsWith { environment } => Some(environment),
                 _ => None,
             };
+            // Every object casts shadows; this one with the UVs it bakes into.
             let meshes: Vec<&Mesh> = scene
                 .objects
                 .iter()
                 .enumerate()
                 .map(|(i, o)| if i == index { &mesh } else { &o.mesh })
                 .collect();
-            let emitters = scene
+            let emitters: Vec<Emitter> = scene
                 .lights
                 .iter()
                 .map(|light| {
                     let map = matches!(light.kind, LightKind::Environment { .. })
-                        .then(|| environment.clone())
+                        .then(|| environment.cloned())
                         .flatten();
                     Emitter::new(light, map)
                 })
                 .collect();
-            LightingAt::Lights {
-                emitters,
-                rays: RayScene::new(&meshes),
-                entry: EntryTransmittance::new(settings.eta, settings.boundary),
-                mesh: index as u32,
-            }
+            transmitted_irradiance(
+                Receivers {
+                    mesh: index as u32,
+                    position: &surfels.position,
+                    normal: &surfels.normal,
+                    triangle: &surfels.triangle,
+                },
+                &emitters,
+                &RayScene::new(&meshes),
+                &EntryTransmittance::new(settings.eta, settings.boundary),
+                &settings.irradiance,
+                control,
+            )?
         }
-    };
-    let irradiance = match &lighting_at {
-        LightingAt::Image(image) => (0..surfels.len())
-            .map(|s| image.sample(texel_uv(s)))
-            .collect(),
-        LightingAt::Lights {
-            emitters,
-            rays,
-            entry,
-            mesh: m,
-        } => transmitted_irradiance(
-            Receivers {
-                mesh: *m,
-                position: &surfels.position,
-                normal: &surfels.normal,
-                triangle: &surfels.triangle,
-            },
-            emitters,
-            rays,
-            entry,
-            &settings.irradiance,
-            control,
-        )?,
     };
     let dilation = seam_aware_offsets(&mesh, &uvs, &surfels, texture_space::MAX_REACH);
     Ok(Prepared {

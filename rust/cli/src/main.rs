@@ -1,14 +1,17 @@
 //! `sssbake`: bakes subsurface scattering into textures.
 //!
-//! Exit codes: 0 success; 1 bad input (unknown preset, invalid material
-//! file, a model that does not fit the material); 2 bad command line;
-//! 3 an output could not be written.
+//! Exit codes: 0 success; 1 bad input (a scene or image that cannot be
+//! read, an unknown object or preset, an invalid material file, a model
+//! that does not fit the material, a value out of range); 2 bad command
+//! line; 3 an output could not be written.
 
 mod atomic_write;
+mod bake_command;
 mod material_choice;
 mod plan_command;
 mod plot;
 mod profile_command;
+mod progress;
 mod report_command;
 mod report_plot;
 mod scene_options;
@@ -29,6 +32,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Bake subsurface scattering maps for the objects of a scene.
+    Bake(bake_command::BakeArgs),
     /// Print and plot a material's diffusion reflectance profile.
     Profile(profile_command::ProfileArgs),
     /// Show what a bake of a scene would do, and what it would leave out.
@@ -51,6 +56,7 @@ pub enum Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Bake(args) => bake_command::run(&args),
         Command::Profile(args) => profile_command::run(&args),
         Command::Plan(args) => plan_command::run(&args),
         Command::Report(args) => report_command::run(&args),

@@ -3,6 +3,7 @@
 
 pub mod gltf_reader;
 pub mod image_reader;
+pub mod image_writer;
 pub mod usd_reader;
 
 pub use gltf_reader::read_gltf;

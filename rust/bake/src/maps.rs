@@ -1,0 +1,161 @@
+//! The baked maps: per-texel values turned into images in the layout,
+//! dilated across the charts' margins.
+//!
+//! | output | value per texel |
+//! |---|---|
+//! | `subsurface` | M, the radiant exitance (W/m²) after the colour split |
+//! | `irradiance` | E_t, the irradiance transmitted through the surface (W/m²) |
+//! | `diffuse` | M·ρt(0)/π: the diffuse radiance leaving towards the normal through the exit Fresnel (W/(m²·sr)) |
+//! | `thickness` | distance through the object along the inward normal (mm; 0 where a ray leaves it) |
+//! | `stretch` | surface length of one texel along u (red) and v (green), mm |
+//! | `area` | surface area the texel stands for, mm² |
+
+use crate::dilation::seam_aware_offsets;
+use crate::image::Image;
+use crate::irradiance::entry::{Boundary, EntryTransmittance};
+use crate::pipeline::Prepared;
+use crate::rays::RayScene;
+use std::fmt;
+use std::str::FromStr;
+
+/// A map sssbake can write.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Output {
+    /// Radiant exitance.
+    Subsurface,
+    /// Transmitted irradiance.
+    Irradiance,
+    /// Diffuse radiance through the exit Fresnel.
+    Diffuse,
+    /// Thickness along the inward normal.
+    Thickness,
+    /// Texel size on the surface along u and v.
+    Stretch,
+    /// Texel area.
+    Area,
+}
+
+impl Output {
+    /// Every output.
+    pub const ALL: [Output; 6] = [
+        Output::Subsurface,
+        Output::Irradiance,
+        Output::Diffuse,
+        Output::Thickness,
+        Output::Stretch,
+        Output::Area,
+    ];
+
+    /// The name in file names and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Output::Subsurface => "subsurface",
+            Output::Irradiance => "irradiance",
+            Output::Diffuse => "diffuse",
+            Output::Thickness => "thickness",
+            Output::Stretch => "stretch",
+            Output::Area => "area",
+        }
+    }
+
+    /// True for maps that are colours (also written as sRGB PNG).
+    pub fn is_colour(self) -> bool {
+        matches!(
+            self,
+            Output::Subsurface | Output::Irradiance | Output::Diffuse
+        )
+    }
+}
+
+impl fmt::Display for Output {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Output {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Output::ALL
+            .into_iter()
+            .find(|o| o.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Output::ALL.iter().map(|o| o.name()).collect();
+                format!("unknown output `{s}` (one of {})", names.join(", "))
+            })
+    }
+}
+
+/// Empty texels within `margin` texels of a chart and the covered texels
+/// they copy: across the seam where the chart edge is one, else the
+/// nearest (so filtering and mip-mapping never read black).
+pub fn margin_fill(prepared: &Prepared, margin: u32) -> Vec<(u32, u32)> {
+    seam_aware_offsets(&prepared.mesh, &prepared.uvs, &prepared.surfels, margin)
+}
+
+/// The map `output` of `prepared` as an image, rows top to bottom, with
+/// the empty texels of `fill` (from [`margin_fill`]) filled. `exitance` is
+/// the integration's result; `eta` the material's index for the exit
+/// Fresnel.
+pub fn render(
+    prepared: &Prepared,
+    exitance: &[[f32; 3]],
+    eta: f64,
+    output: Output,
+    fill: &[(u32, u32)],
+) -> Image {
+    let surfels = &prepared.surfels;
+    let values: Vec<[f32; 3]> = match output {
+        Output::Subsurface => exitance.to_vec(),
+        Output::Irradiance => prepared.irradiance.clone(),
+        Output::Diffuse => {
+            let exit = EntryTransmittance::new(eta, Boundary::Smooth).at(1.0)
+                * std::f32::consts::FRAC_1_PI;
+            exitance.iter().map(|m| m.map(|v| v * exit)).collect()
+        }
+        Output::Thickness => thickness(prepared),
+        Output::Stretch => surfels.stretch.iter().map(|s| [s.x, s.y, 0.0]).collect(),
+        Output::Area => surfels.area.iter().map(|&a| [a; 3]).collect(),
+    };
+    let n = surfels.resolution as usize;
+    let mut grid = vec![[0.0f32; 3]; n * n];
+    for (s, &t) in surfels.texel.iter().enumerate() {
+        grid[t as usize] = values[s];
+    }
+    for &(to, from) in fill {
+        grid[to as usize] = grid[from as usize];
+    }
+    // Texel row y runs up with v; image rows run down.
+    let texels = (0..n)
+        .rev()
+        .flat_map(|y| grid[y * n..(y + 1) * n].iter().copied())
+        .collect();
+    Image {
+        width: n,
+        height: n,
+        texels,
+    }
+}
+
+/// Distance along the inward normal to where the object ends, mm.
+fn thickness(prepared: &Prepared) -> Vec<[f32; 3]> {
+    use rayon::prelude::*;
+    let rays = RayScene::new(&[&prepared.mesh]);
+    let surfels = &prepared.surfels;
+    (0..surfels.len())
+        .into_par_iter()
+        .map(|s| {
+            let inward = -surfels.normal[s];
+            let origin = surfels.position[s] + inward * rays.epsilon();
+            let mut nearest = f32::INFINITY;
+            rays.for_each_hit(origin, inward, rays.epsilon(), f32::MAX, |hit| {
+                if hit.triangle != surfels.triangle[s] {
+                    nearest = nearest.min(hit.t);
+                }
+            });
+            let t = if nearest.is_finite() { nearest } else { 0.0 };
+            [t; 3]
+        })
+        .collect()
+}

@@ -1,0 +1,319 @@
+//! `sssbake bake`: the maps of every selected object, written whole or not
+//! at all.
+
+use crate::Failure;
+use crate::progress::watch;
+use crate::scene_options::SceneOptions;
+use serde_json::json;
+use sssbake::control::Control;
+use sssbake::maps::{Output, margin_fill, render};
+use sssbake::pipeline::{BakeError, prepare};
+use sssbake::transport::kernel::Kernel;
+use sssbake::transport::{Method, MethodSettings};
+use sssbake_io::image_writer::{Precision, exr_bytes, png_bytes};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Options of `sssbake bake`.
+#[derive(clap::Args)]
+pub struct BakeArgs {
+    #[command(flatten)]
+    scene: SceneOptions,
+    /// The folder for the maps (created if missing; not the input's own).
+    #[arg(long)]
+    out: PathBuf,
+    /// The integrator.
+    #[arg(long, default_value = "auto")]
+    method: Method,
+    /// The maps to write, comma-separated: subsurface, irradiance, diffuse,
+    /// thickness, stretch, area.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "subsurface,irradiance,diffuse"
+    )]
+    outputs: Vec<Output>,
+    /// Texels filled around each chart so filtering never reads black.
+    #[arg(long, default_value_t = 8)]
+    margin: u32,
+    /// Write EXRs as 16-bit half floats instead of 32-bit.
+    #[arg(long)]
+    half: bool,
+    /// Exposure of the PNG previews, in stops (the EXRs stay as baked).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    exposure: f32,
+    /// Octree: the solid angle below which a node is taken whole.
+    #[arg(long, default_value_t = 0.05)]
+    octree_epsilon: f32,
+    /// Importance: probes per texel.
+    #[arg(long, default_value_t = 64)]
+    samples: u32,
+    /// Texture: Gaussians in the fit.
+    #[arg(long, default_value_t = 6)]
+    gaussians: usize,
+    /// Replace maps already in the folder.
+    #[arg(long)]
+    force: bool,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// A map encoded and waiting to be written.
+struct Encoded {
+    path: PathBuf,
+    bytes: Vec<u8>,
+}
+
+fn bake_failure(error: BakeError) -> Failure {
+    Failure::Input(error.to_string())
+}
+
+/// A file-name-safe form of an object's name.
+fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Runs the command.
+pub fn run(args: &BakeArgs) -> Result<(), Failure> {
+    if args.outputs.is_empty() {
+        return Err(Failure::Input("--outputs: name at least one map".into()));
+    }
+    if !args.exposure.is_finite() {
+        return Err(Failure::Input(
+            "--exposure: must be a number of stops".into(),
+        ));
+    }
+    refuse_input_folder(&args.scene.input, &args.out)?;
+    let loaded = args.scene.load()?;
+    let mut outputs = args.outputs.clone();
+    outputs.sort();
+    outputs.dedup();
+    let paths: Vec<(String, Output, PathBuf)> = loaded
+        .objects
+        .iter()
+        .flat_map(|object| {
+            outputs.iter().flat_map(move |&output| {
+                let stem = format!("{}_{}", file_stem(object), output.name());
+                let mut files =
+                    vec![(object.clone(), output, args.out.join(format!("{stem}.exr")))];
+                if output.is_colour() {
+                    files.push((object.clone(), output, args.out.join(format!("{stem}.png"))));
+                }
+                files
+            })
+        })
+        .collect();
+    if !args.force
+        && let Some((_, _, existing)) = paths.iter().find(|(_, _, p)| p.exists())
+    {
+        return Err(Failure::Output(format!(
+            "{}: exists (use --force to replace it)",
+            existing.display()
+        )));
+    }
+    let quiet = args.json;
+    let profile = loaded.profile.as_ref();
+    let method_settings = MethodSettings {
+        octree_epsilon: args.octree_epsilon,
+        samples: args.samples,
+        gaussians: args.gaussians,
+        seed: args.scene.seed,
+        ..MethodSettings::default()
+    };
+    let kernel = Kernel::new(profile, method_settings.d_max_epsilon);
+    let precision = if args.half {
+        Precision::Half
+    } else {
+        Precision::Float
+    };
+    let mut encoded = Vec::new();
+    let mut summaries = Vec::new();
+    for object in &loaded.objects {
+        let control = Control::new();
+        let start = Instant::now();
+        let prepared = watch(&format!("{object}: lighting"), &control, quiet, || {
+            prepare(
+                &loaded.scene,
+                object,
+                loaded.lighting.clone(),
+                &loaded.settings,
+                &control,
+            )
+        })
+        .map_err(bake_failure)?;
+        let prepare_seconds = start.elapsed().as_secs_f64();
+        let control = Control::new();
+        let integration = watch(&format!("{object}: scattering"), &control, quiet, || {
+            prepared.integrate(profile, &kernel, args.method, &method_settings, &control)
+        })
+        .map_err(bake_failure)?;
+        let start = Instant::now();
+        let fill = margin_fill(&prepared, args.margin);
+        for (_, output, path) in paths.iter().filter(|(o, _, _)| o == object) {
+            let mut image = render(
+                &prepared,
+                &integration.exitance,
+                loaded.settings.eta,
+                *output,
+                &fill,
+            );
+            let bytes = if path.extension().is_some_and(|e| e == "png") {
+                let scale = args.exposure.exp2();
+                for texel in &mut image.texels {
+                    *texel = texel.map(|v| v * scale);
+                }
+                png_bytes(&image)
+            } else {
+                exr_bytes(&image, precision)
+            }
+            .map_err(|e| Failure::Output(format!("{}: {e}", path.display())))?;
+            encoded.push(Encoded {
+                path: path.clone(),
+                bytes,
+            });
+        }
+        summaries.push(json!({
+            "object": object,
+            "texels": prepared.surfels.len(),
+            "unwrapped": prepared.unwrapped,
+            "method": integration.choice.method.name(),
+            "reason": integration.choice.reason,
+            "seconds": {
+                "prepare": prepare_seconds,
+                "integrate": integration.seconds,
+                "maps": start.elapsed().as_secs_f64(),
+            },
+        }));
+    }
+    let start = Instant::now();
+    write_all(&args.out, &encoded)?;
+    let write_seconds = start.elapsed().as_secs_f64();
+    let files: Vec<String> = encoded
+        .iter()
+        .map(|e| e.path.display().to_string())
+        .collect();
+    let left_out: Vec<String> = loaded
+        .scene
+        .objects
+        .iter()
+        .filter(|o| !loaded.objects.contains(&o.mesh.name))
+        .map(|o| format!("object `{}`: not selected", o.mesh.name))
+        .chain(loaded.scene.notes.iter().cloned())
+        .collect();
+    if args.json {
+        let summary = json!({
+            "scene": args.scene.input.display().to_string(),
+            "material": loaded.material.name,
+            "model": profile.model(),
+            "resolution": loaded.settings.resolution,
+            "objects": summaries,
+            "files": files,
+            "write_seconds": write_seconds,
+            "left_out": left_out,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summary).unwrap_or_default()
+        );
+    } else {
+        for s in &summaries {
+            println!(
+                "{}: {} texels, {} ({}); lit in {:.2} s, scattered in {:.2} s, maps in {:.2} s",
+                s["object"].as_str().unwrap_or_default(),
+                s["texels"],
+                s["method"].as_str().unwrap_or_default(),
+                s["reason"].as_str().unwrap_or_default(),
+                s["seconds"]["prepare"].as_f64().unwrap_or_default(),
+                s["seconds"]["integrate"].as_f64().unwrap_or_default(),
+                s["seconds"]["maps"].as_f64().unwrap_or_default(),
+            );
+        }
+        for reason in &left_out {
+            println!("left out {reason}");
+        }
+        println!(
+            "wrote {} files to {} in {write_seconds:.2} s",
+            files.len(),
+            args.out.display()
+        );
+    }
+    Ok(())
+}
+
+/// Refuses an output folder that is the input's own: a bake never writes
+/// beside the asset it reads.
+fn refuse_input_folder(input: &Path, out: &Path) -> Result<(), Failure> {
+    let folder = input
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let same = match (folder.canonicalize(), out.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same {
+        return Err(Failure::Input(format!(
+            "--out {}: is the folder of the input {}; write the bake to another folder",
+            out.display(),
+            input.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Writes every map to a temporary file, then renames them all into place;
+/// on any error removes what this run wrote (and the folder, if it made it
+/// and left it empty).
+fn write_all(out: &Path, encoded: &[Encoded]) -> Result<(), Failure> {
+    let created = !out.exists();
+    std::fs::create_dir_all(out).map_err(|e| {
+        Failure::Output(format!("{}: cannot create the folder: {e}", out.display()))
+    })?;
+    let temporary = |path: &Path| {
+        path.with_file_name(format!(
+            ".{}.{}.partial",
+            path.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            std::process::id()
+        ))
+    };
+    let mut staged = Vec::new();
+    let mut placed = Vec::new();
+    let result = (|| -> Result<(), String> {
+        for e in encoded {
+            let t = temporary(&e.path);
+            std::fs::write(&t, &e.bytes)
+                .map_err(|err| format!("{}: cannot write: {err}", e.path.display()))?;
+            staged.push(t);
+        }
+        for (e, t) in encoded.iter().zip(&staged) {
+            std::fs::rename(t, &e.path)
+                .map_err(|err| format!("{}: cannot write: {err}", e.path.display()))?;
+            placed.push(e.path.clone());
+        }
+        Ok(())
+    })();
+    if let Err(message) = result {
+        for t in &staged {
+            let _ = std::fs::remove_file(t);
+        }
+        for p in &placed {
+            let _ = std::fs::remove_file(p);
+        }
+        if created {
+            let _ = std::fs::remove_dir(out);
+        }
+        return Err(Failure::Output(message));
+    }
+    Ok(())
+}

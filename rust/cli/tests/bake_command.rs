@@ -1,0 +1,241 @@
+//! `sssbake bake` end to end on the bundled marble, and its refusals.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn sssbake(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sssbake"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../examples/{name}/{name}.gltf"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sssbake-bake-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+#[test]
+fn a_bake_writes_every_map_and_its_numbers_are_the_librarys() {
+    let out = scratch("marble");
+    let scene = example("marble");
+    let result = sssbake(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--resolution",
+        "64",
+        "--preset",
+        "marble",
+        "--method",
+        "brute",
+        "--outputs",
+        "subsurface,irradiance,diffuse,thickness,stretch,area",
+        "--json",
+    ]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let summary: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
+    assert_eq!(summary["objects"][0]["method"], "brute");
+    assert_eq!(
+        files_in(&out),
+        [
+            "Ball_area.exr",
+            "Ball_diffuse.exr",
+            "Ball_diffuse.png",
+            "Ball_irradiance.exr",
+            "Ball_irradiance.png",
+            "Ball_stretch.exr",
+            "Ball_subsurface.exr",
+            "Ball_subsurface.png",
+            "Ball_thickness.exr",
+        ]
+    );
+    let read = |name: &str| sssbake_io::read_image(&out.join(name)).unwrap();
+    let (subsurface, irradiance, area, thickness) = (
+        read("Ball_subsurface.exr"),
+        read("Ball_irradiance.exr"),
+        read("Ball_area.exr"),
+        read("Ball_thickness.exr"),
+    );
+    assert_eq!((subsurface.width, subsurface.height), (64, 64));
+    // Energy: exitance × area never exceeds irradiance × area, and marble
+    // returns most of it.
+    let total = |image: &sssbake::image::Image| -> f64 {
+        image
+            .texels
+            .iter()
+            .zip(&area.texels)
+            .map(|(t, a)| t[1] as f64 * a[0] as f64)
+            .sum()
+    };
+    let (out_flux, in_flux) = (total(&subsurface), total(&irradiance));
+    assert!(
+        in_flux > 0.0 && out_flux < in_flux && out_flux > 0.5 * in_flux,
+        "{out_flux} / {in_flux}"
+    );
+    // The maps' areas (margins excluded: they copy texels) sum to the ball's.
+    let ball_area = 4.0 * std::f64::consts::PI * 50.0f64.powi(2);
+    let covered: f64 = area.texels.iter().map(|a| a[0] as f64).sum();
+    assert!(covered > 0.9 * ball_area, "{covered} vs {ball_area}");
+    // A ball 100 mm across is at most 100 mm thick.
+    let thickest = thickness.texels.iter().map(|t| t[0]).fold(0.0, f32::max);
+    assert!(thickest > 90.0 && thickest < 100.5, "{thickest}");
+    // The file holds exactly what the library computes for the same bake.
+    let library = {
+        use sssbake::control::Control;
+        use sssbake::pipeline::{BakeSettings, Lighting, prepare};
+        use sssbake::transport::{Method, MethodSettings, kernel::Kernel};
+        let material = sssbake_profile::presets::preset("marble").unwrap();
+        let model = sssbake_profile::model::Model::default_for(&material);
+        let profile = sssbake_profile::model::build_profile(&material, model, 6).unwrap();
+        let read = sssbake_io::read_scene(&scene, &Default::default()).unwrap();
+        // Brute needs no sample points, so the mean free path plays no part.
+        let settings = BakeSettings {
+            resolution: 64,
+            eta: 1.3,
+            ..BakeSettings::default()
+        };
+        let prepared = prepare(
+            &read,
+            "Ball",
+            Lighting::SceneLights,
+            &settings,
+            &Control::new(),
+        )
+        .unwrap();
+        let kernel = Kernel::new(profile.as_ref(), 1e-3);
+        let m = prepared
+            .integrate(
+                profile.as_ref(),
+                &kernel,
+                Method::Brute,
+                &MethodSettings::default(),
+                &Control::new(),
+            )
+            .unwrap();
+        let fill = sssbake::maps::margin_fill(&prepared, 8);
+        sssbake::maps::render(
+            &prepared,
+            &m.exitance,
+            1.3,
+            sssbake::maps::Output::Subsurface,
+            &fill,
+        )
+    };
+    assert_eq!(library.texels, subsurface.texels);
+    // Refuses to replace without --force; leaves the maps as they were.
+    let before = std::fs::read(out.join("Ball_subsurface.exr")).unwrap();
+    let again = sssbake(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--resolution",
+        "32",
+    ]);
+    assert_eq!(again.status.code(), Some(3));
+    assert_eq!(
+        std::fs::read(out.join("Ball_subsurface.exr")).unwrap(),
+        before
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn bad_inputs_name_the_problem_and_leave_nothing_behind() {
+    let scene = example("marble");
+    let scene = scene.to_str().unwrap();
+    let truncated_dir = scratch("truncated-input");
+    std::fs::create_dir_all(&truncated_dir).unwrap();
+    let truncated = truncated_dir.join("cut.gltf");
+    let text = std::fs::read_to_string(example("marble")).unwrap();
+    std::fs::write(&truncated, &text[..text.len() / 2]).unwrap();
+    let unwritable = Path::new("/proc/sssbake-cannot-be-here");
+    let input_folder = example("marble").parent().unwrap().to_path_buf();
+    let cases: Vec<(Vec<String>, i32, &str)> = vec![
+        (vec![truncated.display().to_string()], 1, "cut.gltf"),
+        (
+            vec![scene.into(), "--object".into(), "Nobody".into()],
+            1,
+            "Nobody",
+        ),
+        (
+            vec![scene.into(), "--preset".into(), "granite".into()],
+            1,
+            "granite",
+        ),
+        (
+            vec![scene.into(), "--resolution".into(), "0".into()],
+            1,
+            "--resolution",
+        ),
+        (
+            vec![scene.into(), "--outputs".into(), "glow".into()],
+            2,
+            "glow",
+        ),
+    ];
+    for (i, (extra, code, named)) in cases.into_iter().enumerate() {
+        let out = scratch(&format!("bad-{i}"));
+        // Every case fails before any baking, so the default size is fine.
+        let mut args: Vec<String> = vec!["bake".into(), "--out".into(), out.display().to_string()];
+        args.extend(extra);
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let result = sssbake(&refs);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(code), "{args:?}: {stderr}");
+        assert!(stderr.contains(named), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} left {}", out.display());
+    }
+    let result = sssbake(&[
+        "bake",
+        scene,
+        "--out",
+        unwritable.to_str().unwrap(),
+        "--resolution",
+        "32",
+    ]);
+    assert_eq!(
+        result.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let result = sssbake(&[
+        "bake",
+        scene,
+        "--out",
+        input_folder.to_str().unwrap(),
+        "--resolution",
+        "32",
+    ]);
+    assert_eq!(result.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&result.stderr).contains("folder of the input"));
+    assert!(
+        !files_in(&input_folder)
+            .iter()
+            .any(|f| f.ends_with(".exr") || f.ends_with(".png"))
+    );
+    let _ = std::fs::remove_dir_all(&truncated_dir);
+}
