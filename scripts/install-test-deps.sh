@@ -33,3 +33,12 @@ if [ "$(cat "$stamp" 2>/dev/null)" != "$wanted" ]; then
     .venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/requirements.txt
     echo "$wanted" > "$stamp"
 fi
+
+# The Khronos glTF validator, from the npm registry, into .node/ (git-ignored).
+validator_version=2.0.0-dev.3.10
+if [ ! -f .node/node_modules/gltf-validator/package.json ] ||
+    ! grep -q "\"version\": \"$validator_version\"" .node/node_modules/gltf-validator/package.json; then
+    command -v npm >/dev/null || { echo "error: the glTF validator needs Node.js and npm" >&2; exit 1; }
+    echo "installing gltf-validator $validator_version into .node"
+    npm install --silent --no-audit --no-fund --prefix .node "gltf-validator@$validator_version" >/dev/null
+fi

@@ -54,6 +54,7 @@ fn scene() -> Scene {
             mesh: bumpy_sphere(),
             uv_sets: vec![],
             material: None,
+            node: None,
         }],
         lights: vec![
             light(

@@ -28,6 +28,9 @@ pub struct SceneObject {
     pub uv_sets: Vec<Vec<Vec2>>,
     /// The material's hints, from the first primitive that has a material.
     pub material: Option<MaterialHint>,
+    /// Where the object came from in its file (the glTF node index), so
+    /// writers can find it again.
+    pub node: Option<usize>,
 }
 
 /// What an asset's material says about translucency and colour.

@@ -50,6 +50,7 @@ pub fn scene(meshes: Vec<Mesh>, lights: Vec<Light>) -> Scene {
                 uv_sets: mesh.uvs.clone().into_iter().collect(),
                 mesh,
                 material: None,
+                node: None,
             })
             .collect(),
         lights,

@@ -194,6 +194,16 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
             },
         }));
     }
+    let mut notes = Vec::new();
+    encoded.extend(asset_copy(args, &loaded, &summaries, &mut notes)?);
+    if !args.force
+        && let Some(existing) = encoded.iter().find(|e| e.path.exists())
+    {
+        return Err(Failure::Output(format!(
+            "{}: exists (use --force to replace it)",
+            existing.path.display()
+        )));
+    }
     let start = Instant::now();
     write_all(&args.out, &encoded)?;
     let write_seconds = start.elapsed().as_secs_f64();
@@ -208,6 +218,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         .filter(|o| !loaded.objects.contains(&o.mesh.name))
         .map(|o| format!("object `{}`: not selected", o.mesh.name))
         .chain(loaded.scene.notes.iter().cloned())
+        .chain(notes)
         .collect();
     if args.json {
         let summary = json!({
@@ -247,6 +258,57 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// For a glTF input, a copy in which the baked objects show their
+/// `diffuse` map (see `sssbake_io::gltf_writer`); objects that were
+/// unwrapped are left as they were, since their new UVs are not in it.
+fn asset_copy(
+    args: &BakeArgs,
+    loaded: &crate::scene_options::Loaded,
+    summaries: &[serde_json::Value],
+    notes: &mut Vec<String>,
+) -> Result<Vec<Encoded>, Failure> {
+    let extension = args
+        .scene
+        .input
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(extension.as_deref(), Some("gltf" | "glb")) {
+        return Ok(Vec::new());
+    }
+    if !args.outputs.contains(&Output::Diffuse) {
+        notes.push("the glTF copy: it shows the diffuse map, which was not asked for".into());
+        return Ok(Vec::new());
+    }
+    let mut baked = Vec::new();
+    for summary in summaries {
+        let name = summary["object"].as_str().unwrap_or_default();
+        let Some(object) = loaded.scene.objects.iter().find(|o| o.mesh.name == name) else {
+            continue;
+        };
+        match (object.node, summary["unwrapped"].as_bool()) {
+            (Some(node), Some(false)) => baked.push(sssbake_io::gltf_writer::Baked {
+                node,
+                object: name.to_string(),
+                image: format!("{}_diffuse.png", file_stem(name)),
+                uv_set: args.scene.uv_set,
+            }),
+            _ => notes.push(format!(
+                "object `{name}` from the glTF copy: it was unwrapped, and its new UVs are not in the asset"
+            )),
+        }
+    }
+    let files = sssbake_io::gltf_writer::gltf_copy(&args.scene.input, &baked)
+        .map_err(|e| Failure::Input(format!("{}: {e}", args.scene.input.display())))?;
+    Ok(files
+        .into_iter()
+        .map(|(path, bytes)| Encoded {
+            path: args.out.join(path),
+            bytes,
+        })
+        .collect())
 }
 
 /// Refuses an output folder that is the input's own: a bake never writes

@@ -69,8 +69,14 @@ fn a_bake_writes_every_map_and_its_numbers_are_the_librarys() {
             "Ball_subsurface.exr",
             "Ball_subsurface.png",
             "Ball_thickness.exr",
+            "marble.bin",
+            "marble.gltf",
         ]
     );
+    // The glTF copy shows the diffuse map on the ball; the input is untouched.
+    let copy = std::fs::read_to_string(out.join("marble.gltf")).unwrap();
+    assert!(copy.contains("Ball_diffuse.png") && copy.contains("KHR_materials_unlit"));
+    assert!(!std::fs::read_to_string(&scene).unwrap().contains("sssbake"));
     let read = |name: &str| sssbake_io::read_image(&out.join(name)).unwrap();
     let (subsurface, irradiance, area, thickness) = (
         read("Ball_subsurface.exr"),

@@ -69,7 +69,10 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
                 read_mesh(&mesh, &name, world, scale, options, &data, &mut scene.notes)
                     .map_err(error)?
             {
-                scene.objects.push(object);
+                scene.objects.push(SceneObject {
+                    node: Some(node.index()),
+                    ..object
+                });
             }
         }
         if let Some(light) = node.light() {
@@ -244,6 +247,7 @@ fn read_mesh(
         mesh,
         uv_sets,
         material,
+        node: None,
     }))
 }
 

@@ -2,6 +2,7 @@
 //! textures and assets. Scene units become millimetres here, once.
 
 pub mod gltf_reader;
+pub mod gltf_writer;
 pub mod image_reader;
 pub mod image_writer;
 pub mod usd_reader;

@@ -147,6 +147,7 @@ pub fn scene_from_json(
             mesh: mesh_out,
             uv_sets: uvs.into_iter().collect(),
             material: None,
+            node: None,
         });
     }
     for light in value["lights"].as_array().into_iter().flatten() {
