@@ -100,7 +100,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     let paths: Vec<(String, Output, PathBuf)> = loaded
         .objects
         .iter()
-        .flat_map(|object| {
+        .flat_map(|(object, _)| {
             outputs.iter().flat_map(move |&output| {
                 let stem = format!("{}_{}", file_stem(object), output.name());
                 let mut files =
@@ -121,7 +121,6 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         )));
     }
     let quiet = args.json;
-    let profile = loaded.profile.as_ref();
     let method_settings = MethodSettings {
         octree_epsilon: args.octree_epsilon,
         samples: args.samples,
@@ -129,7 +128,6 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         seed: args.scene.seed,
         ..MethodSettings::default()
     };
-    let kernel = Kernel::new(profile, method_settings.d_max_epsilon);
     let precision = if args.half {
         Precision::Half
     } else {
@@ -137,7 +135,9 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     };
     let mut encoded = Vec::new();
     let mut summaries = Vec::new();
-    for object in &loaded.objects {
+    for (object, assigned) in &loaded.objects {
+        let profile = assigned.profile.as_ref();
+        let kernel = Kernel::new(profile, method_settings.d_max_epsilon);
         let control = Control::new();
         let start = Instant::now();
         let prepared = watch(&format!("{object}: lighting"), &control, quiet, || {
@@ -145,7 +145,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
                 &loaded.scene,
                 object,
                 loaded.lighting.clone(),
-                &loaded.settings,
+                &assigned.settings,
                 &control,
             )
         })
@@ -162,7 +162,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
             let mut image = render(
                 &prepared,
                 &integration.exitance,
-                loaded.settings.eta,
+                assigned.settings.eta,
                 *output,
                 &fill,
             );
@@ -183,6 +183,8 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         }
         summaries.push(json!({
             "object": object,
+            "material": assigned.material.name,
+            "model": profile.model(),
             "texels": prepared.surfels.len(),
             "unwrapped": prepared.unwrapped,
             "method": integration.choice.method.name(),
@@ -215,7 +217,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         .scene
         .objects
         .iter()
-        .filter(|o| !loaded.objects.contains(&o.mesh.name))
+        .filter(|o| !loaded.objects.iter().any(|(name, _)| *name == o.mesh.name))
         .map(|o| format!("object `{}`: not selected", o.mesh.name))
         .chain(loaded.scene.notes.iter().cloned())
         .chain(notes)
@@ -223,9 +225,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     if args.json {
         let summary = json!({
             "scene": args.scene.input.display().to_string(),
-            "material": loaded.material.name,
-            "model": profile.model(),
-            "resolution": loaded.settings.resolution,
+            "resolution": args.scene.resolution,
             "objects": summaries,
             "files": files,
             "write_seconds": write_seconds,

@@ -8,6 +8,7 @@
 mod atomic_write;
 mod bake_command;
 mod material_choice;
+mod material_map;
 mod plan_command;
 mod plot;
 mod profile_command;

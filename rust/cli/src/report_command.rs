@@ -113,17 +113,17 @@ pub fn run(args: &ReportArgs) -> Result<(), Failure> {
     }
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", args.out.display())))?;
-    let profile: &dyn Profile = loaded.profile.as_ref();
-    let kernel = Kernel::new(profile, MethodSettings::default().d_max_epsilon);
     let control = Control::new();
     let mut runs = Vec::new();
     let mut objects = Vec::new();
-    for object in &loaded.objects {
+    for (object, assigned) in &loaded.objects {
+        let profile: &dyn Profile = assigned.profile.as_ref();
+        let kernel = Kernel::new(profile, MethodSettings::default().d_max_epsilon);
         let prepared: Prepared = prepare(
             &loaded.scene,
             object,
             loaded.lighting.clone(),
-            &loaded.settings,
+            &assigned.settings,
             &control,
         )
         .map_err(failure)?;
@@ -176,6 +176,9 @@ pub fn run(args: &ReportArgs) -> Result<(), Failure> {
         }
         objects.push(json!({
             "name": object,
+            "material": assigned.material.name,
+            "model": profile.model(),
+            "d_max_mm": kernel.d_max,
             "texels": prepared.surfels.len(),
             "unwrapped": prepared.unwrapped,
             "prepare_seconds": prepared.seconds(),
@@ -184,10 +187,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Failure> {
     let front = pareto_front(&runs);
     let report = json!({
         "scene": args.scene.input.display().to_string(),
-        "material": loaded.material.name,
-        "model": profile.model(),
-        "resolution": loaded.settings.resolution,
-        "d_max_mm": kernel.d_max,
+        "resolution": args.scene.resolution,
         "threads": rayon::current_num_threads(),
         "objects": objects,
         "runs": runs.iter().enumerate().map(|(i, r)| json!({
@@ -232,6 +232,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Failure> {
         .filter(|r| r.method == Method::Brute)
         .map(|r| r.seconds)
         .sum::<f64>();
+    let (_, first) = &loaded.objects[0];
     let title = format!(
         "{} · {} ({}) · {}² · error against run time",
         args.scene
@@ -239,9 +240,9 @@ pub fn run(args: &ReportArgs) -> Result<(), Failure> {
             .file_name()
             .map(|f| f.to_string_lossy().into_owned())
             .unwrap_or_default(),
-        loaded.material.name,
-        profile.model(),
-        loaded.settings.resolution
+        first.material.name,
+        first.profile.model(),
+        args.scene.resolution
     );
     let svg = render(&title, &series, brute_seconds);
     let png = render_png(&svg).map_err(Failure::Output)?;

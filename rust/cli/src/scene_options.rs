@@ -4,6 +4,7 @@
 
 use crate::Failure;
 use crate::material_choice;
+use crate::material_map::MaterialMap;
 use sssbake::Scene;
 use sssbake::irradiance::entry::Boundary;
 use sssbake::irradiance::environment::EnvironmentMap;
@@ -29,6 +30,10 @@ pub struct SceneOptions {
     /// A TOML material file.
     #[arg(long)]
     pub material: Option<PathBuf>,
+    /// A TOML sidecar mapping objects to presets or material files; objects
+    /// it does not name take --preset or --material.
+    #[arg(long, value_name = "FILE")]
+    pub materials: Option<PathBuf>,
     /// The profile model [default: chosen for the material].
     #[arg(long)]
     pub model: Option<Model>,
@@ -70,20 +75,24 @@ pub struct SceneOptions {
     pub threads: Option<usize>,
 }
 
-/// Everything a bake needs, read and checked.
-pub struct Loaded {
-    /// The scene.
-    pub scene: Scene,
-    /// The names of the objects to bake.
-    pub objects: Vec<String>,
+/// One object's material, its profile and the settings that follow from it.
+pub struct Assigned {
     /// The material.
     pub material: Material,
     /// Its profile.
     pub profile: Box<dyn Profile>,
+    /// The bake settings (the material's index and mean free path set).
+    pub settings: BakeSettings,
+}
+
+/// Everything a bake needs, read and checked.
+pub struct Loaded {
+    /// The scene.
+    pub scene: Scene,
+    /// The names of the objects to bake, each with its material.
+    pub objects: Vec<(String, Assigned)>,
     /// Where the light comes from.
     pub lighting: Lighting,
-    /// The bake settings.
-    pub settings: BakeSettings,
 }
 
 impl SceneOptions {
@@ -119,33 +128,35 @@ impl SceneOptions {
             .preset
             .as_deref()
             .or(self.material.is_none().then_some("skin1"));
-        let material = material_choice::load(preset, self.material.as_deref())?;
-        let model = self.model.unwrap_or_else(|| Model::default_for(&material));
-        let profile =
-            build_profile(&material, model, 6).map_err(|e| Failure::Input(e.to_string()))?;
+        let default_material = material_choice::load(preset, self.material.as_deref())?;
         let options = ReadOptions {
             uv_set: self.uv_set,
             unit_scale: self.unit_scale,
         };
         let scene = read_scene(&self.input, &options).map_err(|e| Failure::Input(e.to_string()))?;
-        let objects: Vec<String> = scene
+        let names: Vec<String> = scene
             .select(&self.objects)
             .map_err(Failure::Input)?
             .iter()
             .map(|o| o.mesh.name.clone())
             .collect();
-        if objects.is_empty() {
+        if names.is_empty() {
             return Err(Failure::Input(format!(
                 "{}: has no object to bake",
                 self.input.display()
             )));
         }
+        let all: Vec<String> = scene.objects.iter().map(|o| o.mesh.name.clone()).collect();
+        let map = match &self.materials {
+            Some(path) => Some(MaterialMap::read(path, &all)?),
+            None => None,
+        };
         let lighting = self.lighting(&scene)?;
         let base_colour = match &self.base_color {
             Some(path) => Some(read_image(path).map_err(|e| Failure::Input(e.to_string()))?),
             None => None,
         };
-        let settings = BakeSettings {
+        let base = BakeSettings {
             resolution: self.resolution,
             irradiance: sssbake::irradiance::IrradianceSettings {
                 samples: self.light_samples.max(1),
@@ -154,19 +165,38 @@ impl SceneOptions {
             boundary: self
                 .roughness
                 .map_or(Boundary::Smooth, |roughness| Boundary::Rough { roughness }),
-            eta: top_index(&material),
-            mean_free_path_mm: material_choice::mean_free_path(&material),
             base_colour,
             colour_split: self.colour_split,
             ..BakeSettings::default()
         };
+        let mut objects = Vec::new();
+        for name in names {
+            let material = map
+                .as_ref()
+                .and_then(|m| m.for_object(&name))
+                .unwrap_or(&default_material)
+                .clone();
+            let model = self.model.unwrap_or_else(|| Model::default_for(&material));
+            let profile = build_profile(&material, model, 6)
+                .map_err(|e| Failure::Input(format!("object `{name}`: {e}")))?;
+            let settings = BakeSettings {
+                eta: top_index(&material),
+                mean_free_path_mm: material_choice::mean_free_path(&material),
+                ..base.clone()
+            };
+            objects.push((
+                name,
+                Assigned {
+                    material,
+                    profile,
+                    settings,
+                },
+            ));
+        }
         Ok(Loaded {
             scene,
             objects,
-            material,
-            profile,
             lighting,
-            settings,
         })
     }
 

@@ -201,6 +201,24 @@ fn bad_inputs_name_the_problem_and_leave_nothing_behind() {
             2,
             "glow",
         ),
+        (
+            vec![
+                scene.into(),
+                "--base-color".into(),
+                "/nonexistent/skin.png".into(),
+            ],
+            1,
+            "skin.png",
+        ),
+        (
+            vec![
+                scene.into(),
+                "--irradiance".into(),
+                "/nonexistent/light.exr".into(),
+            ],
+            1,
+            "light.exr",
+        ),
     ];
     for (i, (extra, code, named)) in cases.into_iter().enumerate() {
         let out = scratch(&format!("bad-{i}"));
@@ -244,4 +262,50 @@ fn bad_inputs_name_the_problem_and_leave_nothing_behind() {
             .any(|f| f.ends_with(".exr") || f.ends_with(".png"))
     );
     let _ = std::fs::remove_dir_all(&truncated_dir);
+}
+
+#[test]
+fn a_sidecar_gives_objects_their_materials() {
+    let dir = scratch("sidecar");
+    std::fs::create_dir_all(&dir).unwrap();
+    let sidecar = dir.join("materials.toml");
+    std::fs::write(&sidecar, "[objects]\nBall = \"ketchup\"\n").unwrap();
+    let out = dir.join("maps");
+    let scene = example("marble");
+    let result = sssbake(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--resolution",
+        "32",
+        "--materials",
+        sidecar.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let summary: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
+    assert_eq!(summary["objects"][0]["material"], "ketchup");
+    // A sidecar naming an object the scene lacks says which, and where.
+    std::fs::write(&sidecar, "[objects]\nBal = \"ketchup\"\n").unwrap();
+    let result = sssbake(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--out",
+        dir.join("other").to_str().unwrap(),
+        "--materials",
+        sidecar.to_str().unwrap(),
+    ]);
+    assert_eq!(result.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        stderr.contains("materials.toml") && stderr.contains("objects.Bal"),
+        "{stderr}"
+    );
+    assert!(!dir.join("other").exists());
+    let _ = std::fs::remove_dir_all(&dir);
 }

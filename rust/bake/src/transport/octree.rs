@@ -3,7 +3,8 @@
 //! area-weighted normal and irradiance-weighted centre; a target takes a
 //! node whole when the node's area seen from it subtends less than ε
 //! (A/d² < ε) and the target lies outside the node's box, else opens it.
-//! At ε = 0 every node is opened and the sum is exactly the brute one.
+//! At ε = 0 every node is opened and the sum is exactly `brute`'s over the
+//! same sources.
 
 use super::brute::area_range;
 use super::disk_kernel::{DiskKernel, Slot};
