@@ -55,6 +55,7 @@ fn scene() -> Scene {
             uv_sets: vec![],
             material: None,
             node: None,
+            prim: None,
         }],
         lights: vec![
             light(

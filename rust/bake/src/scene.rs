@@ -28,9 +28,11 @@ pub struct SceneObject {
     pub uv_sets: Vec<Vec<Vec2>>,
     /// The material's hints, from the first primitive that has a material.
     pub material: Option<MaterialHint>,
-    /// Where the object came from in its file (the glTF node index), so
-    /// writers can find it again.
+    /// Where the object came from in its file, so writers can find it
+    /// again: the glTF node index.
     pub node: Option<usize>,
+    /// ... or the USD mesh prim's path.
+    pub prim: Option<String>,
 }
 
 /// What an asset's material says about translucency and colour.

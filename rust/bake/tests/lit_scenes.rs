@@ -51,6 +51,7 @@ pub fn scene(meshes: Vec<Mesh>, lights: Vec<Light>) -> Scene {
                 mesh,
                 material: None,
                 node: None,
+                prim: None,
             })
             .collect(),
         lights,

@@ -198,6 +198,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     }
     let mut notes = Vec::new();
     encoded.extend(asset_copy(args, &loaded, &summaries, &mut notes)?);
+    encoded.extend(usd_layer(args, &loaded, &summaries, &encoded, &mut notes)?);
     if !args.force
         && let Some(existing) = encoded.iter().find(|e| e.path.exists())
     {
@@ -260,6 +261,50 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The baked objects an asset of the input's kind (`extensions`) can show,
+/// or `None` when the input is of another kind or the diffuse map was not
+/// asked for; objects that were unwrapped are left out with a note, since
+/// their new UVs are not in the asset.
+fn shown_objects<'a>(
+    args: &BakeArgs,
+    loaded: &'a crate::scene_options::Loaded,
+    summaries: &'a [serde_json::Value],
+    asset: &str,
+    extensions: &[&str],
+    notes: &mut Vec<String>,
+) -> Option<Vec<(&'a sssbake::SceneObject, &'a str)>> {
+    let extension = args
+        .scene
+        .input
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)?;
+    if !extensions.contains(&extension.as_str()) {
+        return None;
+    }
+    if !args.outputs.contains(&Output::Diffuse) {
+        notes.push(format!(
+            "{asset}: it shows the diffuse map, which was not asked for"
+        ));
+        return None;
+    }
+    let mut shown = Vec::new();
+    for summary in summaries {
+        let name = summary["object"].as_str().unwrap_or_default();
+        let Some(object) = loaded.scene.objects.iter().find(|o| o.mesh.name == name) else {
+            continue;
+        };
+        if summary["unwrapped"].as_bool() == Some(false) {
+            shown.push((object, name));
+        } else {
+            notes.push(format!(
+                "object `{name}` from {asset}: it was unwrapped, and its new UVs are not in the asset"
+            ));
+        }
+    }
+    Some(shown)
+}
+
 /// For a glTF input, a copy in which the baked objects show their
 /// `diffuse` map (see `sssbake_io::gltf_writer`); objects that were
 /// unwrapped are left as they were, since their new UVs are not in it.
@@ -269,37 +314,27 @@ fn asset_copy(
     summaries: &[serde_json::Value],
     notes: &mut Vec<String>,
 ) -> Result<Vec<Encoded>, Failure> {
-    let extension = args
-        .scene
-        .input
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if !matches!(extension.as_deref(), Some("gltf" | "glb")) {
+    let Some(objects) = shown_objects(
+        args,
+        loaded,
+        summaries,
+        "the glTF copy",
+        &["gltf", "glb"],
+        notes,
+    ) else {
         return Ok(Vec::new());
-    }
-    if !args.outputs.contains(&Output::Diffuse) {
-        notes.push("the glTF copy: it shows the diffuse map, which was not asked for".into());
-        return Ok(Vec::new());
-    }
-    let mut baked = Vec::new();
-    for summary in summaries {
-        let name = summary["object"].as_str().unwrap_or_default();
-        let Some(object) = loaded.scene.objects.iter().find(|o| o.mesh.name == name) else {
-            continue;
-        };
-        match (object.node, summary["unwrapped"].as_bool()) {
-            (Some(node), Some(false)) => baked.push(sssbake_io::gltf_writer::Baked {
-                node,
+    };
+    let baked: Vec<_> = objects
+        .into_iter()
+        .filter_map(|(object, name)| {
+            Some(sssbake_io::gltf_writer::Baked {
+                node: object.node?,
                 object: name.to_string(),
                 image: format!("{}_diffuse.png", file_stem(name)),
                 uv_set: args.scene.uv_set,
-            }),
-            _ => notes.push(format!(
-                "object `{name}` from the glTF copy: it was unwrapped, and its new UVs are not in the asset"
-            )),
-        }
-    }
+            })
+        })
+        .collect();
     let files = sssbake_io::gltf_writer::gltf_copy(&args.scene.input, &baked)
         .map_err(|e| Failure::Input(format!("{}: {e}", args.scene.input.display())))?;
     Ok(files
@@ -309,6 +344,68 @@ fn asset_copy(
             bytes,
         })
         .collect())
+}
+
+/// For a USD input, a layer over it that binds each baked object to a
+/// UsdPreviewSurface reading its `diffuse` map (see
+/// `sssbake_io::usd_writer`); objects that were unwrapped are left as
+/// they were, since `st` does not hold their new UVs.
+fn usd_layer(
+    args: &BakeArgs,
+    loaded: &crate::scene_options::Loaded,
+    summaries: &[serde_json::Value],
+    maps: &[Encoded],
+    notes: &mut Vec<String>,
+) -> Result<Vec<Encoded>, Failure> {
+    let input = &args.scene.input;
+    let Some(objects) = shown_objects(
+        args,
+        loaded,
+        summaries,
+        "the USD layer",
+        &["usd", "usda", "usdc", "usdz"],
+        notes,
+    ) else {
+        return Ok(Vec::new());
+    };
+    let mut baked = Vec::new();
+    for (object, name) in objects {
+        let Some(prim) = &object.prim else { continue };
+        let summary = summaries
+            .iter()
+            .find(|s| s["object"] == name)
+            .expect("baked");
+        let stem = format!("{}_", file_stem(name));
+        baked.push(sssbake_io::usd_writer::UsdBaked {
+            object: name.to_string(),
+            prim: prim.clone(),
+            diffuse: format!("{stem}diffuse.png"),
+            maps: maps
+                .iter()
+                .filter_map(|m| m.path.file_name()?.to_str().map(String::from))
+                .filter(|f| f.starts_with(&stem))
+                .collect(),
+            attributes: json!({
+                "material": summary["material"],
+                "model": summary["model"],
+                "method": summary["method"],
+            }),
+        });
+    }
+    let settings = json!({
+        "resolution": args.scene.resolution.to_string(),
+        "version": env!("CARGO_PKG_VERSION"),
+    });
+    let bytes = sssbake_io::usd_writer::usd_layer(input, &args.out, &baked, settings)
+        .map_err(|e| Failure::Input(format!("{}: {e}", input.display())))?;
+    let stem = input
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    Ok(vec![Encoded {
+        path: args.out.join(format!("{stem}_sssbake.usda")),
+        bytes,
+    }])
 }
 
 /// Refuses an output folder that is the input's own: a bake never writes

@@ -248,6 +248,7 @@ fn read_mesh(
         uv_sets,
         material,
         node: None,
+        prim: None,
     }))
 }
 

@@ -5,7 +5,9 @@ pub mod gltf_reader;
 pub mod gltf_writer;
 pub mod image_reader;
 pub mod image_writer;
+pub mod python;
 pub mod usd_reader;
+pub mod usd_writer;
 
 pub use gltf_reader::read_gltf;
 pub use image_reader::read_image;

@@ -8,9 +8,7 @@ use crate::{InputError, ReadOptions};
 use glam::{Vec2, Vec3};
 use serde_json::Value;
 use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
-use std::io::Write;
 use std::path::Path;
-use std::process::{Command, Stdio};
 
 const READ_STAGE: &str = include_str!("../../../usd/read_stage.py");
 
@@ -24,43 +22,15 @@ pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<Scene, InputError>
     if !path.is_file() {
         return Err(error("cannot read: no such file".into()));
     }
-    let python = std::env::var("SSSBAKE_PYTHON").unwrap_or_else(|_| "python3".into());
     let uv_set = if options.uv_set == 0 {
         String::new()
     } else {
         format!("st{}", options.uv_set)
     };
-    let mut child = Command::new(&python)
-        .arg("-")
-        .arg(path)
-        .arg(&uv_set)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| error(format!("reading USD needs Python with usd-core; `{python}` did not start ({e}); set SSSBAKE_PYTHON")))?;
-    // A Python that stops early (no usd-core) closes its input: what it
-    // says on exit explains more than the broken pipe would.
-    let fed = child
-        .stdin
-        .take()
-        .map(|mut stdin| stdin.write_all(READ_STAGE.as_bytes()));
-    let output = child
-        .wait_with_output()
-        .map_err(|e| error(format!("the USD reader failed: {e}")))?;
-    if !output.status.success() {
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        let reason = stderr
-            .lines()
-            .rev()
-            .find(|l| !l.trim().is_empty())
-            .unwrap_or("no message");
-        return Err(error(format!("usd-core could not read it: {reason}")));
-    }
-    if let Some(Err(e)) = fed {
-        return Err(error(format!("cannot hand the USD reader its script: {e}")));
-    }
-    let value: Value = serde_json::from_slice(&output.stdout)
+    let stdout =
+        crate::python::run_script(READ_STAGE, [path.as_os_str(), uv_set.as_ref()], "read it")
+            .map_err(error)?;
+    let value: Value = serde_json::from_slice(&stdout)
         .map_err(|e| error(format!("the USD reader's output is not JSON: {e}")))?;
     scene_from_json(&value, &file, options)
 }
@@ -148,6 +118,7 @@ pub fn scene_from_json(
             uv_sets: uvs.into_iter().collect(),
             material: None,
             node: None,
+            prim: mesh["path"].as_str().map(String::from),
         });
     }
     for light in value["lights"].as_array().into_iter().flatten() {

@@ -1,0 +1,69 @@
+//! The USD layer of a bake: written by `usd/write_layer.py` through
+//! usd-core, it sublayers the input and adds a UsdPreviewSurface material
+//! per baked object reading its `diffuse` map through `st`, bound to the
+//! object, with `sssbake:` attributes recording the settings.
+
+use serde_json::{Value, json};
+use std::path::{Component, Path, PathBuf};
+
+const WRITE_LAYER: &str = include_str!("../../../usd/write_layer.py");
+
+/// One baked object for the layer.
+#[derive(Clone, Debug)]
+pub struct UsdBaked {
+    /// The object's name.
+    pub object: String,
+    /// Its mesh prim's path in the input stage.
+    pub prim: String,
+    /// The diffuse map's file name, beside the layer.
+    pub diffuse: String,
+    /// Every map written for it, by file name.
+    pub maps: Vec<String>,
+    /// How it was baked (material, model, method), as `sssbake:` attributes.
+    pub attributes: Value,
+}
+
+/// The layer's text (usda) for a layer in `folder` over the stage `input`.
+pub fn usd_layer(
+    input: &Path,
+    folder: &Path,
+    objects: &[UsdBaked],
+    settings: Value,
+) -> Result<Vec<u8>, String> {
+    let input = input
+        .canonicalize()
+        .map_err(|e| format!("cannot find the input: {e}"))?;
+    // The folder may not exist yet: the bake writes it last.
+    let folder = folder
+        .canonicalize()
+        .or_else(|_| std::path::absolute(folder))
+        .map_err(|e| format!("{}: {e}", folder.display()))?;
+    let request = json!({
+        "input": input,
+        "input_from_layer": relative(&folder, &input),
+        "objects": objects.iter().map(|o| json!({
+            "object": o.object,
+            "prim": o.prim,
+            "diffuse": o.diffuse,
+            "maps": o.maps,
+            "attributes": o.attributes,
+        })).collect::<Vec<_>>(),
+        "settings": settings,
+    });
+    crate::python::run_script(WRITE_LAYER, [request.to_string()], "write the layer")
+}
+
+/// The path from folder `from` to file `to`, both absolute.
+fn relative(from: &Path, to: &Path) -> String {
+    let a: Vec<Component> = from.components().collect();
+    let b: Vec<Component> = to.components().collect();
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut path = PathBuf::new();
+    for _ in common..a.len() {
+        path.push("..");
+    }
+    for part in &b[common..] {
+        path.push(part.as_os_str());
+    }
+    path.to_string_lossy().replace('\\', "/")
+}

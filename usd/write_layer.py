@@ -1,0 +1,81 @@
+"""Writes the USD layer of a bake with usd-core and prints it (usda) on standard output.
+
+Run as `python write_layer.py REQUEST_JSON`. The request names the input stage, the
+path from the new layer's folder to it, and per baked object its mesh prim and its
+maps. The layer sublayers the input and overrides only what the bake adds: one
+material per object (UsdPreviewSurface whose diffuse colour is a UsdUVTexture reading
+the `diffuse` map through the `st` primvar), bound to the object's mesh, with
+`sssbake:` attributes recording how it was baked. The input is never written.
+"""
+
+import json
+import sys
+
+
+def fail(message: str) -> None:
+    print(message, file=sys.stderr)
+    sys.exit(2)
+
+
+try:
+    from pxr import Sdf, Tf, Usd, UsdGeom, UsdShade
+except ImportError:
+    fail("this Python has no usd-core (pip install usd-core), which writing USD needs")
+
+
+def material_for(stage, root, baked, settings):
+    name = Tf.MakeValidIdentifier(baked["object"])
+    path = root.AppendPath(f"SssbakeMaterials/{name}")
+    material = UsdShade.Material.Define(stage, path)
+    reader = UsdShade.Shader.Define(stage, path.AppendChild("st"))
+    reader.CreateIdAttr("UsdPrimvarReader_float2")
+    reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set("st")
+    texture = UsdShade.Shader.Define(stage, path.AppendChild("diffuse"))
+    texture.CreateIdAttr("UsdUVTexture")
+    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(baked["diffuse"])
+    texture.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("sRGB")
+    texture.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(reader.ConnectableAPI(), "result")
+    texture.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+    surface = UsdShade.Shader.Define(stage, path.AppendChild("surface"))
+    surface.CreateIdAttr("UsdPreviewSurface")
+    surface.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
+        texture.ConnectableAPI(), "rgb"
+    )
+    surface.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(1.0)
+    material.CreateSurfaceOutput().ConnectToSource(surface.ConnectableAPI(), "surface")
+    prim = material.GetPrim()
+    for key, value in {**settings, **baked["attributes"], "maps": baked["maps"]}.items():
+        kind = Sdf.ValueTypeNames.StringArray if isinstance(value, list) else Sdf.ValueTypeNames.String
+        prim.CreateAttribute(f"sssbake:{key}", kind, custom=True).Set(
+            value if isinstance(value, list) else str(value)
+        )
+    return material
+
+
+def main():
+    if len(sys.argv) < 2:
+        fail("usage: write_layer.py REQUEST_JSON")
+    request = json.loads(sys.argv[1])
+    source = Usd.Stage.Open(request["input"])
+    if source is None:
+        fail("cannot open the stage")
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    layer.subLayerPaths.append(request["input_from_layer"])
+    stage = Usd.Stage.Open(layer)
+    UsdGeom.SetStageMetersPerUnit(stage, UsdGeom.GetStageMetersPerUnit(source))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.GetStageUpAxis(source))
+    default = source.GetDefaultPrim()
+    root = default.GetPath() if default else Sdf.Path("/")
+    if default:
+        stage.SetDefaultPrim(stage.GetPrimAtPath(root))
+    for baked in request["objects"]:
+        mesh = stage.GetPrimAtPath(baked["prim"])
+        if not mesh:
+            fail(f"object `{baked['object']}`: no prim at {baked['prim']}")
+        material = material_for(stage, root, baked, request["settings"])
+        binding = UsdShade.MaterialBindingAPI.Apply(stage.OverridePrim(mesh.GetPath()))
+        binding.Bind(material)
+    sys.stdout.write(layer.ExportToString())
+
+
+main()
