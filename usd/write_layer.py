@@ -59,8 +59,11 @@ def main():
     source = Usd.Stage.Open(request["input"])
     if source is None:
         fail("cannot open the stage")
+    # Compose over the input by its absolute path (an anonymous layer would
+    # resolve a relative one against the working folder); the written layer
+    # names it relative to where it will live.
     layer = Sdf.Layer.CreateAnonymous(".usda")
-    layer.subLayerPaths.append(request["input_from_layer"])
+    layer.subLayerPaths.append(request["input"])
     stage = Usd.Stage.Open(layer)
     UsdGeom.SetStageMetersPerUnit(stage, UsdGeom.GetStageMetersPerUnit(source))
     UsdGeom.SetStageUpAxis(stage, UsdGeom.GetStageUpAxis(source))
@@ -75,6 +78,8 @@ def main():
         material = material_for(stage, root, baked, request["settings"])
         binding = UsdShade.MaterialBindingAPI.Apply(stage.OverridePrim(mesh.GetPath()))
         binding.Bind(material)
+    layer.subLayerPaths.clear()
+    layer.subLayerPaths.append(request["input_from_layer"])
     sys.stdout.write(layer.ExportToString())
 
 
