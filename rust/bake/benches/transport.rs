@@ -10,6 +10,7 @@ use glam::Vec3;
 use sssbake::control::Control;
 use sssbake::pipeline::{BakeSettings, Lighting, Prepared, prepare};
 use sssbake::rays::RayScene;
+use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::importance::{self, Surface};
 use sssbake::transport::kernel::Kernel;
 use sssbake::transport::sources::Targets;
@@ -77,21 +78,6 @@ fn scene() -> Scene {
     }
 }
 
-/// Relative RMSE and max error (of the peak) of `got` against `reference`.
-fn errors(got: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
-    let (mut d2, mut r2, mut worst, mut peak) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (g, r) in got.iter().zip(reference) {
-        for c in 0..3 {
-            let d = (g[c] - r[c]) as f64;
-            d2 += d * d;
-            r2 += (r[c] as f64).powi(2);
-            worst = worst.max(d.abs());
-            peak = peak.max(r[c] as f64);
-        }
-    }
-    ((d2 / r2).sqrt(), worst / peak)
-}
-
 fn main() {
     let resolution: u32 = std::env::var("SSSBAKE_BENCH_RESOLUTION")
         .ok()
@@ -143,7 +129,7 @@ fn main() {
         "brute (timed on 1 texel in stride)", brute_full, "1×", "—", "—"
     );
     let report = |name: &str, seconds: f64, got: &[[f32; 3]]| {
-        let (rmse, max) = errors(got, &reference);
+        let (rmse, max) = relative_errors(got, &reference);
         println!(
             "{name:<34} {seconds:>10.2} {:>8.0}× {:>10.2}% {:>8.2}%",
             brute_full / seconds,
@@ -183,14 +169,7 @@ fn main() {
     }
     // Monte Carlo is per texel too: timed on the subset and scaled.
     let probes = RayScene::new(&[&prepared.mesh]);
-    let n = prepared.surfels.resolution as usize;
-    let mut texture = vec![[0.0f32; 3]; n * n];
-    for (s, e) in prepared.texel_sources().irradiance.iter().enumerate() {
-        texture[prepared.surfels.texel[s] as usize] = *e;
-    }
-    for &(to, from) in &prepared.dilation {
-        texture[to as usize] = texture[from as usize];
-    }
+    let texture = prepared.entering_texture();
     let surface = Surface {
         mesh: &prepared.mesh,
         uvs: &prepared.uvs,

@@ -293,8 +293,9 @@ impl Prepared {
         Ok(cluster(&self.texel_sources(), &points.position, spacing))
     }
 
-    /// The irradiance entering as a dilated N × N texture.
-    fn entering_texture(&self) -> Vec<[f32; 3]> {
+    /// The irradiance entering (after the colour split) as a dilated N × N
+    /// texture, row-major with y growing with v.
+    pub fn entering_texture(&self) -> Vec<[f32; 3]> {
         let n = self.surfels.resolution as usize;
         let mut image = vec![[0.0f32; 3]; n * n];
         for (s, e) in self.entering().into_iter().enumerate() {

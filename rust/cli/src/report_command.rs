@@ -10,6 +10,7 @@ use crate::scene_options::SceneOptions;
 use serde_json::json;
 use sssbake::control::Control;
 use sssbake::pipeline::{BakeError, Prepared, prepare};
+use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::kernel::Kernel;
 use sssbake::transport::{Method, MethodSettings};
 use sssbake_profile::profile::Profile;
@@ -72,26 +73,6 @@ fn ladder() -> Vec<(Method, String, MethodSettings)> {
         runs.push((Method::Importance, format!("{samples} spp"), settings));
     }
     runs
-}
-
-/// Relative RMSE and maximum error of `got` against `reference`, over
-/// every covered texel and channel: RMS(got − ref)/RMS(ref), and
-/// max |got − ref| / max ref.
-fn errors(got: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
-    let (mut diff2, mut ref2, mut worst, mut peak) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (g, r) in got.iter().zip(reference) {
-        for c in 0..3 {
-            let d = (g[c] - r[c]) as f64;
-            diff2 += d * d;
-            ref2 += (r[c] as f64).powi(2);
-            worst = worst.max(d.abs());
-            peak = peak.max(r[c] as f64);
-        }
-    }
-    if ref2 <= 0.0 {
-        return (0.0, 0.0);
-    }
-    ((diff2 / ref2).sqrt(), worst / peak.max(1e-30))
 }
 
 fn failure(error: BakeError) -> Failure {
@@ -159,7 +140,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Failure> {
             let result = prepared
                 .integrate(profile, &kernel, method, &seeded(&settings), &control)
                 .map_err(failure)?;
-            let (rmse, max_error) = errors(&result.exitance, &reference.exitance);
+            let (rmse, max_error) = relative_errors(&result.exitance, &reference.exitance);
             eprintln!(
                 "{object}: {method} {setting}: {:.3} s, RMSE {rmse:.2e}",
                 result.seconds

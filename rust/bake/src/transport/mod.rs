@@ -1,6 +1,7 @@
 //! Integrators: the radiant exitance M(x) = ∫ P(|x − x_i|) E_t(x_i) dA at
 //! every texel, by four methods with the same inputs and output.
 
+pub mod accuracy;
 pub mod brute;
 pub mod choice;
 pub mod clusters;
