@@ -8,13 +8,23 @@ It writes examples/<name>/<name>.gltf (+ .bin) and examples/<name>/<name>.usda f
 `head` (Suzanne, subdivided, skin), `marble` (a sphere of marble) and `ear` (a thin
 curved shell lit from behind, for light crossing thin parts). Everything is built
 from Blender's own primitives, so the files are the same on every run.
+
+Blender's exporters leave out the Principled BSDF's subsurface inputs, so each file
+gets them afterwards, translated as README "Materials from the asset" reads them back:
+glTF KHR_materials_volume (attenuation distance = Subsurface Scale, attenuation colour
+= e^(-1/Radius), so the mean free path is Radius × Scale) with
+KHR_materials_volume_scatter's multiscatterColor = Base Color; USD an OpenPBR shader
+in the `mtlx` render context (subsurface_color = Base Color, subsurface_radius = Scale,
+subsurface_radius_scale = Radius) beside Blender's UsdPreviewSurface.
 """
 
+import json
 import math
 import pathlib
 import sys
 
 import bpy
+from pxr import Gf, Sdf, Usd, UsdShade
 
 HERE = pathlib.Path(__file__).resolve().parent
 
@@ -24,8 +34,12 @@ def reset():
     bpy.context.scene.unit_settings.system = "METRIC"
 
 
+SUBSURFACE = {}
+
+
 def translucent_material(name, colour, radius, scale):
     """A Principled BSDF with subsurface scattering (Blender's own parameters)."""
+    SUBSURFACE[name] = (colour, radius, scale)
     material = bpy.data.materials.new(name)
     material.use_nodes = True
     bsdf = material.node_tree.nodes["Principled BSDF"]
@@ -77,6 +91,53 @@ def export(name):
         export_yup=True,
     )
     bpy.ops.wm.usd_export(filepath=str(folder / f"{name}.usda"))
+    add_gltf_subsurface(folder / f"{name}.gltf")
+    add_usd_subsurface(folder / f"{name}.usda")
+
+
+def add_gltf_subsurface(path):
+    document = json.loads(path.read_text())
+    for material in document.get("materials", []):
+        if material["name"] not in SUBSURFACE:
+            continue
+        colour, radius, scale = SUBSURFACE[material["name"]]
+        material["extensions"] = {
+            "KHR_materials_diffuse_transmission": {
+                "diffuseTransmissionFactor": 1.0,
+                "diffuseTransmissionColorFactor": list(colour),
+            },
+            "KHR_materials_volume": {
+                "thicknessFactor": scale,
+                "attenuationDistance": scale,
+                "attenuationColor": [round(math.exp(-1.0 / r), 6) for r in radius],
+            },
+            "KHR_materials_volume_scatter": {"multiscatterColor": list(colour)},
+        }
+        used = document.setdefault("extensionsUsed", [])
+        used += [e for e in material["extensions"] if e not in used]
+    path.write_text(json.dumps(document, indent=2) + "\n")
+
+
+def add_usd_subsurface(path):
+    stage = Usd.Stage.Open(str(path))
+    for prim in stage.Traverse():
+        if not prim.IsA(UsdShade.Material) or prim.GetName() not in SUBSURFACE:
+            continue
+        colour, radius, scale = SUBSURFACE[prim.GetName()]
+        shader = UsdShade.Shader.Define(stage, prim.GetPath().AppendChild("OpenPBR"))
+        shader.CreateIdAttr("ND_open_pbr_surface_surfaceshader")
+        for name, kind, value in [
+            ("base_color", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*colour)),
+            ("subsurface_weight", Sdf.ValueTypeNames.Float, 1.0),
+            ("subsurface_color", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*colour)),
+            ("subsurface_radius", Sdf.ValueTypeNames.Float, scale),
+            ("subsurface_radius_scale", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*radius)),
+            ("specular_ior", Sdf.ValueTypeNames.Float, 1.4),
+        ]:
+            shader.CreateInput(name, kind).Set(value)
+        output = shader.CreateOutput("out", Sdf.ValueTypeNames.Token)
+        UsdShade.Material(prim).CreateSurfaceOutput("mtlx").ConnectToSource(output)
+    stage.Save()
 
 
 def head():
@@ -87,8 +148,8 @@ def head():
     obj.name = "Head"
     obj.rotation_euler = (math.radians(90), 0, 0)
     obj.modifiers.new("smooth", "SUBSURF").levels = 2
-    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), 0.01))
-    sun("Key", (math.radians(50), 0, math.radians(30)), 3.0)
+    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), 0.002))
+    sun("Key", (math.radians(50), 0, math.radians(30)), 1.0)
     point("Rim", (0.05, 0.4, 0.1), 40.0, 0.05)
     export("head")
 
@@ -99,7 +160,7 @@ def marble():
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.05, segments=96, ring_count=48)
     obj = bpy.context.active_object
     obj.name = "Ball"
-    finish(obj, translucent_material("Marble", (0.83, 0.79, 0.75), (0.9, 0.8, 0.7), 0.02))
+    finish(obj, translucent_material("Marble", (0.83, 0.79, 0.75), (0.9, 0.8, 0.7), 0.001))
     sun("Sun", (math.radians(60), 0, math.radians(-20)), 3.0)
     export("marble")
 
@@ -120,7 +181,7 @@ def ear():
     bend.deform_axis = "Y"
     bend.angle = math.radians(70)
     obj.modifiers.new("thickness", "SOLIDIFY").thickness = 0.003
-    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), 0.01))
+    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), 0.002))
     # Solidify repeats the UVs on both faces: give the shell its own layout.
     bpy.ops.object.mode_set(mode="EDIT")
     bpy.ops.mesh.select_all(action="SELECT")

@@ -3,7 +3,8 @@
 Run as `python read_stage.py STAGE [UV_SET]`. Every UsdGeomMesh becomes an
 object with world-space points (in stage units), fan-triangulated faces and,
 per triangle corner, the chosen st primvar and normals expanded from any
-interpolation. UsdLux lights come with their world transforms. The stage's
+interpolation, and the bound material's surface shader: its id and the
+values of its inputs. UsdLux lights come with their world transforms. The stage's
 metersPerUnit and upAxis come along; sssbake converts to millimetres.
 """
 
@@ -17,7 +18,7 @@ def fail(message: str) -> None:
 
 
 try:
-    from pxr import Gf, Usd, UsdGeom, UsdLux
+    from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade
 except ImportError:
     fail("this Python has no usd-core (pip install usd-core), which reading USD needs")
 
@@ -96,6 +97,41 @@ def read_mesh(prim, cache, uv_set):
         "normals": normals,
         "faces": len(counts),
         "subsets": subsets,
+        "material": read_material(prim),
+    }
+
+
+def read_material(prim):
+    """The bound material's surface shader (UsdPreviewSurface, or OpenPBR in
+    MaterialX's context): its id, the values of its unconnected inputs, and
+    the names of the inputs a texture drives."""
+    material, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()
+    if not material:
+        return None
+    shader = None
+    for context in ("mtlx", ""):
+        source = material.ComputeSurfaceSource(context)
+        candidate = source[0] if isinstance(source, tuple) else source
+        if candidate:
+            shader = candidate
+            break
+    if shader is None:
+        return {"name": material.GetPrim().GetName(), "shader": "", "inputs": {}, "connected": []}
+    inputs, connected = {}, []
+    for shader_input in shader.GetInputs():
+        name = shader_input.GetBaseName()
+        if shader_input.HasConnectedSource():
+            connected.append(name)
+            continue
+        value = shader_input.Get()
+        if value is None:
+            continue
+        inputs[name] = list(value) if hasattr(value, "__len__") else float(value)
+    return {
+        "name": material.GetPrim().GetName(),
+        "shader": str(shader.GetIdAttr().Get() or ""),
+        "inputs": inputs,
+        "connected": connected,
     }
 
 

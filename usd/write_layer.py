@@ -1,8 +1,9 @@
 """Writes the USD layer of a bake with usd-core and prints it (usda) on standard output.
 
-Run as `python write_layer.py REQUEST_JSON`. The request names the input stage, the
-path from the new layer's folder to it, and per baked object its mesh prim and its
-maps. The layer sublayers the input and overrides only what the bake adds: one
+Run as `python write_layer.py REQUEST_FILE`. The request (JSON) names the input
+stage, the path from the new layer's folder to it, and per baked object its mesh prim,
+its maps and, for an object that was unwrapped, its UVs per face corner (written as
+`primvars:sssbake_st`, which its material reads instead of `st`). The layer sublayers the input and overrides only what the bake adds: one
 material per object (UsdPreviewSurface whose diffuse colour is a UsdUVTexture reading
 the `diffuse` map through the `st` primvar), bound to the object's mesh, with
 `sssbake:` attributes recording how it was baked. The input is never written.
@@ -18,7 +19,7 @@ def fail(message: str) -> None:
 
 
 try:
-    from pxr import Sdf, Tf, Usd, UsdGeom, UsdShade
+    from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdShade
 except ImportError:
     fail("this Python has no usd-core (pip install usd-core), which writing USD needs")
 
@@ -29,7 +30,8 @@ def material_for(stage, root, baked, settings):
     material = UsdShade.Material.Define(stage, path)
     reader = UsdShade.Shader.Define(stage, path.AppendChild("st"))
     reader.CreateIdAttr("UsdPrimvarReader_float2")
-    reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set("st")
+    varname = "sssbake_st" if baked.get("st") else "st"
+    reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set(varname)
     texture = UsdShade.Shader.Define(stage, path.AppendChild("diffuse"))
     texture.CreateIdAttr("UsdUVTexture")
     texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(baked["diffuse"])
@@ -54,8 +56,9 @@ def material_for(stage, root, baked, settings):
 
 def main():
     if len(sys.argv) < 2:
-        fail("usage: write_layer.py REQUEST_JSON")
-    request = json.loads(sys.argv[1])
+        fail("usage: write_layer.py REQUEST_FILE")
+    with open(sys.argv[1], encoding="utf-8") as file:
+        request = json.load(file)
     source = Usd.Stage.Open(request["input"])
     if source is None:
         fail("cannot open the stage")
@@ -76,8 +79,15 @@ def main():
         if not mesh:
             fail(f"object `{baked['object']}`: no prim at {baked['prim']}")
         material = material_for(stage, root, baked, request["settings"])
-        binding = UsdShade.MaterialBindingAPI.Apply(stage.OverridePrim(mesh.GetPath()))
+        override = stage.OverridePrim(mesh.GetPath())
+        binding = UsdShade.MaterialBindingAPI.Apply(override)
         binding.Bind(material)
+        if baked.get("st"):
+            # An unwrapped object's UVs, one per face corner, beside its own.
+            primvar = UsdGeom.PrimvarsAPI(override).CreatePrimvar(
+                "sssbake_st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.faceVarying
+            )
+            primvar.Set([Gf.Vec2f(*uv) for uv in baked["st"]])
     layer.subLayerPaths.clear()
     layer.subLayerPaths.append(request["input_from_layer"])
     sys.stdout.write(layer.ExportToString())

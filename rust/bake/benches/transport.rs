@@ -54,9 +54,7 @@ fn scene() -> Scene {
         objects: vec![SceneObject {
             mesh: bumpy_sphere(),
             uv_sets: vec![],
-            material: None,
-            node: None,
-            prim: None,
+            ..SceneObject::default()
         }],
         lights: vec![
             light(

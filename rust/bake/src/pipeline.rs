@@ -101,6 +101,9 @@ pub struct Prepared {
     pub uvs: Vec<Vec2>,
     /// True when the UVs came from unwrapping.
     pub unwrapped: bool,
+    /// For an unwrapped mesh, the scene mesh's vertex each vertex copies;
+    /// empty otherwise.
+    pub source_vertex: Vec<u32>,
     /// The texels.
     pub surfels: TexelSurfels,
     /// Transmitted irradiance per surfel, W/m² (before the colour split).
@@ -137,11 +140,11 @@ pub fn prepare(
             report.verdict()
         )));
     }
-    let mesh = if unwrapped {
-        crate::unwrap::unwrap(original, settings.resolution, settings.padding)
+    let (mesh, source_vertex) = if unwrapped {
+        crate::unwrap::unwrap_with_sources(original, settings.resolution, settings.padding)
             .map_err(|e| BakeError::Input(format!("{}: {e}", scene.source)))?
     } else {
-        original.clone()
+        (original.clone(), Vec::new())
     };
     control.check()?;
     let uvs = mesh.uvs.clone().unwrap_or_default();
@@ -212,6 +215,7 @@ pub fn prepare(
         mesh,
         uvs,
         unwrapped,
+        source_vertex,
         surfels,
         irradiance,
         colour,

@@ -101,6 +101,9 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
             let (texels, texel_area_mm2) = (surfels.len(), surfels.total_area());
             let material = match &object.material {
                 None => "none".to_string(),
+                Some(m) if let Some(s) = &m.subsurface => {
+                    format!("`{}`, subsurface from {}", m.name, s.from)
+                }
                 Some(m) if m.is_translucent() => format!("`{}`, translucent", m.name),
                 Some(m) => format!("`{}`, opaque in the asset", m.name),
             };

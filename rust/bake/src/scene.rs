@@ -3,6 +3,7 @@
 
 use crate::mesh::Mesh;
 use glam::{Vec2, Vec3};
+use sssbake_profile::Appearance;
 
 /// Everything read from one input file.
 #[derive(Clone, Debug, Default)]
@@ -33,6 +34,10 @@ pub struct SceneObject {
     pub node: Option<usize>,
     /// ... or the USD mesh prim's path.
     pub prim: Option<String>,
+    /// From the file's coordinates in the object's own frame (the glTF
+    /// node's) to the scene's, in mm; identity where positions are read in
+    /// world space already.
+    pub local_to_world: glam::Mat4,
 }
 
 /// What an asset's material says about translucency and colour.
@@ -50,6 +55,22 @@ pub struct MaterialHint {
     pub volume: Option<Volume>,
     /// Diffuse transmission factor and colour, when the asset has one.
     pub diffuse_transmission: Option<([f32; 3], f32)>,
+    /// What the shader says about light under the surface, when it gives a
+    /// scattering distance (README, "Materials from the asset").
+    pub subsurface: Option<Subsurface>,
+}
+
+/// A shader's subsurface description, in the terms every format shares.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Subsurface {
+    /// The colour the surface shows under uniform light, linear RGB.
+    pub colour: [f64; 3],
+    /// Mean free path 1/σt per channel, mm.
+    pub mean_free_path_mm: [f64; 3],
+    /// Henyey–Greenstein mean cosine g.
+    pub anisotropy: f64,
+    /// Which inputs it came from, for reports.
+    pub from: String,
 }
 
 /// A participating medium's attenuation as glTF describes it.
@@ -66,12 +87,47 @@ pub struct Volume {
 impl MaterialHint {
     /// True when the material asks for light to pass under the surface.
     pub fn is_translucent(&self) -> bool {
-        self.volume.is_some()
+        self.subsurface.is_some()
+            || self.volume.is_some()
             || self
                 .diffuse_transmission
                 .is_some_and(|(_, factor)| factor > 0.0)
     }
+
+    /// The material as a shader describes it, and the inputs it came from;
+    /// `None` for a material that gives only a colour (UsdPreviewSurface, a
+    /// glTF base colour), which takes `fallback_mfp_mm`, the scattering
+    /// distance of a fallback material, per channel.
+    pub fn appearance(&self, fallback_mfp_mm: [f64; 3]) -> (Appearance, Option<String>) {
+        let ior = f64::from(self.ior.unwrap_or(DEFAULT_IOR));
+        let (colour, mean_free_path_mm, anisotropy, from) = match &self.subsurface {
+            Some(s) => (
+                s.colour,
+                s.mean_free_path_mm,
+                s.anisotropy,
+                Some(s.from.clone()),
+            ),
+            None => (
+                [0, 1, 2].map(|c| f64::from(self.base_color[c])),
+                fallback_mfp_mm,
+                0.0,
+                None,
+            ),
+        };
+        let appearance = Appearance {
+            name: self.name.clone(),
+            colour,
+            mean_free_path_mm,
+            ior,
+            anisotropy,
+        };
+        (appearance, from)
+    }
 }
+
+/// Index of refraction when a material states none: glTF's default, and
+/// UsdPreviewSurface's.
+pub const DEFAULT_IOR: f32 = 1.5;
 
 /// A light source in world space, in radiometric units.
 ///

@@ -64,6 +64,16 @@ struct Atlas {
 /// do not fit one map at xatlas's scale, the scale shrinks until they do.
 /// Faces xatlas cannot chart (degenerate slivers) keep no UV area.
 pub fn unwrap(mesh: &Mesh, resolution: u32, padding: u32) -> Result<Mesh, UnwrapError> {
+    unwrap_with_sources(mesh, resolution, padding).map(|(unwrapped, _)| unwrapped)
+}
+
+/// [`unwrap`], with the input vertex each new vertex copies (seams split
+/// a vertex into several), so writers can carry the UVs back to the asset.
+pub fn unwrap_with_sources(
+    mesh: &Mesh,
+    resolution: u32,
+    padding: u32,
+) -> Result<(Mesh, Vec<u32>), UnwrapError> {
     let error = |reason: String| UnwrapError {
         object: mesh.name.clone(),
         reason,
@@ -74,7 +84,7 @@ pub fn unwrap(mesh: &Mesh, resolution: u32, padding: u32) -> Result<Mesh, Unwrap
         let atlas = run_xatlas(mesh, resolution, padding, scale).map_err(error)?;
         // Vertices of faces xatlas leaves out (degenerate ones) have atlas −1.
         if atlas.atlases <= 1 && atlas.atlas_index.iter().all(|&a| a <= 0) {
-            return Ok(unwrapped_mesh(mesh, &atlas));
+            return Ok((unwrapped_mesh(mesh, &atlas), atlas.xref));
         }
         scale = atlas.texels_per_unit * 0.8;
     }

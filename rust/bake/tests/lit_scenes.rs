@@ -49,9 +49,7 @@ pub fn scene(meshes: Vec<Mesh>, lights: Vec<Light>) -> Scene {
             .map(|mesh| SceneObject {
                 uv_sets: mesh.uvs.clone().into_iter().collect(),
                 mesh,
-                material: None,
-                node: None,
-                prim: None,
+                ..SceneObject::default()
             })
             .collect(),
         lights,

@@ -2,6 +2,7 @@
 //! at all.
 
 use crate::Failure;
+use crate::asset_outputs::{BakeRecord, NewLayout};
 use crate::progress::watch;
 use crate::scene_options::SceneOptions;
 use serde_json::json;
@@ -11,6 +12,7 @@ use sssbake::pipeline::{BakeError, prepare};
 use sssbake::transport::kernel::Kernel;
 use sssbake::transport::{Method, MethodSettings};
 use sssbake_io::image_writer::{Precision, exr_bytes, png_bytes};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -18,10 +20,10 @@ use std::time::Instant;
 #[derive(clap::Args)]
 pub struct BakeArgs {
     #[command(flatten)]
-    scene: SceneOptions,
+    pub(crate) scene: SceneOptions,
     /// The folder for the maps (created if missing; not the input's own).
     #[arg(long)]
-    out: PathBuf,
+    pub(crate) out: PathBuf,
     /// The integrator.
     #[arg(long, default_value = "auto")]
     method: Method,
@@ -32,7 +34,7 @@ pub struct BakeArgs {
         value_delimiter = ',',
         default_value = "subsurface,irradiance,diffuse"
     )]
-    outputs: Vec<Output>,
+    pub(crate) outputs: Vec<Output>,
     /// Texels filled around each chart so filtering never reads black.
     #[arg(long, default_value_t = 8)]
     margin: u32,
@@ -59,25 +61,43 @@ pub struct BakeArgs {
     json: bool,
 }
 
-/// A map encoded and waiting to be written.
-struct Encoded {
-    path: PathBuf,
-    bytes: Vec<u8>,
+/// A file encoded and waiting to be written.
+pub struct Encoded {
+    /// Where it goes.
+    pub path: PathBuf,
+    /// Its bytes.
+    pub bytes: Vec<u8>,
 }
 
 fn bake_failure(error: BakeError) -> Failure {
     Failure::Input(error.to_string())
 }
 
-/// A file-name-safe form of an object's name.
-fn file_stem(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_alphanumeric() || "-_.".contains(c) {
-                c
-            } else {
-                '_'
+/// A file-name-safe form of each object's name: characters outside
+/// letters, digits and `-_.` become `_`, and names that then coincide
+/// (ignoring case, as some file systems do) get `-2`, `-3`, … in order.
+fn file_stems(names: &[&str]) -> Vec<String> {
+    let mut taken = std::collections::HashSet::new();
+    names
+        .iter()
+        .map(|name| {
+            let safe: String = name
+                .chars()
+                .map(|c| {
+                    if c.is_alphanumeric() || "-_.".contains(c) {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect();
+            let mut stem = safe.clone();
+            let mut n = 1;
+            while !taken.insert(stem.to_lowercase()) {
+                n += 1;
+                stem = format!("{safe}-{n}");
             }
+            stem
         })
         .collect()
 }
@@ -97,12 +117,15 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     let mut outputs = args.outputs.clone();
     outputs.sort();
     outputs.dedup();
+    let names: Vec<&str> = loaded.objects.iter().map(|(o, _)| o.as_str()).collect();
+    let stems = file_stems(&names);
     let paths: Vec<(String, Output, PathBuf)> = loaded
         .objects
         .iter()
-        .flat_map(|(object, _)| {
+        .zip(&stems)
+        .flat_map(|((object, _), object_stem)| {
             outputs.iter().flat_map(move |&output| {
-                let stem = format!("{}_{}", file_stem(object), output.name());
+                let stem = format!("{object_stem}_{}", output.name());
                 let mut files =
                     vec![(object.clone(), output, args.out.join(format!("{stem}.exr")))];
                 if output.is_colour() {
@@ -135,7 +158,8 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     };
     let mut encoded = Vec::new();
     let mut summaries = Vec::new();
-    for (object, assigned) in &loaded.objects {
+    let mut layouts = BTreeMap::new();
+    for ((object, assigned), stem) in loaded.objects.iter().zip(&stems) {
         let profile = assigned.profile.as_ref();
         let kernel = Kernel::new(profile, method_settings.d_max_epsilon);
         let control = Control::new();
@@ -181,9 +205,18 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
                 bytes,
             });
         }
+        if prepared.unwrapped {
+            let layout = NewLayout {
+                mesh: prepared.mesh.clone(),
+                source_vertex: prepared.source_vertex.clone(),
+            };
+            layouts.insert(object.clone(), layout);
+        }
         summaries.push(json!({
             "object": object,
+            "stem": stem,
             "material": assigned.material.name,
+            "material_source": assigned.source,
             "model": profile.model(),
             "texels": prepared.surfels.len(),
             "unwrapped": prepared.unwrapped,
@@ -197,8 +230,14 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         }));
     }
     let mut notes = Vec::new();
-    encoded.extend(asset_copy(args, &loaded, &summaries, &mut notes)?);
-    encoded.extend(usd_layer(args, &loaded, &summaries, &encoded, &mut notes)?);
+    let record = BakeRecord {
+        args,
+        loaded: &loaded,
+        summaries: &summaries,
+        layouts: &layouts,
+    };
+    encoded.extend(record.gltf_copy(&mut notes)?);
+    encoded.extend(record.usd_layer(&encoded, &mut notes)?);
     if !args.force
         && let Some(existing) = encoded.iter().find(|e| e.path.exists())
     {
@@ -220,9 +259,9 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         .iter()
         .filter(|o| !loaded.objects.iter().any(|(name, _)| *name == o.mesh.name))
         .map(|o| format!("object `{}`: not selected", o.mesh.name))
-        .chain(loaded.scene.notes.iter().cloned())
         .chain(notes)
         .collect();
+    let scene_notes = &loaded.scene.notes;
     if args.json {
         let summary = json!({
             "scene": args.scene.input.display().to_string(),
@@ -231,6 +270,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
             "files": files,
             "write_seconds": write_seconds,
             "left_out": left_out,
+            "notes": scene_notes,
         });
         println!(
             "{}",
@@ -239,8 +279,10 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     } else {
         for s in &summaries {
             println!(
-                "{}: {} texels, {} ({}); lit in {:.2} s, scattered in {:.2} s, maps in {:.2} s",
+                "{}: material `{}` ({}); {} texels, {} ({}); lit in {:.2} s, scattered in {:.2} s, maps in {:.2} s",
                 s["object"].as_str().unwrap_or_default(),
+                s["material"].as_str().unwrap_or_default(),
+                s["material_source"].as_str().unwrap_or_default(),
                 s["texels"],
                 s["method"].as_str().unwrap_or_default(),
                 s["reason"].as_str().unwrap_or_default(),
@@ -248,6 +290,9 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
                 s["seconds"]["integrate"].as_f64().unwrap_or_default(),
                 s["seconds"]["maps"].as_f64().unwrap_or_default(),
             );
+        }
+        for note in scene_notes {
+            println!("note: {note}");
         }
         for reason in &left_out {
             println!("left out {reason}");
@@ -259,153 +304,6 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         );
     }
     Ok(())
-}
-
-/// The baked objects an asset of the input's kind (`extensions`) can show,
-/// or `None` when the input is of another kind or the diffuse map was not
-/// asked for; objects that were unwrapped are left out with a note, since
-/// their new UVs are not in the asset.
-fn shown_objects<'a>(
-    args: &BakeArgs,
-    loaded: &'a crate::scene_options::Loaded,
-    summaries: &'a [serde_json::Value],
-    asset: &str,
-    extensions: &[&str],
-    notes: &mut Vec<String>,
-) -> Option<Vec<(&'a sssbake::SceneObject, &'a str)>> {
-    let extension = args
-        .scene
-        .input
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)?;
-    if !extensions.contains(&extension.as_str()) {
-        return None;
-    }
-    if !args.outputs.contains(&Output::Diffuse) {
-        notes.push(format!(
-            "{asset}: it shows the diffuse map, which was not asked for"
-        ));
-        return None;
-    }
-    let mut shown = Vec::new();
-    for summary in summaries {
-        let name = summary["object"].as_str().unwrap_or_default();
-        let Some(object) = loaded.scene.objects.iter().find(|o| o.mesh.name == name) else {
-            continue;
-        };
-        if summary["unwrapped"].as_bool() == Some(false) {
-            shown.push((object, name));
-        } else {
-            notes.push(format!(
-                "object `{name}` from {asset}: it was unwrapped, and its new UVs are not in the asset"
-            ));
-        }
-    }
-    Some(shown)
-}
-
-/// For a glTF input, a copy in which the baked objects show their
-/// `diffuse` map (see `sssbake_io::gltf_writer`); objects that were
-/// unwrapped are left as they were, since their new UVs are not in it.
-fn asset_copy(
-    args: &BakeArgs,
-    loaded: &crate::scene_options::Loaded,
-    summaries: &[serde_json::Value],
-    notes: &mut Vec<String>,
-) -> Result<Vec<Encoded>, Failure> {
-    let Some(objects) = shown_objects(
-        args,
-        loaded,
-        summaries,
-        "the glTF copy",
-        &["gltf", "glb"],
-        notes,
-    ) else {
-        return Ok(Vec::new());
-    };
-    let baked: Vec<_> = objects
-        .into_iter()
-        .filter_map(|(object, name)| {
-            Some(sssbake_io::gltf_writer::Baked {
-                node: object.node?,
-                object: name.to_string(),
-                image: format!("{}_diffuse.png", file_stem(name)),
-                uv_set: args.scene.uv_set,
-            })
-        })
-        .collect();
-    let files = sssbake_io::gltf_writer::gltf_copy(&args.scene.input, &baked)
-        .map_err(|e| Failure::Input(format!("{}: {e}", args.scene.input.display())))?;
-    Ok(files
-        .into_iter()
-        .map(|(path, bytes)| Encoded {
-            path: args.out.join(path),
-            bytes,
-        })
-        .collect())
-}
-
-/// For a USD input, a layer over it that binds each baked object to a
-/// UsdPreviewSurface reading its `diffuse` map (see
-/// `sssbake_io::usd_writer`); objects that were unwrapped are left as
-/// they were, since `st` does not hold their new UVs.
-fn usd_layer(
-    args: &BakeArgs,
-    loaded: &crate::scene_options::Loaded,
-    summaries: &[serde_json::Value],
-    maps: &[Encoded],
-    notes: &mut Vec<String>,
-) -> Result<Vec<Encoded>, Failure> {
-    let input = &args.scene.input;
-    let Some(objects) = shown_objects(
-        args,
-        loaded,
-        summaries,
-        "the USD layer",
-        &["usd", "usda", "usdc", "usdz"],
-        notes,
-    ) else {
-        return Ok(Vec::new());
-    };
-    let mut baked = Vec::new();
-    for (object, name) in objects {
-        let Some(prim) = &object.prim else { continue };
-        let summary = summaries
-            .iter()
-            .find(|s| s["object"] == name)
-            .expect("baked");
-        let stem = format!("{}_", file_stem(name));
-        baked.push(sssbake_io::usd_writer::UsdBaked {
-            object: name.to_string(),
-            prim: prim.clone(),
-            diffuse: format!("{stem}diffuse.png"),
-            maps: maps
-                .iter()
-                .filter_map(|m| m.path.file_name()?.to_str().map(String::from))
-                .filter(|f| f.starts_with(&stem))
-                .collect(),
-            attributes: json!({
-                "material": summary["material"],
-                "model": summary["model"],
-                "method": summary["method"],
-            }),
-        });
-    }
-    let settings = json!({
-        "resolution": args.scene.resolution.to_string(),
-        "version": env!("CARGO_PKG_VERSION"),
-    });
-    let bytes = sssbake_io::usd_writer::usd_layer(input, &args.out, &baked, settings)
-        .map_err(|e| Failure::Input(format!("{}: {e}", input.display())))?;
-    let stem = input
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    Ok(vec![Encoded {
-        path: args.out.join(format!("{stem}_sssbake.usda")),
-        bytes,
-    }])
 }
 
 /// Refuses an output folder that is the input's own: a bake never writes

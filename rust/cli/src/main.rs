@@ -5,6 +5,7 @@
 //! that does not fit the material, a value out of range); 2 bad command
 //! line; 3 an output could not be written.
 
+mod asset_outputs;
 mod atomic_write;
 mod bake_command;
 mod material_choice;

@@ -17,6 +17,8 @@ use std::path::Path;
 pub struct MaterialMap {
     /// Object name (or `*`) → material.
     pub by_object: BTreeMap<String, Material>,
+    /// The sidecar file, for reports.
+    pub path: std::path::PathBuf,
 }
 
 impl MaterialMap {
@@ -55,7 +57,10 @@ impl MaterialMap {
             })?;
             by_object.insert(object.clone(), material);
         }
-        Ok(MaterialMap { by_object })
+        Ok(MaterialMap {
+            by_object,
+            path: path.to_path_buf(),
+        })
     }
 
     /// The material for `object`, if the sidecar gives one.

@@ -5,13 +5,14 @@
 use crate::Failure;
 use crate::material_choice;
 use crate::material_map::MaterialMap;
-use sssbake::Scene;
 use sssbake::irradiance::entry::Boundary;
 use sssbake::irradiance::environment::EnvironmentMap;
 use sssbake::pipeline::{BakeSettings, Lighting};
 use sssbake::scene::LightKind;
+use sssbake::{MaterialHint, Scene};
 use sssbake_io::{ReadOptions, read_image, read_scene};
 use sssbake_profile::Material;
+use sssbake_profile::appearance::channel_mean_free_paths;
 use sssbake_profile::model::{Model, build_profile};
 use sssbake_profile::profile::Profile;
 use std::path::{Path, PathBuf};
@@ -24,7 +25,8 @@ pub struct SceneOptions {
     /// An object to bake (repeat for more) [default: every object].
     #[arg(long = "object", value_name = "NAME")]
     pub objects: Vec<String>,
-    /// A material preset [default: skin1].
+    /// A material preset for every object the sidecar does not name
+    /// [default: the object's own material in the file, else skin1].
     #[arg(long, conflicts_with = "material")]
     pub preset: Option<String>,
     /// A TOML material file.
@@ -79,6 +81,9 @@ pub struct SceneOptions {
 pub struct Assigned {
     /// The material.
     pub material: Material,
+    /// Where it came from: the sidecar, the command line, the asset (with
+    /// the inputs read), or the default.
+    pub source: String,
     /// Its profile.
     pub profile: Box<dyn Profile>,
     /// The bake settings (the material's index and mean free path set).
@@ -124,11 +129,11 @@ impl SceneOptions {
                 .num_threads(threads.max(1))
                 .build_global();
         }
-        let preset = self
-            .preset
-            .as_deref()
-            .or(self.material.is_none().then_some("skin1"));
-        let default_material = material_choice::load(preset, self.material.as_deref())?;
+        let explicit = match (&self.preset, &self.material) {
+            (None, None) => None,
+            (preset, file) => Some(material_choice::load(preset.as_deref(), file.as_deref())?),
+        };
+        let default_material = material_choice::load(Some("skin1"), None)?;
         let options = ReadOptions {
             uv_set: self.uv_set,
             unit_scale: self.unit_scale,
@@ -171,11 +176,18 @@ impl SceneOptions {
         };
         let mut objects = Vec::new();
         for name in names {
-            let material = map
-                .as_ref()
-                .and_then(|m| m.for_object(&name))
-                .unwrap_or(&default_material)
-                .clone();
+            let hint = scene
+                .objects
+                .iter()
+                .find(|o| o.mesh.name == name)
+                .and_then(|o| o.material.as_ref());
+            let (material, source) = self.material_for(
+                &name,
+                map.as_ref(),
+                explicit.as_ref(),
+                hint,
+                &default_material,
+            )?;
             let model = self.model.unwrap_or_else(|| Model::default_for(&material));
             let profile = build_profile(&material, model, 6)
                 .map_err(|e| Failure::Input(format!("object `{name}`: {e}")))?;
@@ -188,6 +200,7 @@ impl SceneOptions {
                 name,
                 Assigned {
                     material,
+                    source,
                     profile,
                     settings,
                 },
@@ -198,6 +211,51 @@ impl SceneOptions {
             objects,
             lighting,
         })
+    }
+
+    /// The object's material: the sidecar's entry, else --preset or
+    /// --material, else the asset's own material, else skin1.
+    fn material_for(
+        &self,
+        name: &str,
+        map: Option<&MaterialMap>,
+        explicit: Option<&Material>,
+        hint: Option<&MaterialHint>,
+        default: &Material,
+    ) -> Result<(Material, String), Failure> {
+        if let Some((material, path)) = map.and_then(|m| m.for_object(name).map(|x| (x, &m.path))) {
+            return Ok((material.clone(), format!("sidecar {}", path.display())));
+        }
+        if let Some(material) = explicit {
+            let flag = if self.preset.is_some() {
+                "--preset"
+            } else {
+                "--material"
+            };
+            return Ok((material.clone(), flag.to_string()));
+        }
+        let Some(hint) = hint else {
+            return Ok((
+                default.clone(),
+                "default (the asset gives no material)".into(),
+            ));
+        };
+        let (appearance, from) = hint.appearance(channel_mean_free_paths(default));
+        let material = appearance.to_material().map_err(|e| {
+            Failure::Input(format!(
+                "{}: object `{name}`, material `{}`: {e}",
+                self.input.display(),
+                hint.name
+            ))
+        })?;
+        let source = match from {
+            Some(inputs) => format!("asset: {inputs}"),
+            None => format!(
+                "asset: base colour, with {}'s scattering distance",
+                default.name
+            ),
+        };
+        Ok((material, source))
     }
 
     fn lighting(&self, scene: &Scene) -> Result<Lighting, Failure> {

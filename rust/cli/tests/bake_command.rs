@@ -309,3 +309,67 @@ fn a_sidecar_gives_objects_their_materials() {
     assert!(!dir.join("other").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_gltf_copy_brings_files_from_outside_the_inputs_folder_and_names_stay_apart() {
+    let dir = scratch("outside");
+    let scenes = dir.join("scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    std::fs::create_dir_all(dir.join("data")).unwrap();
+    let marble = example("marble");
+    let buffer = std::fs::read(marble.with_extension("bin")).unwrap();
+    std::fs::write(dir.join("data/marble.bin"), &buffer).unwrap();
+    let mut document: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&marble).unwrap()).unwrap();
+    document["buffers"][0]["uri"] = "../data/marble.bin".into();
+    // Two objects whose names differ only in characters a file name cannot hold.
+    let nodes = document["nodes"].as_array_mut().unwrap();
+    let ball = nodes.iter().position(|n| n["name"] == "Ball").unwrap();
+    let mut twin = nodes[ball].clone();
+    nodes[ball]["name"] = "Ball?".into();
+    twin["name"] = "Ball*".into();
+    twin["translation"] = serde_json::json!([5.0, 0.0, 0.0]);
+    nodes.push(twin);
+    let twin_index = nodes.len() - 1;
+    document["scenes"][0]["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(twin_index.into());
+    let scene = scenes.join("twins.gltf");
+    std::fs::write(&scene, serde_json::to_vec(&document).unwrap()).unwrap();
+    let out = dir.join("out");
+    let result = sssbake(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--resolution",
+        "16",
+        "--outputs",
+        "diffuse",
+    ]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let copy: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("twins.gltf")).unwrap()).unwrap();
+    assert_eq!(copy["buffers"][0]["uri"], "external_marble.bin");
+    assert_eq!(
+        std::fs::read(out.join("external_marble.bin")).unwrap(),
+        buffer
+    );
+    let files = files_in(&out);
+    for stem in ["Ball_", "Ball_-2"] {
+        assert!(files.contains(&format!("{stem}_diffuse.png")), "{files:?}");
+    }
+    // Each object's material shows its own map.
+    let images: Vec<&str> = copy["images"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|i| i["uri"].as_str())
+        .collect();
+    assert!(images.contains(&"Ball__diffuse.png") && images.contains(&"Ball_-2_diffuse.png"));
+}

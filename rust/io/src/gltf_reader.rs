@@ -6,7 +6,7 @@
 use crate::{InputError, ReadOptions};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use gltf::mesh::Mode;
-use sssbake::scene::Volume;
+use sssbake::scene::{Subsurface, Volume};
 use sssbake::{Light, LightKind, MaterialHint, Mesh, Scene, SceneObject};
 use std::collections::HashMap;
 use std::path::Path;
@@ -71,6 +71,7 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
             {
                 scene.objects.push(SceneObject {
                     node: Some(node.index()),
+                    local_to_world: Mat4::from_scale(Vec3::splat(scale as f32)) * world,
                     ..object
                 });
             }
@@ -249,6 +250,7 @@ fn read_mesh(
         material,
         node: None,
         prim: None,
+        local_to_world: Mat4::IDENTITY,
     }))
 }
 
@@ -284,14 +286,61 @@ fn read_material(material: &gltf::Material, scale: f64) -> MaterialHint {
                 });
             (color, factor)
         });
+    let base_color = pbr.base_color_factor();
+    let subsurface = volume
+        .as_ref()
+        .and_then(|v| subsurface_of(v, &base_color, material));
     MaterialHint {
         name: material.name().unwrap_or("unnamed").to_string(),
-        base_color: pbr.base_color_factor(),
+        base_color,
         base_color_texture: texture,
         ior: material.ior(),
         volume,
         diffuse_transmission,
+        subsurface,
     }
+}
+
+/// A volume's extinction σt = −ln(attenuationColor) / attenuationDistance
+/// (the KHR_materials_volume definition) gives each channel's mean free
+/// path; the colour is KHR_materials_volume_scatter's multiscatterColor
+/// when present, else the base colour. A channel the volume does not
+/// attenuate is read as attenuating by e^(−0.001) over the distance, so
+/// its path stays finite. No subsurface without a finite distance.
+fn subsurface_of(
+    volume: &Volume,
+    base_color: &[f32; 4],
+    material: &gltf::Material,
+) -> Option<Subsurface> {
+    let distance = f64::from(volume.attenuation_distance_mm);
+    if !(distance.is_finite() && distance > 0.0) {
+        return None;
+    }
+    let mean_free_path_mm = volume.attenuation_color.map(|c| {
+        let extinction = -f64::from(c).clamp(1e-30, 1.0).ln();
+        distance / extinction.max(1e-3)
+    });
+    let scatter = material.extension_value("KHR_materials_volume_scatter");
+    let multiscatter = scatter
+        .and_then(|s| s.get("multiscatterColor"))
+        .and_then(|c| c.as_array())
+        .filter(|c| c.len() == 3)
+        .map(|c| [0, 1, 2].map(|i| c[i].as_f64().unwrap_or(0.0)));
+    let anisotropy = scatter
+        .and_then(|s| s.get("scatterAnisotropy"))
+        .and_then(|g| g.as_f64())
+        .unwrap_or(0.0);
+    let from = if multiscatter.is_some() {
+        "KHR_materials_volume attenuation, KHR_materials_volume_scatter colour"
+    } else {
+        "KHR_materials_volume attenuation, base colour"
+    };
+    Some(Subsurface {
+        colour: multiscatter.unwrap_or([0, 1, 2].map(|c| f64::from(base_color[c]))),
+        mean_free_path_mm,
+        anisotropy,
+        from: from.to_string(),
+    })
 }
 
 fn read_light(

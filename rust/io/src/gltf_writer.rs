@@ -2,7 +2,12 @@
 //! any viewer: each gets an unlit material (`KHR_materials_unlit`) whose
 //! base colour is its `diffuse` PNG, read through the UV set it was baked
 //! into. Everything else is kept as it was; buffers and images the input
-//! names by relative path are copied beside the new file.
+//! names by relative path are copied beside the new file (those outside
+//! the input's folder as `external_<name>`, with the URI changed to match).
+//!
+//! An object that was unwrapped gets a new mesh on its node, carrying its
+//! new UVs (seams split vertices, so positions and normals are new too),
+//! in a buffer `<stem>_sssbake.bin` beside the copy.
 //!
 //! The PNG's rows run top to bottom with glTF's v running down, so the
 //! same image serves glTF and USD without a flip.
@@ -21,6 +26,21 @@ pub struct Baked {
     pub image: String,
     /// The TEXCOORD set the bake used.
     pub uv_set: usize,
+    /// For an unwrapped object, its new mesh (read through TEXCOORD_0).
+    pub geometry: Option<Geometry>,
+}
+
+/// A new mesh for a node, in the node's own frame and the file's units.
+#[derive(Clone, Debug, Default)]
+pub struct Geometry {
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Unit vertex normals.
+    pub normals: Vec<[f32; 3]>,
+    /// Texture coordinates, glTF's convention (v runs down the image).
+    pub uvs: Vec<[f32; 2]>,
+    /// Three vertex indices per triangle, counter-clockwise.
+    pub indices: Vec<u32>,
 }
 
 /// A file to write, relative to the output folder.
@@ -39,7 +59,14 @@ pub fn gltf_copy(input: &Path, baked: &[Baked]) -> Result<Vec<OutputFile>, Strin
         let value: Value = serde_json::from_slice(&bytes).map_err(|e| format!("not JSON: {e}"))?;
         (value, None)
     };
-    let mut files = copied_references(&document, folder)?;
+    let mut files = copied_references(&mut document, folder)?;
+    let stem = name
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let geometry_file = format!("{stem}_sssbake.bin");
+    if let Some(buffer) = add_geometry(&mut document, baked, &geometry_file) {
+        files.push((PathBuf::from(geometry_file), buffer));
+    }
     show_bake(&mut document, baked)?;
     let text = serde_json::to_vec_pretty(&document).map_err(|e| e.to_string())?;
     let main = if glb {
@@ -52,27 +79,128 @@ pub fn gltf_copy(input: &Path, baked: &[Baked]) -> Result<Vec<OutputFile>, Strin
 }
 
 /// Buffers and images the document names by a relative path, to copy.
-fn copied_references(document: &Value, folder: &Path) -> Result<Vec<OutputFile>, String> {
-    let mut files = Vec::new();
+/// A path that leaves the input's folder (`..`) is copied beside the new
+/// file under its own name, and the copy's URI says so.
+fn copied_references(document: &mut Value, folder: &Path) -> Result<Vec<OutputFile>, String> {
+    let mut files: Vec<OutputFile> = Vec::new();
     for key in ["buffers", "images"] {
-        for item in document[key].as_array().into_iter().flatten() {
-            let Some(uri) = item["uri"].as_str() else {
+        let items = document.get_mut(key).and_then(Value::as_array_mut);
+        for item in items.into_iter().flatten() {
+            let Some(uri) = item["uri"].as_str().map(percent_decode) else {
                 continue;
             };
-            if uri.starts_with("data:")
-                || uri.contains("://")
-                || Path::new(uri).is_absolute()
-                || uri.contains("..")
-            {
+            if uri.starts_with("data:") || uri.contains("://") || Path::new(&uri).is_absolute() {
                 continue;
             }
-            let path = folder.join(percent_decode(uri));
+            let path = folder.join(&uri);
             let bytes = std::fs::read(&path)
                 .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-            files.push((PathBuf::from(percent_decode(uri)), bytes));
+            let mut target = PathBuf::from(&uri);
+            if Path::new(&uri)
+                .components()
+                .any(|c| c == std::path::Component::ParentDir)
+            {
+                let name = Path::new(&uri).file_name().ok_or("a URI names no file")?;
+                let name = name.to_string_lossy();
+                target = PathBuf::from(format!("external_{name}"));
+                let mut n = 1;
+                while files.iter().any(|(f, _)| *f == target) {
+                    n += 1;
+                    target = PathBuf::from(format!("external{n}_{name}"));
+                }
+                item["uri"] = json!(target.to_string_lossy().replace('\\', "/"));
+            }
+            if !files.iter().any(|(f, _)| *f == target) {
+                files.push((target, bytes));
+            }
         }
     }
     Ok(files)
+}
+
+/// Appends the unwrapped objects' meshes, reading one new buffer, and
+/// points their nodes at them; the buffer's bytes, if there were any.
+fn add_geometry(document: &mut Value, baked: &[Baked], file: &str) -> Option<Vec<u8>> {
+    let mut bytes = Vec::new();
+    let buffer = document["buffers"].as_array().map_or(0, Vec::len);
+    let mut any = false;
+    for b in baked {
+        let Some(g) = &b.geometry else { continue };
+        any = true;
+        let mut view = |document: &mut Value, data: &[u8], target: u32| {
+            let offset = bytes.len();
+            bytes.extend_from_slice(data);
+            while !bytes.len().is_multiple_of(4) {
+                bytes.push(0);
+            }
+            push(
+                document,
+                "bufferViews",
+                json!({ "buffer": buffer, "byteOffset": offset, "byteLength": data.len(), "target": target }),
+            )
+        };
+        let floats = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+        let flat_positions: Vec<f32> = g.positions.iter().flatten().copied().collect();
+        let (min, max) = g.positions.iter().fold(
+            ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+            |(lo, hi), p| {
+                (
+                    [0, 1, 2].map(|k| lo[k].min(p[k])),
+                    [0, 1, 2].map(|k| hi[k].max(p[k])),
+                )
+            },
+        );
+        let count = g.positions.len();
+        let positions = view(document, &floats(&flat_positions), 34962);
+        let normals_flat: Vec<f32> = g.normals.iter().flatten().copied().collect();
+        let normals = view(document, &floats(&normals_flat), 34962);
+        let uvs_flat: Vec<f32> = g.uvs.iter().flatten().copied().collect();
+        let uvs = view(document, &floats(&uvs_flat), 34962);
+        let index_bytes: Vec<u8> = g.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let indices = view(document, &index_bytes, 34963);
+        let accessor = |document: &mut Value, view: usize, kind: &str, extra: Value| {
+            let mut a =
+                json!({ "bufferView": view, "componentType": 5126, "count": count, "type": kind });
+            if let (Some(a), Some(extra)) = (a.as_object_mut(), extra.as_object()) {
+                a.extend(extra.clone());
+            }
+            push(document, "accessors", a)
+        };
+        let position = accessor(
+            document,
+            positions,
+            "VEC3",
+            json!({ "min": min, "max": max }),
+        );
+        let normal = accessor(document, normals, "VEC3", json!({}));
+        let uv = accessor(document, uvs, "VEC2", json!({}));
+        let index = push(
+            document,
+            "accessors",
+            json!({ "bufferView": indices, "componentType": 5125, "count": g.indices.len(), "type": "SCALAR" }),
+        );
+        let mesh = push(
+            document,
+            "meshes",
+            json!({
+                "name": format!("{} (sssbake unwrap)", b.object),
+                "primitives": [{
+                    "attributes": { "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv },
+                    "indices": index
+                }]
+            }),
+        );
+        document["nodes"][b.node]["mesh"] = json!(mesh);
+    }
+    if !any {
+        return None;
+    }
+    push(
+        document,
+        "buffers",
+        json!({ "uri": file, "byteLength": bytes.len() }),
+    );
+    Some(bytes)
 }
 
 /// Adds an unlit material per baked object and points its mesh's
@@ -94,7 +222,10 @@ fn show_bake(document: &mut Value, baked: &[Baked]) -> Result<(), String> {
             json!({
                 "name": format!("{} (sssbake)", b.object),
                 "pbrMetallicRoughness": {
-                    "baseColorTexture": { "index": texture, "texCoord": b.uv_set },
+                    "baseColorTexture": {
+                        "index": texture,
+                        "texCoord": if b.geometry.is_some() { 0 } else { b.uv_set }
+                    },
                     "metallicFactor": 0.0,
                     "roughnessFactor": 1.0
                 },
@@ -124,13 +255,20 @@ fn show_bake(document: &mut Value, baked: &[Baked]) -> Result<(), String> {
     Ok(())
 }
 
-/// Appends `item` to the array `key` (made if missing); its index.
+/// Appends `item` to the array `key` (made if missing or not an array:
+/// the input was read as glTF, so that is a `null` at most); its index.
 fn push(document: &mut Value, key: &str, item: Value) -> usize {
-    let object = document.as_object_mut().expect("checked by the caller");
-    let list = object.entry(key).or_insert_with(|| json!([]));
-    let array = list.as_array_mut().expect("glTF arrays are arrays");
-    array.push(item);
-    array.len() - 1
+    let list = &mut document[key];
+    if !list.is_array() {
+        *list = json!([]);
+    }
+    match list {
+        Value::Array(array) => {
+            array.push(item);
+            array.len() - 1
+        }
+        _ => unreachable!("made an array above"),
+    }
 }
 
 /// The JSON and binary chunks of a GLB.

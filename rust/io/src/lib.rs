@@ -6,6 +6,7 @@ pub mod gltf_writer;
 pub mod image_reader;
 pub mod image_writer;
 pub mod python;
+pub mod usd_material;
 pub mod usd_reader;
 pub mod usd_writer;
 

@@ -113,11 +113,17 @@ pub fn scene_from_json(
                 "object `{name}`: has no st primvar; it will be unwrapped"
             ));
         }
+        let material =
+            crate::usd_material::usd_material(&mesh["material"], scale).map(|(hint, notes)| {
+                scene.notes.extend(notes);
+                hint
+            });
         scene.objects.push(SceneObject {
             mesh: mesh_out,
             uv_sets: uvs.into_iter().collect(),
-            material: None,
+            material,
             node: None,
+            local_to_world: glam::Mat4::IDENTITY,
             prim: mesh["path"].as_str().map(String::from),
         });
     }

@@ -21,6 +21,9 @@ pub struct UsdBaked {
     pub maps: Vec<String>,
     /// How it was baked (material, model, method), as `sssbake:` attributes.
     pub attributes: Value,
+    /// For an unwrapped object, its UVs per face corner, written as
+    /// `primvars:sssbake_st` and read by its material instead of `st`.
+    pub st: Option<Vec<[f32; 2]>>,
 }
 
 /// The layer's text (usda) for a layer in `folder` over the stage `input`.
@@ -47,10 +50,16 @@ pub fn usd_layer(
             "diffuse": o.diffuse,
             "maps": o.maps,
             "attributes": o.attributes,
+            "st": o.st,
         })).collect::<Vec<_>>(),
         "settings": settings,
     });
-    crate::python::run_script(WRITE_LAYER, [request.to_string()], "write the layer")
+    // The request can hold a UV per face corner: too long for an argument.
+    let mut file =
+        tempfile::NamedTempFile::new().map_err(|e| format!("cannot make a temporary file: {e}"))?;
+    std::io::Write::write_all(&mut file, request.to_string().as_bytes())
+        .map_err(|e| format!("cannot write a temporary file: {e}"))?;
+    crate::python::run_script(WRITE_LAYER, [file.path()], "write the layer")
 }
 
 /// The path from folder `from` to file `to`, both absolute.

@@ -162,6 +162,17 @@ fn translucent_materials_and_lights_are_read() {
             && (volume.thickness_mm - 10.0).abs() < 1e-4
     );
     assert_eq!(material.diffuse_transmission, Some(([1.0, 0.5, 0.4], 0.5)));
+    // Extinction −ln(colour) / distance: each channel's mean free path.
+    let subsurface = material.subsurface.as_ref().unwrap();
+    for (c, colour) in [0.9f64, 0.4, 0.3].into_iter().enumerate() {
+        let expected = 2.0 / -(colour as f32 as f64).ln();
+        let got = subsurface.mean_free_path_mm[c];
+        assert!(
+            (got - expected).abs() < 1e-3 * expected,
+            "{c}: {got} vs {expected}"
+        );
+    }
+    assert!(subsurface.from.contains("KHR_materials_volume"));
     assert_eq!(scene.lights.len(), 2);
     let sun = scene.lights.iter().find(|l| l.name == "sun").unwrap();
     assert_eq!(sun.kind, LightKind::Directional { angle: 0.0 });

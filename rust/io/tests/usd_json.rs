@@ -59,3 +59,59 @@ fn a_face_pointing_past_the_points_is_refused() {
         "{message}"
     );
 }
+
+#[test]
+fn openpbr_subsurface_becomes_colour_and_mean_free_path() {
+    let mut stage = quad(vec![0, 1, 2, 3]);
+    stage["meshes"][0]["material"] = json!({
+        "name": "Wax", "shader": "ND_open_pbr_surface_surfaceshader",
+        "inputs": {"subsurface_weight": 1.0, "subsurface_color": [0.9, 0.7, 0.5],
+                   "subsurface_radius": 0.5, "subsurface_scatter_anisotropy": 0.3, "specular_ior": 1.4},
+        "connected": ["base_color"]
+    });
+    let scene = scene_from_json(&stage, "wax.usda", &ReadOptions::default()).unwrap();
+    let material = scene.objects[0].material.as_ref().unwrap();
+    assert_eq!(material.name, "Wax");
+    assert_eq!(material.ior, Some(1.4));
+    let subsurface = material.subsurface.as_ref().unwrap();
+    assert_eq!(subsurface.colour, [0.9, 0.7, 0.5]);
+    // 0.5 stage units × OpenPBR's default radius scale (1, 0.5, 0.25), in mm.
+    assert_eq!(subsurface.mean_free_path_mm, [5.0, 2.5, 1.25]);
+    assert_eq!(subsurface.anisotropy, 0.3);
+    assert!(
+        scene
+            .notes
+            .iter()
+            .any(|n| n.contains("`base_color` is driven by a texture"))
+    );
+}
+
+#[test]
+fn preview_surface_and_unweighted_openpbr_give_only_a_colour() {
+    for material in [
+        json!({"name": "Plastic", "shader": "UsdPreviewSurface",
+               "inputs": {"diffuseColor": [0.2, 0.3, 0.4]}, "connected": []}),
+        json!({"name": "Plastic", "shader": "ND_open_pbr_surface_surfaceshader",
+               "inputs": {"base_color": [0.2, 0.3, 0.4], "subsurface_weight": 0.0}, "connected": []}),
+    ] {
+        let mut stage = quad(vec![0, 1, 2, 3]);
+        stage["meshes"][0]["material"] = material;
+        let scene = scene_from_json(&stage, "card.usda", &ReadOptions::default()).unwrap();
+        let hint = scene.objects[0].material.as_ref().unwrap();
+        assert!(hint.subsurface.is_none() && !hint.is_translucent());
+        assert_eq!(hint.ior, Some(1.5));
+        let (appearance, from) = hint.appearance([1.0, 0.5, 0.25]);
+        assert!(from.is_none());
+        assert!((appearance.colour[2] - 0.4).abs() < 1e-6);
+        assert_eq!(appearance.mean_free_path_mm, [1.0, 0.5, 0.25]);
+    }
+}
+
+#[test]
+fn unknown_shaders_give_no_material() {
+    let mut stage = quad(vec![0, 1, 2, 3]);
+    stage["meshes"][0]["material"] =
+        json!({"name": "Custom", "shader": "MyRenderer_surface", "inputs": {}, "connected": []});
+    let scene = scene_from_json(&stage, "card.usda", &ReadOptions::default()).unwrap();
+    assert!(scene.objects[0].material.is_none());
+}

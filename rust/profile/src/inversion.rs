@@ -40,6 +40,12 @@ pub enum InversionError {
         /// The value given.
         value: f64,
     },
+    /// An index of refraction that is not positive and finite.
+    #[error("index of refraction {value}; it must be positive and finite")]
+    Index {
+        /// The value given.
+        value: f64,
+    },
     /// The model cannot reflect this much.
     #[error("channel {channel}: colour {value} exceeds the most this model reflects ({limit:.4})")]
     Unreachable {

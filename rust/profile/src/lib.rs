@@ -14,6 +14,7 @@
 //! - [`Burley`]: Christensen–Burley normalized diffusion, as Blender's Cycles uses it.
 //! - [`monte_carlo`]: photon transport through the stack, the ground truth.
 
+pub mod appearance;
 pub mod burley;
 pub mod dipole;
 pub mod fresnel;
@@ -36,6 +37,7 @@ pub mod slab;
 pub mod split;
 pub mod tabulated;
 
+pub use appearance::Appearance;
 pub use burley::Burley;
 pub use dipole::Dipole;
 pub use gaussians::{GaussianFit, SumOfGaussians};

@@ -1,0 +1,213 @@
+"""What the asset says is what gets baked: materials read from OpenPBR and glTF volume
+inputs, and objects without UVs unwrapped and carried back into both assets."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import OpenEXR
+import pytest
+from conftest import ROOT, run
+
+MARBLE = ROOT / "examples" / "marble"
+
+
+def exr(path):
+    return OpenEXR.File(str(path)).parts[0].channels["RGB"].pixels
+
+
+def bake(sssbake, scene, out, *extra, python=False):
+    result = run(
+        sssbake,
+        "bake",
+        str(scene),
+        "--out",
+        str(out),
+        "--resolution",
+        "64",
+        "--outputs",
+        "subsurface,irradiance,diffuse,area",
+        "--json",
+        *extra,
+        env={"SSSBAKE_PYTHON": sys.executable} if python else None,
+    )
+    assert result.returncode == 0, result.stderr
+    return json.loads(result.stdout)
+
+
+def flux_ratio(out, obj):
+    """Flux leaving over flux entering, per channel."""
+    subsurface, irradiance, area = (exr(out / f"{obj}_{o}.exr") for o in ("subsurface", "irradiance", "area"))
+    return (subsurface * area).sum(axis=(0, 1)) / (irradiance * area).sum(axis=(0, 1))
+
+
+@pytest.fixture(scope="module")
+def wax_stage(tmp_path_factory):
+    """The marble ball with an OpenPBR material that scatters."""
+    from pxr import Gf, Sdf, Usd, UsdShade
+
+    path = tmp_path_factory.mktemp("wax") / "wax.usda"
+    Usd.Stage.Open(str(MARBLE / "marble.usda")).Export(str(path))
+    stage = Usd.Stage.Open(str(path))
+    material = UsdShade.Material.Define(stage, "/root/Looks/Wax")
+    shader = UsdShade.Shader.Define(stage, "/root/Looks/Wax/Surface")
+    shader.CreateIdAttr("ND_open_pbr_surface_surfaceshader")
+    for name, kind, value in [
+        ("subsurface_weight", Sdf.ValueTypeNames.Float, 1.0),
+        ("subsurface_color", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(0.9, 0.6, 0.3)),
+        ("subsurface_radius", Sdf.ValueTypeNames.Float, 0.004),
+        ("subsurface_radius_scale", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(1.0, 0.5, 0.25)),
+        ("specular_ior", Sdf.ValueTypeNames.Float, 1.4),
+    ]:
+        shader.CreateInput(name, kind).Set(value)
+    material.CreateSurfaceOutput("mtlx").ConnectToSource(shader.ConnectableAPI(), "out")
+    UsdShade.MaterialBindingAPI.Apply(stage.GetPrimAtPath("/root/Ball/Sphere")).Bind(material)
+    stage.Save()
+    return path
+
+
+def test_an_openpbr_material_is_baked_with_its_colour(sssbake, wax_stage, tmp_path):
+    summary = bake(sssbake, wax_stage, tmp_path, python=True)
+    ball = summary["objects"][0]
+    assert ball["material"] == "Wax"
+    assert ball["material_source"].startswith("asset: OpenPBR")
+    # On a ball many mean free paths across, what leaves is the colour asked for,
+    # less the light that reaches the far side; the channels keep their order.
+    ratio = flux_ratio(tmp_path, "Ball")
+    assert ratio[0] > ratio[1] > ratio[2]
+    assert np.all(ratio <= np.array([0.9, 0.6, 0.3]) + 0.01), ratio
+    assert np.all(ratio >= 0.75 * np.array([0.9, 0.6, 0.3])), ratio
+
+
+def test_a_preset_on_the_command_line_wins_over_the_asset(sssbake, wax_stage, tmp_path):
+    summary = bake(sssbake, wax_stage, tmp_path, "--preset", "marble", python=True)
+    assert summary["objects"][0]["material"] == "marble"
+    assert summary["objects"][0]["material_source"] == "--preset"
+
+
+def test_a_gltf_volume_is_read_as_a_mean_free_path(sssbake, tmp_path):
+    document = json.loads((MARBLE / "marble.gltf").read_text())
+    document["materials"][0]["extensions"] = {
+        "KHR_materials_volume": {"attenuationDistance": 0.01, "attenuationColor": [0.5, 0.25, 0.1]},
+        "KHR_materials_volume_scatter": {"multiscatterColor": [0.8, 0.5, 0.2]},
+        "KHR_materials_transmission": {"transmissionFactor": 1.0},
+    }
+    document["extensionsUsed"] = [*document["extensionsUsed"], *document["materials"][0]["extensions"]]
+    (tmp_path / "in").mkdir()
+    scene = tmp_path / "in" / "marble.gltf"
+    scene.write_text(json.dumps(document))
+    (tmp_path / "in" / "marble.bin").write_bytes((MARBLE / "marble.bin").read_bytes())
+    summary = bake(sssbake, scene, tmp_path / "out")
+    assert "KHR_materials_volume_scatter colour" in summary["objects"][0]["material_source"]
+    ratio = flux_ratio(tmp_path / "out", "Ball")
+    assert np.all(ratio <= np.array([0.8, 0.5, 0.2]) + 0.01), ratio
+    assert np.all(ratio >= 0.75 * np.array([0.8, 0.5, 0.2])), ratio
+
+
+def validate(gltf):
+    result = subprocess.run(
+        ["node", str(ROOT / "tests" / "validate_gltf.js"), str(gltf)],
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    return json.loads(result.stdout)["issues"]
+
+
+def lit_share(pixels, centroids):
+    """The share of faces whose UV centroid lands on a baked (non-black) texel."""
+    height, width = pixels.shape[:2]
+    uvs = np.clip(np.asarray(centroids), 0.0, 1.0 - 1e-6)
+    # Blender's and USD's v run up from the image's bottom row.
+    rows = ((1.0 - uvs[:, 1]) * height).astype(int)
+    columns = (uvs[:, 0] * width).astype(int)
+    return float((pixels[rows, columns].max(axis=1) > 0).mean())
+
+
+def test_an_unwrapped_gltf_object_carries_its_new_uvs(sssbake, tmp_path):
+    import bpy
+
+    document = json.loads((MARBLE / "marble.gltf").read_text())
+    for mesh in document["meshes"]:
+        for primitive in mesh["primitives"]:
+            primitive["attributes"].pop("TEXCOORD_0")
+    (tmp_path / "in").mkdir()
+    scene = tmp_path / "in" / "marble.gltf"
+    scene.write_text(json.dumps(document))
+    (tmp_path / "in" / "marble.bin").write_bytes((MARBLE / "marble.bin").read_bytes())
+    out = tmp_path / "out"
+    summary = bake(sssbake, scene, out, "--margin", "1")
+    assert summary["objects"][0]["unwrapped"]
+    assert (out / "marble_sssbake.bin").exists()
+    assert validate(out / "marble.gltf")["numErrors"] == 0
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.import_scene.gltf(filepath=str(out / "marble.gltf"))
+    ball = bpy.data.objects["Ball"]
+    assert ball.active_material.name == "Ball (sssbake)"
+    uv_layer = ball.data.uv_layers.active
+    centroids = [
+        np.mean([uv_layer.data[i].uv for i in polygon.loop_indices], axis=0) for polygon in ball.data.polygons
+    ]
+    assert lit_share(exr(out / "Ball_diffuse.exr"), centroids) > 0.97
+
+
+def test_an_unwrapped_usd_object_carries_its_new_uvs(sssbake, tmp_path):
+    from pxr import Usd, UsdGeom, UsdShade, UsdValidation
+
+    # The ball's quads, fan-triangulated: the unwrap may cut any triangle pair
+    # apart, and a triangle's corners are its own.
+    scene = tmp_path / "plain.usda"
+    Usd.Stage.Open(str(MARBLE / "marble.usda")).Export(str(scene))
+    stage = Usd.Stage.Open(str(scene))
+    sphere = UsdGeom.Mesh(stage.GetPrimAtPath("/root/Ball/Sphere"))
+    counts = sphere.GetFaceVertexCountsAttr().Get()
+    indices = sphere.GetFaceVertexIndicesAttr().Get()
+    triangles, start = [], 0
+    for n in counts:
+        for k in range(1, n - 1):
+            triangles += [indices[start], indices[start + k], indices[start + k + 1]]
+        start += n
+    sphere.GetFaceVertexCountsAttr().Set([3] * (len(triangles) // 3))
+    sphere.GetFaceVertexIndicesAttr().Set(triangles)
+    for name in ("primvars:st", "primvars:normals", "normals"):
+        sphere.GetPrim().RemoveProperty(name)
+    stage.Save()
+    out = tmp_path / "out"
+    summary = bake(sssbake, scene, out, "--margin", "1", python=True)
+    assert summary["objects"][0]["unwrapped"]
+    layer = Usd.Stage.Open(str(out / "plain_sssbake.usda"))
+    mesh = layer.GetPrimAtPath("/root/Ball/Sphere")
+    primvar = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("sssbake_st")
+    assert primvar.GetInterpolation() == UsdGeom.Tokens.faceVarying
+    st = primvar.Get()
+    assert len(st) == len(UsdGeom.Mesh(mesh).GetFaceVertexIndicesAttr().Get())
+    material, _ = UsdShade.MaterialBindingAPI(mesh).ComputeBoundMaterial()
+    reader = UsdShade.Shader(material.GetPrim().GetChild("st"))
+    assert reader.GetInput("varname").Get() == "sssbake_st"
+    counts = UsdGeom.Mesh(mesh).GetFaceVertexCountsAttr().Get()
+    starts = np.cumsum([0, *counts[:-1]])
+    corners = np.asarray(st)
+    centroids = [corners[s : s + n].mean(axis=0) for s, n in zip(starts, counts, strict=True)]
+    assert lit_share(exr(out / "Ball_diffuse.exr"), centroids) > 0.97
+    context = UsdValidation.ValidationContext(UsdValidation.ValidationRegistry().GetOrLoadAllValidators())
+    assert context.Validate(layer) == []
+
+
+def test_an_unwrap_that_splits_a_polygon_leaves_the_usd_object_out_with_a_reason(sssbake, tmp_path):
+    from pxr import Usd
+
+    scene = tmp_path / "quads.usda"
+    Usd.Stage.Open(str(MARBLE / "marble.usda")).Export(str(scene))
+    stage = Usd.Stage.Open(str(scene))
+    stage.GetPrimAtPath("/root/Ball/Sphere").RemoveProperty("primvars:st")
+    stage.Save()
+    out = tmp_path / "out"
+    summary = bake(sssbake, scene, out, python=True)
+    # The unwrap is deterministic and cuts this quad ball between triangle pairs.
+    assert any("split a polygon" in reason for reason in summary["left_out"]), summary["left_out"]
+    assert (out / "Ball_diffuse.png").exists()
+    layer = Usd.Stage.Open(str(out / "quads_sssbake.usda"))
+    assert not layer.GetPrimAtPath("/root/Ball/Sphere").HasProperty("primvars:sssbake_st")
