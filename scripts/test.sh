@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Installs what the tests need (first run only) and runs every check: style
 # (rustfmt, clippy, ruff), the Rust workspace's tests, then the Python tests
-# against the release binary.
+# against the release binary and library.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-test-deps.sh
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --locked -- -D warnings
-.venv/bin/ruff format --check --quiet tests usd examples
-.venv/bin/ruff check --quiet tests usd examples
-cargo build --release --locked -p sssbake-cli
+.venv/bin/ruff format --check --quiet tests usd examples blender_addon
+.venv/bin/ruff check --quiet tests usd examples blender_addon
+cargo build --release --locked -p sssbake-cli -p sssbake-ffi
 cargo test --workspace --locked
 SSSBAKE_BIN="$PWD/target/release/sssbake" .venv/bin/python -m pytest tests -q

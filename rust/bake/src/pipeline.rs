@@ -62,6 +62,9 @@ pub struct BakeSettings {
     pub padding: u32,
     /// Unwrap even when the UVs are usable.
     pub force_unwrap: bool,
+    /// Never unwrap: fail when the UVs are not usable (for callers that
+    /// show the maps through UVs of their own, such as Blender's).
+    pub keep_uvs: bool,
     /// Light sampling.
     pub irradiance: IrradianceSettings,
     /// The boundary light enters through.
@@ -83,6 +86,7 @@ impl Default for BakeSettings {
             resolution: 1024,
             padding: 4,
             force_unwrap: false,
+            keep_uvs: false,
             irradiance: IrradianceSettings::default(),
             boundary: Boundary::Smooth,
             eta: 1.3,
@@ -133,6 +137,13 @@ pub fn prepare(
     let original = &scene.objects[index].mesh;
     let report = analyse_uvs(original, None, settings.resolution);
     let unwrapped = settings.force_unwrap || !report.usable();
+    if unwrapped && settings.keep_uvs {
+        return Err(BakeError::Input(format!(
+            "{}: object `{object}`: its UVs are not usable for a bake ({})",
+            scene.source,
+            report.verdict()
+        )));
+    }
     if unwrapped && matches!(lighting, Lighting::Irradiance(_)) {
         return Err(BakeError::Input(format!(
             "{}: object `{object}`: an irradiance image needs the object's own UVs, but they are not usable ({})",

@@ -1,8 +1,8 @@
 //! `--preset NAME | --material FILE`, shared by the commands that take a material.
 
 use crate::Failure;
+use sssbake_profile::Material;
 use sssbake_profile::presets::{self, preset};
-use sssbake_profile::{Material, Optics};
 use std::path::Path;
 
 /// The preset or material file asked for.
@@ -19,22 +19,5 @@ pub fn load(preset_name: Option<&str>, file: Option<&Path>) -> Result<Material, 
         (None, None) => Err(Failure::Input(
             "give --preset NAME or --material FILE".into(),
         )),
-    }
-}
-
-/// The shortest transport mean free path 1/σt' of the top layer over the
-/// channels, mm (for a measured Gaussian profile, its narrowest spread):
-/// the finest spacing the material's light transport resolves.
-pub fn mean_free_path(material: &Material) -> f64 {
-    match &material.optics {
-        Optics::Layers(layers) => (0..3)
-            .map(|c| layers[0].medium(c).mean_free_path())
-            .fold(f64::INFINITY, f64::min),
-        Optics::Gaussians(g) => g
-            .terms
-            .iter()
-            .flatten()
-            .map(|&(_, v)| v.sqrt())
-            .fold(f64::INFINITY, f64::min),
     }
 }

@@ -80,7 +80,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     let settings = PlanSettings {
         objects: args.objects.clone(),
         resolution: args.resolution,
-        mean_free_path_mm: material_choice::mean_free_path(&material),
+        mean_free_path_mm: material.finest_mean_free_path_mm(),
         point_multiplier: args.points_per_disk,
         force_unwrap: args.unwrap,
         padding: args.margin,

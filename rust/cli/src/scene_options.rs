@@ -192,8 +192,8 @@ impl SceneOptions {
             let profile = build_profile(&material, model, 6)
                 .map_err(|e| Failure::Input(format!("object `{name}`: {e}")))?;
             let settings = BakeSettings {
-                eta: top_index(&material),
-                mean_free_path_mm: material_choice::mean_free_path(&material),
+                eta: material.entry_index(),
+                mean_free_path_mm: material.finest_mean_free_path_mm(),
                 ..base.clone()
             };
             objects.push((
@@ -281,15 +281,6 @@ impl SceneOptions {
         let environment = EnvironmentMap::new(image.width, image.height, image.texels)
             .map_err(|e| Failure::Input(format!("{}: {e}", path.display())))?;
         Ok(Lighting::SceneLightsWith { environment })
-    }
-}
-
-/// The index of refraction light enters through: the top layer's (1.3 for
-/// a measured Gaussian profile, which carries none).
-fn top_index(material: &Material) -> f64 {
-    match &material.optics {
-        sssbake_profile::Optics::Layers(layers) => layers.first().map_or(1.3, |l| l.ior),
-        sssbake_profile::Optics::Gaussians(_) => 1.3,
     }
 }
 

@@ -230,6 +230,32 @@ impl Material {
         Ok(())
     }
 
+    /// The index of refraction light enters through: the top layer's (1.3
+    /// for a measured Gaussian profile, which carries none).
+    pub fn entry_index(&self) -> f64 {
+        match &self.optics {
+            Optics::Layers(layers) => layers.first().map_or(1.3, |l| l.ior),
+            Optics::Gaussians(_) => 1.3,
+        }
+    }
+
+    /// The shortest transport mean free path 1/σt' of the top layer over
+    /// the channels, mm (for a measured Gaussian profile, its narrowest
+    /// spread): the finest spacing the material's light transport resolves.
+    pub fn finest_mean_free_path_mm(&self) -> f64 {
+        match &self.optics {
+            Optics::Layers(layers) => (0..3)
+                .map(|c| layers[0].medium(c).mean_free_path())
+                .fold(f64::INFINITY, f64::min),
+            Optics::Gaussians(g) => g
+                .terms
+                .iter()
+                .flatten()
+                .map(|&(_, v)| v.sqrt())
+                .fold(f64::INFINITY, f64::min),
+        }
+    }
+
     /// The layers, or `None` for a measured Gaussian profile.
     pub fn layers(&self) -> Option<&[Layer]> {
         match &self.optics {

@@ -1,0 +1,27 @@
+"""sssbake for Blender: bakes subsurface scattering of the selected objects into images,
+through the sssbake library (loaded with ctypes from this folder's lib/, or from
+$SSSBAKE_LIBRARY). No physics lives here: the add-on moves Blender's data across."""
+
+import bpy
+
+from . import operators, panels, properties
+
+CLASSES = (
+    properties.SSSBAKE_PG_settings,
+    operators.SSSBAKE_OT_bake,
+    panels.SSSBAKE_PT_properties,
+    panels.SSSBAKE_PT_sidebar,
+)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.sssbake = bpy.props.PointerProperty(type=properties.SSSBAKE_PG_settings)
+
+
+def unregister():
+    operators.cancel_running()
+    del bpy.types.Scene.sssbake
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

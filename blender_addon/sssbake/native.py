@@ -1,0 +1,266 @@
+"""The sssbake library through ctypes: loading it, checking its ABI version, and the
+structures and calls of `rust/ffi/include/sssbake.h`, wrapped for Python."""
+
+import ctypes
+import os
+import pathlib
+import sys
+
+ABI_VERSION = 1
+
+LIGHT_SUN, LIGHT_POINT, LIGHT_SPOT, LIGHT_RECTANGLE, LIGHT_DISK = range(5)
+MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML = range(3)
+OUTPUTS = ("subsurface", "irradiance", "diffuse", "thickness", "stretch", "area")
+METHODS = ("auto", "brute", "octree", "texture", "importance")
+STATUS = {1: "invalid argument", 2: "bad input", 3: "cancelled", 4: "internal error"}
+CANCELLED = 3
+
+
+class NativeError(Exception):
+    """A call into the library failed; `status` is its SssbakeStatus."""
+
+    def __init__(self, status, message):
+        super().__init__(message)
+        self.status = status
+
+
+Vec3 = ctypes.c_float * 3
+
+
+class Mesh(ctypes.Structure):
+    _fields_ = [
+        ("name", ctypes.c_char_p),
+        ("positions", ctypes.POINTER(ctypes.c_float)),
+        ("normals", ctypes.POINTER(ctypes.c_float)),
+        ("uvs", ctypes.POINTER(ctypes.c_float)),
+        ("vertex_count", ctypes.c_size_t),
+        ("indices", ctypes.POINTER(ctypes.c_uint32)),
+        ("index_count", ctypes.c_size_t),
+    ]
+
+
+class Light(ctypes.Structure):
+    _fields_ = [
+        ("kind", ctypes.c_uint32),
+        ("colour", Vec3),
+        ("power", ctypes.c_float),
+        ("position", Vec3),
+        ("direction", Vec3),
+        ("tangent", Vec3),
+        ("size", ctypes.c_float),
+        ("size_y", ctypes.c_float),
+        ("angle", ctypes.c_float),
+        ("spot_size", ctypes.c_float),
+        ("spot_blend", ctypes.c_float),
+    ]
+
+
+class Material(ctypes.Structure):
+    _fields_ = [
+        ("kind", ctypes.c_uint32),
+        ("name", ctypes.c_char_p),
+        ("toml", ctypes.c_char_p),
+        ("base_colour", Vec3),
+        ("subsurface_weight", ctypes.c_float),
+        ("radius", Vec3),
+        ("scale", ctypes.c_float),
+        ("ior", ctypes.c_float),
+        ("anisotropy", ctypes.c_float),
+    ]
+
+
+class Settings(ctypes.Structure):
+    _fields_ = [
+        ("resolution", ctypes.c_uint32),
+        ("method", ctypes.c_uint32),
+        ("margin", ctypes.c_uint32),
+        ("light_samples", ctypes.c_uint32),
+        ("seed", ctypes.c_uint64),
+        ("octree_epsilon", ctypes.c_float),
+        ("gaussians", ctypes.c_uint32),
+        ("samples", ctypes.c_uint32),
+    ]
+
+
+PROGRESS = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_float)
+
+
+def library_path():
+    """$SSSBAKE_LIBRARY, else the library packaged beside this file."""
+    override = os.environ.get("SSSBAKE_LIBRARY")
+    if override:
+        return pathlib.Path(override)
+    name = {"win32": "sssbake.dll", "darwin": "libsssbake.dylib"}.get(sys.platform, "libsssbake.so")
+    return pathlib.Path(__file__).resolve().parent / "lib" / name
+
+
+_library = None
+
+
+def library():
+    """The loaded library; raises NativeError when it is missing or of another version."""
+    global _library
+    if _library is not None:
+        return _library
+    path = library_path()
+    if not path.exists():
+        raise NativeError(0, f"the sssbake library is missing: {path} (build it with scripts/build-addon.sh)")
+    try:
+        lib = ctypes.CDLL(str(path))
+    except OSError as error:
+        raise NativeError(0, f"cannot load the sssbake library {path}: {error}") from error
+    lib.sssbake_abi_version.restype = ctypes.c_uint32
+    version = lib.sssbake_abi_version()
+    if version != ABI_VERSION:
+        raise NativeError(
+            0,
+            f"the sssbake library {path} speaks ABI version {version}, but this add-on needs "
+            f"{ABI_VERSION}: install the add-on and library of one release",
+        )
+    status = ctypes.c_int
+    lib.sssbake_last_error.restype = ctypes.c_char_p
+    lib.sssbake_scene_new.argtypes = [ctypes.c_double, ctypes.POINTER(ctypes.c_void_p)]
+    lib.sssbake_scene_new.restype = status
+    lib.sssbake_scene_free.argtypes = [ctypes.c_void_p]
+    lib.sssbake_scene_free.restype = None
+    lib.sssbake_scene_add_mesh.argtypes = [ctypes.c_void_p, ctypes.POINTER(Mesh)]
+    lib.sssbake_scene_add_mesh.restype = status
+    lib.sssbake_scene_add_light.argtypes = [ctypes.c_void_p, ctypes.POINTER(Light)]
+    lib.sssbake_scene_add_light.restype = status
+    lib.sssbake_scene_set_world.argtypes = [ctypes.c_void_p, ctypes.POINTER(ctypes.c_float), ctypes.c_float]
+    lib.sssbake_scene_set_world.restype = status
+    lib.sssbake_settings_default.argtypes = [ctypes.POINTER(Settings)]
+    lib.sssbake_settings_default.restype = status
+    lib.sssbake_bake.argtypes = [
+        ctypes.c_void_p,
+        ctypes.c_char_p,
+        ctypes.POINTER(Material),
+        ctypes.POINTER(Settings),
+        PROGRESS,
+        ctypes.c_void_p,
+        ctypes.POINTER(ctypes.c_int32),
+        ctypes.POINTER(ctypes.c_void_p),
+    ]
+    lib.sssbake_bake.restype = status
+    lib.sssbake_result_free.argtypes = [ctypes.c_void_p]
+    lib.sssbake_result_free.restype = None
+    lib.sssbake_result_resolution.argtypes = [ctypes.c_void_p]
+    lib.sssbake_result_resolution.restype = ctypes.c_uint32
+    lib.sssbake_result_summary.argtypes = [ctypes.c_void_p]
+    lib.sssbake_result_summary.restype = ctypes.c_char_p
+    lib.sssbake_result_image.argtypes = [
+        ctypes.c_void_p,
+        ctypes.c_uint32,
+        ctypes.POINTER(ctypes.c_float),
+        ctypes.c_size_t,
+    ]
+    lib.sssbake_result_image.restype = status
+    _library = lib
+    return lib
+
+
+def check(status):
+    """Raises NativeError with the library's message unless `status` is OK."""
+    if status != 0:
+        message = (library().sssbake_last_error() or b"").decode("utf-8", "replace")
+        raise NativeError(status, message or STATUS.get(status, f"status {status}"))
+
+
+def floats(array):
+    return array.ctypes.data_as(ctypes.POINTER(ctypes.c_float))
+
+
+class Scene:
+    """A scene in the library; free it with close() (or use `with`)."""
+
+    def __init__(self, millimetres_per_unit):
+        self.handle = ctypes.c_void_p()
+        check(library().sssbake_scene_new(millimetres_per_unit, ctypes.byref(self.handle)))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *_):
+        self.close()
+
+    def close(self):
+        if self.handle:
+            library().sssbake_scene_free(self.handle)
+            self.handle = ctypes.c_void_p()
+
+    def add_mesh(self, name, positions, normals, uvs, indices):
+        """Flat float32 arrays (3 per vertex; normals and uvs may be None) and uint32 indices."""
+        mesh = Mesh(
+            name.encode("utf-8"),
+            floats(positions),
+            floats(normals) if normals is not None else None,
+            floats(uvs) if uvs is not None else None,
+            len(positions) // 3,
+            indices.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32)),
+            len(indices),
+        )
+        check(library().sssbake_scene_add_mesh(self.handle, ctypes.byref(mesh)))
+
+    def add_light(self, light):
+        check(library().sssbake_scene_add_light(self.handle, ctypes.byref(light)))
+
+    def set_world(self, colour, strength):
+        check(library().sssbake_scene_set_world(self.handle, Vec3(*colour), strength))
+
+
+def default_settings():
+    settings = Settings()
+    check(library().sssbake_settings_default(ctypes.byref(settings)))
+    return settings
+
+
+class Result:
+    """One object's bake; its maps come out as float32 RGBA arrays, rows from v = 0 up."""
+
+    def __init__(self, handle):
+        self.handle = handle
+
+    def close(self):
+        if self.handle:
+            library().sssbake_result_free(self.handle)
+            self.handle = None
+
+    @property
+    def resolution(self):
+        return library().sssbake_result_resolution(self.handle)
+
+    @property
+    def summary(self):
+        import json
+
+        return json.loads(library().sssbake_result_summary(self.handle).decode("utf-8"))
+
+    def image(self, output):
+        import numpy as np
+
+        n = self.resolution
+        pixels = np.empty(4 * n * n, dtype=np.float32)
+        check(library().sssbake_result_image(self.handle, OUTPUTS.index(output), floats(pixels), pixels.size))
+        return pixels
+
+
+def bake(scene, obj, material, settings, cancel, progress=None):
+    """Bakes object `obj`; `cancel` is a ctypes.c_int32 another thread may set to 1;
+    `progress(fraction)` is called from a library thread."""
+    callback = PROGRESS(
+        (lambda _user, fraction: progress(fraction)) if progress else (lambda _user, _fraction: None)
+    )
+    handle = ctypes.c_void_p()
+    check(
+        library().sssbake_bake(
+            scene.handle,
+            obj.encode("utf-8"),
+            ctypes.byref(material),
+            ctypes.byref(settings),
+            callback,
+            None,
+            ctypes.byref(cancel),
+            ctypes.byref(handle),
+        )
+    )
+    return Result(handle)

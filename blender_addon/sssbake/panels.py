@@ -1,0 +1,53 @@
+"""The panel, in the Properties editor (Object tab) and in the 3-D view's sidebar."""
+
+import bpy
+
+
+def draw_settings(layout, settings):
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+    layout.prop(settings, "material_source")
+    if settings.material_source == "PRESET":
+        layout.prop(settings, "preset")
+    elif settings.material_source == "LAYERS":
+        layout.prop(settings, "layers_file")
+    layout.prop(settings, "resolution")
+    layout.prop(settings, "method")
+    layout.prop(settings, "quality")
+    layout.prop(settings, "margin")
+    column = layout.column(heading="Outputs")
+    column.prop(settings, "outputs")
+    layout.prop(settings, "unwrap")
+    row = layout.row()
+    row.enabled = not settings.unwrap
+    row.prop(settings, "uv_map")
+    layout.prop(settings, "destination")
+    if settings.destination == "FOLDER":
+        layout.prop(settings, "folder")
+    layout.prop(settings, "wire_material")
+    selected = [o.name for o in bpy.context.selected_objects if o.type == "MESH"]
+    layout.label(text=f"Targets: {', '.join(selected) or 'select mesh objects'}")
+    layout.operator("sssbake.bake", icon="RENDER_STILL")
+
+
+class SubsurfacePanel:
+    """The panel's content, wherever it is shown."""
+
+    bl_label = "Subsurface Bake"
+
+    def draw(self, context):
+        draw_settings(self.layout, context.scene.sssbake)
+
+
+class SSSBAKE_PT_properties(SubsurfacePanel, bpy.types.Panel):
+    bl_idname = "SSSBAKE_PT_properties"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+
+
+class SSSBAKE_PT_sidebar(SubsurfacePanel, bpy.types.Panel):
+    bl_idname = "SSSBAKE_PT_sidebar"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "sssbake"

@@ -1,0 +1,89 @@
+"""What the panel sets, stored on the scene; the bake operator's properties mirror it."""
+
+import bpy
+
+PRESETS = [
+    ("skin1", "Skin 1", "Jensen et al. 2001, measured skin"),
+    ("skin2", "Skin 2", "Jensen et al. 2001, measured skin"),
+    ("skin3layer", "Skin, three layers", "Donner & Jensen 2005"),
+    ("deon-skin", "Skin, six Gaussians", "d'Eon & Luebke 2007"),
+    ("marble", "Marble", "Jensen et al. 2001"),
+    ("apple", "Apple", "Jensen et al. 2001"),
+    ("potato", "Potato", "Jensen et al. 2001"),
+    ("ketchup", "Ketchup", "Jensen et al. 2001"),
+    ("wholemilk", "Whole milk", "Jensen et al. 2001"),
+    ("skimmilk", "Skim milk", "Jensen et al. 2001"),
+    ("cream", "Cream", "Jensen et al. 2001"),
+    ("chicken1", "Chicken 1", "Jensen et al. 2001"),
+    ("chicken2", "Chicken 2", "Jensen et al. 2001"),
+    ("spectralon", "Spectralon", "Jensen et al. 2001"),
+]
+SOURCES = [
+    ("PRINCIPLED", "From Principled BSDF", "Subsurface Weight, Radius, Scale, IOR and Anisotropy"),
+    ("PRESET", "Preset", "A measured material"),
+    ("LAYERS", "Custom layers", "A TOML file of layers (see the README)"),
+]
+METHODS = [
+    ("AUTO", "Auto", "Let the library choose, and say why"),
+    ("BRUTE", "Exact", "The exact sum: the reference, slowest"),
+    ("OCTREE", "Octree", "Hierarchical: near-exact, fast"),
+    ("TEXTURE", "Texture space", "Separable blurs: fastest, a few percent off"),
+    ("IMPORTANCE", "Monte Carlo", "Probe rays: noisy at low quality"),
+]
+QUALITIES = [
+    ("DRAFT", "Draft", "4 light samples"),
+    ("GOOD", "Good", "16 light samples"),
+    ("FINAL", "Final", "64 light samples"),
+]
+QUALITY_SAMPLES = {"DRAFT": 4, "GOOD": 16, "FINAL": 64}
+OUTPUTS = [
+    ("SUBSURFACE", "Subsurface", "Exitance, W/m²"),
+    ("IRRADIANCE", "Irradiance", "Transmitted irradiance, W/m²"),
+    ("DIFFUSE", "Diffuse", "Diffuse radiance through the exit Fresnel"),
+    ("THICKNESS", "Thickness", "Distance through the object, mm"),
+    ("STRETCH", "Stretch", "Surface length per texel along u and v, mm"),
+    ("AREA", "Area", "Surface area per texel, mm²"),
+]
+DESTINATIONS = [
+    ("PACK", "Packed", "Pack the images into the .blend"),
+    ("FOLDER", "Folder", "Save the images as OpenEXR files in a folder"),
+]
+
+
+def bake_properties():
+    """The settings as property definitions, shared by the panel and the operator."""
+    return {
+        "material_source": bpy.props.EnumProperty(name="Material", items=SOURCES, default="PRINCIPLED"),
+        "preset": bpy.props.EnumProperty(name="Preset", items=PRESETS, default="skin1"),
+        "layers_file": bpy.props.StringProperty(name="Layers", subtype="FILE_PATH", default=""),
+        "resolution": bpy.props.IntProperty(
+            name="Resolution", default=1024, min=1, soft_min=64, soft_max=8192
+        ),
+        "method": bpy.props.EnumProperty(name="Method", items=METHODS, default="AUTO"),
+        "quality": bpy.props.EnumProperty(name="Quality", items=QUALITIES, default="GOOD"),
+        "outputs": bpy.props.EnumProperty(
+            name="Outputs",
+            items=OUTPUTS,
+            options={"ENUM_FLAG"},
+            default={"SUBSURFACE", "IRRADIANCE", "DIFFUSE"},
+        ),
+        "uv_map": bpy.props.StringProperty(name="UV Map", description="Empty: the active UV map", default=""),
+        "unwrap": bpy.props.BoolProperty(
+            name="Unwrap", description="Make a new UV map `sssbake` (Smart UV Project) and bake into it"
+        ),
+        "destination": bpy.props.EnumProperty(name="Results", items=DESTINATIONS, default="PACK"),
+        "folder": bpy.props.StringProperty(name="Folder", subtype="DIR_PATH", default="//sssbake"),
+        "wire_material": bpy.props.BoolProperty(
+            name="Show in Material",
+            description="Add an Image Texture and Emission feeding a new active Material Output; the original nodes stay",
+            default=False,
+        ),
+        "margin": bpy.props.IntProperty(name="Margin", default=8, min=0, max=64),
+    }
+
+
+SETTING_NAMES = tuple(bake_properties())
+
+
+class SSSBAKE_PG_settings(bpy.types.PropertyGroup):
+    __annotations__ = bake_properties()

@@ -1,0 +1,183 @@
+"""The Blender scene as the library takes it: evaluated meshes (modifiers applied) as flat
+world-space arrays, lights and the world colour in Blender's own units, and materials.
+Only data moves here; every conversion of units and physics happens in the library."""
+
+import math
+
+import bpy
+import numpy as np
+
+from . import native
+
+
+def millimetres_per_unit(scene):
+    """Blender units are metres times the unit scale (1 when there is no unit system)."""
+    units = scene.unit_settings
+    return 1000.0 * (units.scale_length if units.system != "NONE" else 1.0)
+
+
+def mesh_arrays(obj, depsgraph, uv_map):
+    """One vertex per triangle corner: positions, normals (world space) and the UVs of
+    `uv_map` ("" for the active one; None when the mesh has none)."""
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        mesh.calc_loop_triangles()
+        count = len(mesh.loop_triangles)
+        loops = np.empty(3 * count, dtype=np.int32)
+        vertices = np.empty(3 * count, dtype=np.int32)
+        mesh.loop_triangles.foreach_get("loops", loops)
+        mesh.loop_triangles.foreach_get("vertices", vertices)
+        co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+        mesh.vertices.foreach_get("co", co)
+        normals = np.empty(3 * len(mesh.loops), dtype=np.float32)
+        mesh.corner_normals.foreach_get("vector", normals)
+        layer = mesh.uv_layers.get(uv_map) if uv_map else mesh.uv_layers.active
+        uvs = None
+        if layer is not None:
+            uvs = np.empty(2 * len(mesh.loops), dtype=np.float32)
+            layer.data.foreach_get("uv", uvs)
+            uvs = uvs.reshape(-1, 2)[loops].reshape(-1)
+    finally:
+        evaluated.to_mesh_clear()
+    world = np.array(obj.matrix_world, dtype=np.float64)
+    linear, offset = world[:3, :3], world[:3, 3]
+    positions = co.reshape(-1, 3)[vertices] @ linear.T + offset
+    normal_matrix = np.linalg.inv(linear).T if abs(np.linalg.det(linear)) > 1e-30 else linear
+    corner_normals = normals.reshape(-1, 3)[loops] @ normal_matrix.T
+    corner_normals /= np.maximum(np.linalg.norm(corner_normals, axis=1, keepdims=True), 1e-30)
+    indices = np.arange(3 * count, dtype=np.uint32).reshape(-1, 3)
+    if np.linalg.det(linear) < 0:
+        indices = indices[:, [0, 2, 1]]
+    return (
+        np.ascontiguousarray(positions, dtype=np.float32).reshape(-1),
+        np.ascontiguousarray(corner_normals, dtype=np.float32).reshape(-1),
+        None if uvs is None else np.ascontiguousarray(uvs, dtype=np.float32),
+        np.ascontiguousarray(indices, dtype=np.uint32).reshape(-1),
+    )
+
+
+def light_struct(obj):
+    """The native light for a Blender light object, or None for kinds not baked."""
+    data = obj.data
+    world = obj.matrix_world
+    linear = world.to_3x3()
+    scale = (linear.col[0].length + linear.col[1].length) / 2
+    light = native.Light()
+    light.colour = native.Vec3(*data.color)
+    light.power = data.energy
+    light.position = native.Vec3(*world.translation)
+    light.direction = native.Vec3(*(linear @ _axis(0, 0, -1)).normalized())
+    light.tangent = native.Vec3(*(linear @ _axis(1, 0, 0)).normalized())
+    if data.type == "SUN":
+        light.kind = native.LIGHT_SUN
+        light.angle = data.angle
+    elif data.type in ("POINT", "SPOT"):
+        light.kind = native.LIGHT_POINT if data.type == "POINT" else native.LIGHT_SPOT
+        light.size = data.shadow_soft_size
+        if data.type == "SPOT":
+            light.spot_size = data.spot_size
+            light.spot_blend = data.spot_blend
+    elif data.type == "AREA":
+        if data.shape in ("DISK", "ELLIPSE"):
+            light.kind = native.LIGHT_DISK
+            light.size = data.size * scale
+        else:
+            light.kind = native.LIGHT_RECTANGLE
+            light.size = data.size * linear.col[0].length
+            square = data.shape == "SQUARE"
+            light.size_y = (data.size if square else data.size_y) * linear.col[1].length
+    else:
+        return None
+    return light
+
+
+def _axis(x, y, z):
+    from mathutils import Vector
+
+    return Vector((x, y, z))
+
+
+def world_colour(scene):
+    """The world's background colour and strength (black when it has none)."""
+    world = scene.world
+    if world is None:
+        return (0.0, 0.0, 0.0), 0.0
+    if world.use_nodes and world.node_tree:
+        for node in world.node_tree.nodes:
+            if node.type == "BACKGROUND" and node.outputs[0].is_linked:
+                colour, strength = node.inputs["Color"], node.inputs["Strength"]
+                if colour.is_linked:
+                    return (0.0, 0.0, 0.0), 0.0
+                return tuple(colour.default_value[:3]), float(strength.default_value)
+        return (0.0, 0.0, 0.0), 0.0
+    return tuple(world.color), 1.0
+
+
+def principled_node(obj):
+    """The Principled BSDF of the object's active material, or None."""
+    material = obj.active_material
+    if material is None or material.node_tree is None:
+        return None
+    return next((n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
+
+
+def material_struct(settings, obj, keep):
+    """The native material the panel asks for, for `obj`; `keep` holds the strings alive."""
+    material = native.Material()
+    source = settings.material_source
+    if source == "PRESET":
+        material.kind = native.MATERIAL_PRESET
+        keep.append(settings.preset.encode("utf-8"))
+        material.name = keep[-1]
+    elif source == "LAYERS":
+        path = bpy.path.abspath(settings.layers_file)
+        try:
+            with open(path, encoding="utf-8") as file:
+                text = file.read()
+        except OSError as error:
+            raise native.NativeError(2, f"{path}: cannot read the layers file: {error}") from error
+        material.kind = native.MATERIAL_TOML
+        keep += [text.encode("utf-8"), path.encode("utf-8")]
+        material.toml, material.name = keep[-2], keep[-1]
+    else:
+        node = principled_node(obj)
+        if node is None:
+            raise native.NativeError(2, f"object `{obj.name}`: its active material has no Principled BSDF")
+        inputs = node.inputs
+        material.kind = native.MATERIAL_PRINCIPLED
+        keep.append(obj.active_material.name.encode("utf-8"))
+        material.name = keep[-1]
+        material.base_colour = native.Vec3(*inputs["Base Color"].default_value[:3])
+        material.subsurface_weight = inputs["Subsurface Weight"].default_value
+        material.radius = native.Vec3(*inputs["Subsurface Radius"].default_value)
+        material.scale = inputs["Subsurface Scale"].default_value
+        material.ior = inputs["Subsurface IOR"].default_value if "Subsurface IOR" in inputs else 1.4
+        anisotropy = inputs.get("Subsurface Anisotropy")
+        material.anisotropy = anisotropy.default_value if anisotropy else 0.0
+    return material
+
+
+def build_scene(context, uv_map):
+    """A native scene of every visible mesh (the shadow casters) and light, and the world."""
+    scene = context.scene
+    depsgraph = context.evaluated_depsgraph_get()
+    native_scene = native.Scene(millimetres_per_unit(scene))
+    try:
+        for obj in scene.objects:
+            if not obj.visible_get():
+                continue
+            if obj.type == "MESH":
+                arrays = mesh_arrays(obj, depsgraph, uv_map)
+                if len(arrays[3]):
+                    native_scene.add_mesh(obj.name, *arrays)
+            elif obj.type == "LIGHT":
+                light = light_struct(obj)
+                if light is not None:
+                    native_scene.add_light(light)
+        colour, strength = world_colour(scene)
+        native_scene.set_world(colour, strength if math.isfinite(strength) else 0.0)
+    except Exception:
+        native_scene.close()
+        raise
+    return native_scene

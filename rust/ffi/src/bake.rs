@@ -1,0 +1,322 @@
+//! One object's bake: settings, the call with its progress callback and
+//! cancel flag, and the result whose maps the host copies out.
+
+use crate::errors::{Failure, SssbakeStatus, guarded, text};
+use crate::material::{SssbakeMaterial, material_from_host};
+use crate::scene::SssbakeScene;
+use sssbake::control::{Cancelled, Control};
+use sssbake::maps::{Output, margin_fill, render};
+use sssbake::pipeline::{BakeError, BakeSettings, Integration, Lighting, Prepared, prepare};
+use sssbake::transport::kernel::Kernel;
+use sssbake::transport::{Method, MethodSettings};
+use sssbake_profile::model::{Model, build_profile};
+use std::ffi::{CString, c_char, c_void};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::time::Duration;
+
+/// How a bake runs. [`sssbake_settings_default`] fills the defaults.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct SssbakeSettings {
+    /// Texels per side, 1 to 16384.
+    pub resolution: u32,
+    /// 0 auto, 1 brute, 2 octree, 3 texture, 4 importance.
+    pub method: u32,
+    /// Texels filled beyond each chart's edge.
+    pub margin: u32,
+    /// Samples per soft light and for the world, per texel.
+    pub light_samples: u32,
+    /// Seed for sample points and Monte Carlo.
+    pub seed: u64,
+    /// Octree: the solid angle below which a node is taken whole.
+    pub octree_epsilon: f32,
+    /// Texture: Gaussians in the fit.
+    pub gaussians: u32,
+    /// Importance: probes per texel.
+    pub samples: u32,
+}
+
+/// The default settings (1024², auto, margin 8, 16 light samples).
+///
+/// # Safety
+/// `out` points to writable storage for settings.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sssbake_settings_default(out: *mut SssbakeSettings) -> SssbakeStatus {
+    guarded(|| {
+        let methods = MethodSettings::default();
+        let settings = SssbakeSettings {
+            resolution: 1024,
+            method: 0,
+            margin: 8,
+            light_samples: 16,
+            seed: methods.seed,
+            octree_epsilon: methods.octree_epsilon,
+            gaussians: methods.gaussians as u32,
+            samples: methods.samples,
+        };
+        // SAFETY: the caller gives writable storage or null.
+        let out = unsafe { out.as_mut() }.ok_or_else(|| Failure::argument("out is null"))?;
+        *out = settings;
+        Ok(())
+    })
+}
+
+/// Called with the fraction done, in [0, 1], from a thread of the library
+/// about five times a second; `user` is the pointer given to the bake.
+pub type SssbakeProgress = Option<unsafe extern "C" fn(user: *mut c_void, fraction: f32)>;
+
+/// A finished bake (opaque): its maps, rendered on request.
+pub struct SssbakeResult {
+    prepared: Prepared,
+    integration: Integration,
+    eta: f64,
+    fill: Vec<(u32, u32)>,
+    summary: CString,
+}
+
+/// The host's user pointer, handed back to its callback on another thread.
+struct UserData(*mut c_void);
+// SAFETY: the library only passes the pointer back to the host's callback,
+// which the host wrote to be called from another thread.
+unsafe impl Send for UserData {}
+unsafe impl Sync for UserData {}
+
+/// Bakes `object` of `scene` with `material` and `settings`.
+///
+/// `progress` (may be null) is called with the fraction done; the bake
+/// stops with [`SssbakeStatus::Cancelled`] soon after `*cancel` (may be
+/// null) becomes nonzero. On success `*out` holds the result.
+///
+/// # Safety
+/// `scene` is live; `object` is NUL-terminated; `material` and `settings`
+/// point to valid values; `cancel` is null or stays readable (and is only
+/// written atomically) until the call returns; `out` is writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sssbake_bake(
+    scene: *const SssbakeScene,
+    object: *const c_char,
+    material: *const SssbakeMaterial,
+    settings: *const SssbakeSettings,
+    progress: SssbakeProgress,
+    user: *mut c_void,
+    cancel: *const i32,
+    out: *mut *mut SssbakeResult,
+) -> SssbakeStatus {
+    guarded(|| {
+        // SAFETY: the caller passes valid pointers or null; an i32 the host
+        // writes atomically reads as an AtomicI32 (same size and alignment).
+        let (scene, material, settings, cancel) = unsafe {
+            (
+                scene.as_ref(),
+                material.as_ref(),
+                settings.as_ref(),
+                cancel.cast::<AtomicI32>().as_ref(),
+            )
+        };
+        let (Some(scene), Some(material), Some(settings)) = (scene, material, settings) else {
+            return Err(Failure::argument("scene, material or settings is null"));
+        };
+        if out.is_null() {
+            return Err(Failure::argument("out is null"));
+        }
+        // SAFETY: forwarded from the caller.
+        let object = unsafe { text(object, "object name") }?;
+        let scene = &scene.scene;
+        // SAFETY: forwarded from the caller.
+        let material = unsafe { material_from_host(material, scene.millimetres_per_unit) }?;
+        let method = method(settings.method)?;
+        if !(1..=16384).contains(&settings.resolution) {
+            return Err(Failure::argument(format!(
+                "resolution {} must be between 1 and 16384",
+                settings.resolution
+            )));
+        }
+        let model = Model::default_for(&material);
+        let profile =
+            build_profile(&material, model, 6).map_err(|e| Failure::input(e.to_string()))?;
+        let methods = MethodSettings {
+            octree_epsilon: settings.octree_epsilon,
+            gaussians: settings.gaussians.clamp(1, 16) as usize,
+            samples: settings.samples.max(1),
+            seed: settings.seed,
+            ..MethodSettings::default()
+        };
+        let bake = BakeSettings {
+            resolution: settings.resolution,
+            keep_uvs: true,
+            irradiance: sssbake::irradiance::IrradianceSettings {
+                samples: settings.light_samples.max(1),
+                shadows: true,
+            },
+            eta: material.entry_index(),
+            mean_free_path_mm: material.finest_mean_free_path_mm(),
+            ..BakeSettings::default()
+        };
+        let control = Control::new();
+        let user = UserData(user);
+        let result = watched(&control, progress, &user, cancel, || {
+            let prepared = prepare(scene, object, Lighting::SceneLights, &bake, &control)?;
+            let kernel = Kernel::new(profile.as_ref(), methods.d_max_epsilon);
+            let integration =
+                prepared.integrate(profile.as_ref(), &kernel, method, &methods, &control)?;
+            Ok::<_, BakeError>((prepared, integration))
+        });
+        let (prepared, integration) = result.map_err(|e| match e {
+            BakeError::Cancelled(Cancelled) => {
+                Failure(SssbakeStatus::Cancelled, "cancelled".into())
+            }
+            other => Failure::input(other.to_string()),
+        })?;
+        let fill = margin_fill(&prepared, settings.margin);
+        let summary = serde_json::json!({
+            "object": object,
+            "material": material.name,
+            "model": profile.model(),
+            "method": integration.choice.method.name(),
+            "reason": integration.choice.reason,
+            "texels": prepared.surfels.len(),
+            "seconds": { "prepare": prepared.seconds(), "integrate": integration.seconds },
+        });
+        let result = SssbakeResult {
+            prepared,
+            integration,
+            eta: material.entry_index(),
+            fill,
+            summary: CString::new(summary.to_string()).unwrap_or_default(),
+        };
+        // SAFETY: checked non-null; the caller gives writable storage.
+        unsafe { *out = Box::into_raw(Box::new(result)) };
+        Ok(())
+    })
+}
+
+fn method(code: u32) -> Result<Method, Failure> {
+    Ok(match code {
+        0 => Method::Auto,
+        1 => Method::Brute,
+        2 => Method::Octree,
+        3 => Method::Texture,
+        4 => Method::Importance,
+        other => return Err(Failure::argument(format!("method {other} is not 0 to 4"))),
+    })
+}
+
+/// Runs `work` while a thread reports progress and passes the host's
+/// cancel flag on to `control`.
+fn watched<T>(
+    control: &Control,
+    progress: SssbakeProgress,
+    user: &UserData,
+    cancel: Option<&AtomicI32>,
+    work: impl FnOnce() -> T,
+) -> T {
+    let done = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            while !done.load(Ordering::Acquire) {
+                if cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0) {
+                    control.cancel();
+                }
+                if let Some(callback) = progress {
+                    // SAFETY: the host's callback, called as documented.
+                    unsafe { callback(user.0, control.fraction() as f32) };
+                }
+                std::thread::sleep(Duration::from_millis(200));
+            }
+        });
+        let result = work();
+        done.store(true, Ordering::Release);
+        result
+    })
+}
+
+/// Frees a result (null is allowed).
+///
+/// # Safety
+/// `result` came from [`sssbake_bake`] and is not used again.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sssbake_result_free(result: *mut SssbakeResult) {
+    if !result.is_null() {
+        // SAFETY: made by Box::into_raw in sssbake_bake, freed once.
+        drop(unsafe { Box::from_raw(result) });
+    }
+}
+
+/// The maps' side in texels (0 for null).
+///
+/// # Safety
+/// `result` is null or a live result.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sssbake_result_resolution(result: *const SssbakeResult) -> u32 {
+    // SAFETY: the caller passes a live result or null.
+    unsafe { result.as_ref() }.map_or(0, |r| r.prepared.surfels.resolution)
+}
+
+/// What the bake did, as JSON (object, material, model, method and why,
+/// texels, seconds). Owned by the result; do not free it.
+///
+/// # Safety
+/// `result` is null or a live result.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sssbake_result_summary(result: *const SssbakeResult) -> *const c_char {
+    // SAFETY: the caller passes a live result or null.
+    unsafe { result.as_ref() }.map_or(std::ptr::null(), |r| r.summary.as_ptr())
+}
+
+/// Copies map `output` (0 subsurface, 1 irradiance, 2 diffuse, 3 thickness,
+/// 4 stretch, 5 area; units as README's `sssbake bake` gives them) into
+/// `rgba`, `len` = 4 × resolution² floats, rows from v = 0 up (Blender's
+/// and OpenGL's order), alpha 1 on covered and filled texels, 0 elsewhere.
+///
+/// # Safety
+/// `result` is a live result; `rgba` points to `len` writable floats.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sssbake_result_image(
+    result: *const SssbakeResult,
+    output: u32,
+    rgba: *mut f32,
+    len: usize,
+) -> SssbakeStatus {
+    guarded(|| {
+        // SAFETY: the caller passes a live result or null.
+        let Some(result) = (unsafe { result.as_ref() }) else {
+            return Err(Failure::argument("result is null"));
+        };
+        let output = *Output::ALL
+            .get(output as usize)
+            .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;
+        let n = result.prepared.surfels.resolution as usize;
+        if len != 4 * n * n || rgba.is_null() {
+            return Err(Failure::argument(format!(
+                "the buffer holds {len} floats; a {n}² RGBA map needs {}",
+                4 * n * n
+            )));
+        }
+        // SAFETY: checked non-null; the caller gives `len` writable floats.
+        let pixels = unsafe { std::slice::from_raw_parts_mut(rgba, len) };
+        let image = render(
+            &result.prepared,
+            &result.integration.exitance,
+            result.eta,
+            output,
+            &result.fill,
+        );
+        let mut covered = vec![false; n * n];
+        for &t in &result.prepared.surfels.texel {
+            covered[t as usize] = true;
+        }
+        for &(to, _) in &result.fill {
+            covered[to as usize] = true;
+        }
+        // Image rows run down; texel rows (and the host's) run up with v.
+        for y in 0..n {
+            let row = &image.texels[(n - 1 - y) * n..(n - y) * n];
+            for (x, texel) in row.iter().enumerate() {
+                let at = 4 * (y * n + x);
+                pixels[at..at + 3].copy_from_slice(texel);
+                pixels[at + 3] = if covered[y * n + x] { 1.0 } else { 0.0 };
+            }
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,110 @@
+//! Status codes, the last error message of each thread, and the guard that
+//! keeps panics on this side of the boundary.
+
+use std::cell::RefCell;
+use std::ffi::{CString, c_char};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+/// What a call did.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SssbakeStatus {
+    /// Done.
+    Ok = 0,
+    /// A null pointer, a length that does not match, a value out of range.
+    InvalidArgument = 1,
+    /// Input the bake cannot use: a broken mesh, an unknown object or
+    /// preset, a material that is not physical.
+    BadInput = 2,
+    /// The cancel flag was raised.
+    Cancelled = 3,
+    /// A bug in the library (a caught panic); the message says where.
+    Internal = 4,
+}
+
+/// A failed call: its status and message.
+pub(crate) struct Failure(pub SssbakeStatus, pub String);
+
+impl Failure {
+    pub(crate) fn argument(message: impl Into<String>) -> Self {
+        Failure(SssbakeStatus::InvalidArgument, message.into())
+    }
+
+    pub(crate) fn input(message: impl Into<String>) -> Self {
+        Failure(SssbakeStatus::BadInput, message.into())
+    }
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+fn set_last_error(message: &str) {
+    let text = CString::new(message.replace('\0', " ")).unwrap_or_default();
+    LAST_ERROR.with(|e| *e.borrow_mut() = text);
+}
+
+/// The message of the last failed call on this thread (empty after a
+/// success). Valid until the next call on this thread; do not free it.
+#[unsafe(no_mangle)]
+pub extern "C" fn sssbake_last_error() -> *const c_char {
+    LAST_ERROR.with(|e| e.borrow().as_ptr())
+}
+
+/// Runs `body`, turning its failure or panic into a status and message.
+pub(crate) fn guarded(body: impl FnOnce() -> Result<(), Failure>) -> SssbakeStatus {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => {
+            set_last_error("");
+            SssbakeStatus::Ok
+        }
+        Ok(Err(Failure(status, message))) => {
+            set_last_error(&message);
+            status
+        }
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown".into());
+            set_last_error(&format!("internal error (please report): {what}"));
+            SssbakeStatus::Internal
+        }
+    }
+}
+
+/// A C string argument as UTF-8, or why not.
+///
+/// # Safety
+/// `text` is null or points to a NUL-terminated string.
+pub(crate) unsafe fn text<'a>(text: *const c_char, what: &str) -> Result<&'a str, Failure> {
+    if text.is_null() {
+        return Err(Failure::argument(format!("{what} is null")));
+    }
+    // SAFETY: the caller passes a NUL-terminated string.
+    unsafe { std::ffi::CStr::from_ptr(text) }
+        .to_str()
+        .map_err(|_| Failure::argument(format!("{what} is not UTF-8")))
+}
+
+/// A caller's array of `len` items, or why not (null with a nonzero length).
+///
+/// # Safety
+/// `data` is null or points to `len` readable items.
+pub(crate) unsafe fn slice<'a, T>(
+    data: *const T,
+    len: usize,
+    what: &str,
+) -> Result<&'a [T], Failure> {
+    if len == 0 {
+        return Ok(&[]);
+    }
+    if data.is_null() {
+        return Err(Failure::argument(format!(
+            "{what} is null but its length is {len}"
+        )));
+    }
+    // SAFETY: the caller passes `len` readable items.
+    Ok(unsafe { std::slice::from_raw_parts(data, len) })
+}

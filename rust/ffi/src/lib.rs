@@ -1,0 +1,31 @@
+//! The C ABI of sssbake: the library behind a handful of C functions, for
+//! hosts such as the Blender add-on (`include/sssbake.h` is generated from
+//! this crate by cbindgen; a test keeps it current).
+//!
+//! Conventions: every function returns an [`SssbakeStatus`]; on failure
+//! [`sssbake_last_error`] says why. Handles are opaque and freed by the
+//! `_free` function of their kind; buffers the caller passes stay the
+//! caller's. No panic crosses the boundary. Lengths count elements, not
+//! bytes. Positions and sizes are in scene units, converted with the
+//! scene's millimetres per unit.
+
+mod bake;
+mod errors;
+mod lights;
+mod material;
+mod scene;
+
+pub use bake::*;
+pub use errors::*;
+pub use lights::*;
+pub use material::*;
+pub use scene::*;
+
+/// The version of this ABI: hosts refuse a library of another version.
+pub const SSSBAKE_ABI_VERSION: u32 = 1;
+
+/// The version of this ABI ([`SSSBAKE_ABI_VERSION`]).
+#[unsafe(no_mangle)]
+pub extern "C" fn sssbake_abi_version() -> u32 {
+    SSSBAKE_ABI_VERSION
+}

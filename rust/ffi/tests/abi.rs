@@ -1,0 +1,408 @@
+//! The C ABI called as a host calls it: a scene from flat arrays, a bake
+//! with progress and cancellation, maps copied out; and every misuse
+//! answered with a status and a message, never a crash.
+
+use sssbake_ffi::*;
+use std::ffi::{CStr, CString, c_void};
+use std::ptr::{null, null_mut};
+
+fn last_error() -> String {
+    unsafe { CStr::from_ptr(sssbake_last_error()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// A latitude–longitude sphere of radius 20 mm with its lat-long UVs.
+fn sphere() -> (Vec<f32>, Vec<f32>, Vec<f32>, Vec<u32>) {
+    let (nu, nv) = (48u32, 24u32);
+    let (mut p, mut n, mut uv, mut idx) = (vec![], vec![], vec![], vec![]);
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let (u, v) = (i as f32 / nu as f32, j as f32 / nv as f32);
+            let (theta, phi) = (std::f32::consts::PI * v, 2.0 * std::f32::consts::PI * u);
+            let d = [
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                -theta.cos(),
+            ];
+            p.extend(d.map(|x| 20.0 * x));
+            n.extend(d);
+            uv.extend([0.02 + 0.96 * u, 0.02 + 0.96 * v]);
+        }
+    }
+    for j in 0..nv {
+        for i in 0..nu {
+            let a = j * (nu + 1) + i;
+            let (b, c, d) = (a + 1, a + nu + 1, a + nu + 2);
+            idx.extend([a, b, d, a, d, c]);
+        }
+    }
+    (p, n, uv, idx)
+}
+
+struct Scene(*mut SssbakeScene);
+
+impl Drop for Scene {
+    fn drop(&mut self) {
+        unsafe { sssbake_scene_free(self.0) };
+    }
+}
+
+fn lit_sphere() -> Scene {
+    let mut scene = null_mut();
+    assert_eq!(
+        unsafe { sssbake_scene_new(1.0, &mut scene) },
+        SssbakeStatus::Ok
+    );
+    let (p, n, uv, idx) = sphere();
+    let name = CString::new("Ball").unwrap();
+    let mesh = SssbakeMesh {
+        name: name.as_ptr(),
+        positions: p.as_ptr(),
+        normals: n.as_ptr(),
+        uvs: uv.as_ptr(),
+        vertex_count: p.len() / 3,
+        indices: idx.as_ptr(),
+        index_count: idx.len(),
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene, &mesh) },
+        SssbakeStatus::Ok,
+        "{}",
+        last_error()
+    );
+    let sun = SssbakeLight {
+        kind: SSSBAKE_LIGHT_SUN,
+        colour: [1.0, 0.9, 0.8],
+        power: 3.0,
+        position: [0.0; 3],
+        direction: [0.0, -0.6, -0.8],
+        tangent: [1.0, 0.0, 0.0],
+        size: 0.0,
+        size_y: 0.0,
+        angle: 0.0,
+        spot_size: 0.0,
+        spot_blend: 0.0,
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_light(scene, &sun) },
+        SssbakeStatus::Ok
+    );
+    assert_eq!(
+        unsafe { sssbake_scene_set_world(scene, [0.1f32, 0.1, 0.2].as_ptr(), 0.5) },
+        SssbakeStatus::Ok
+    );
+    Scene(scene)
+}
+
+fn preset(name: &CString) -> SssbakeMaterial {
+    SssbakeMaterial {
+        kind: SSSBAKE_MATERIAL_PRESET,
+        name: name.as_ptr(),
+        toml: null(),
+        base_colour: [0.0; 3],
+        subsurface_weight: 0.0,
+        radius: [0.0; 3],
+        scale: 0.0,
+        ior: 0.0,
+        anisotropy: 0.0,
+    }
+}
+
+fn settings(resolution: u32, method: u32) -> SssbakeSettings {
+    let mut s = std::mem::MaybeUninit::uninit();
+    assert_eq!(
+        unsafe { sssbake_settings_default(s.as_mut_ptr()) },
+        SssbakeStatus::Ok
+    );
+    SssbakeSettings {
+        resolution,
+        method,
+        light_samples: 4,
+        ..unsafe { s.assume_init() }
+    }
+}
+
+unsafe extern "C" fn record(user: *mut c_void, fraction: f32) {
+    let seen = unsafe { &*(user as *const std::sync::Mutex<Vec<f32>>) };
+    seen.lock().unwrap().push(fraction);
+}
+
+#[test]
+fn the_version_is_the_constant() {
+    assert_eq!(sssbake_abi_version(), SSSBAKE_ABI_VERSION);
+}
+
+#[test]
+fn a_bake_gives_physical_maps_and_reports_progress() {
+    let scene = lit_sphere();
+    let skin = CString::new("skin1").unwrap();
+    let object = CString::new("Ball").unwrap();
+    let seen = std::sync::Mutex::new(Vec::<f32>::new());
+    let mut result = null_mut();
+    let status = unsafe {
+        sssbake_bake(
+            scene.0,
+            object.as_ptr(),
+            &preset(&skin),
+            &SssbakeSettings {
+                margin: 0,
+                ..settings(64, 1)
+            },
+            Some(record),
+            &seen as *const _ as *mut c_void,
+            null(),
+            &mut result,
+        )
+    };
+    assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
+    assert_eq!(unsafe { sssbake_result_resolution(result) }, 64);
+    let summary = unsafe { CStr::from_ptr(sssbake_result_summary(result)) }
+        .to_str()
+        .unwrap();
+    let summary: serde_json::Value = serde_json::from_str(summary).unwrap();
+    assert_eq!(summary["method"], "brute");
+    assert_eq!(summary["material"], "skin1");
+    let map = |output: u32| {
+        let mut pixels = vec![f32::NAN; 4 * 64 * 64];
+        let status =
+            unsafe { sssbake_result_image(result, output, pixels.as_mut_ptr(), pixels.len()) };
+        assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
+        pixels
+    };
+    let (subsurface, irradiance, area) = (map(0), map(1), map(5));
+    assert!(subsurface.iter().all(|v| v.is_finite() && *v >= 0.0));
+    // Flux out over flux in stays below one and well above nothing.
+    let flux = |m: &[f32]| -> f64 {
+        m.chunks(4)
+            .zip(area.chunks(4))
+            .filter(|(_, a)| a[3] > 0.0)
+            .map(|(t, a)| (t[0] + t[1] + t[2]) as f64 * a[0] as f64)
+            .sum()
+    };
+    let ratio = flux(&subsurface) / flux(&irradiance);
+    assert!(0.2 < ratio && ratio < 1.0, "{ratio}");
+    // Rows run up with v: the sun shines down on the pole at v = 1.
+    let band = |rows: std::ops::Range<usize>| -> f32 {
+        rows.map(|y| irradiance[4 * 64 * y..4 * 64 * (y + 1)].iter().sum::<f32>())
+            .sum()
+    };
+    assert!(
+        band(48..64) > 3.0 * band(0..16),
+        "{} {}",
+        band(48..64),
+        band(0..16)
+    );
+    // Covered texels have alpha 1, the UV border outside the charts 0.
+    assert!(area.chunks(4).any(|t| t[3] == 1.0) && area.chunks(4).any(|t| t[3] == 0.0));
+    let seen = seen.lock().unwrap();
+    assert!(!seen.is_empty() && seen.iter().all(|f| (0.0..=1.0).contains(f)));
+    unsafe { sssbake_result_free(result) };
+}
+
+#[test]
+fn a_raised_cancel_flag_stops_the_bake() {
+    let scene = lit_sphere();
+    let skin = CString::new("skin1").unwrap();
+    let object = CString::new("Ball").unwrap();
+    let cancel: i32 = 1;
+    let mut result = null_mut();
+    let status = unsafe {
+        sssbake_bake(
+            scene.0,
+            object.as_ptr(),
+            &preset(&skin),
+            &settings(256, 1),
+            None,
+            null_mut(),
+            &cancel,
+            &mut result,
+        )
+    };
+    assert_eq!(status, SssbakeStatus::Cancelled);
+    assert!(result.is_null());
+}
+
+#[test]
+fn principled_inputs_bake_their_colour() {
+    let scene = lit_sphere();
+    let name = CString::new("Wax").unwrap();
+    let object = CString::new("Ball").unwrap();
+    let wax = SssbakeMaterial {
+        kind: SSSBAKE_MATERIAL_PRINCIPLED,
+        name: name.as_ptr(),
+        toml: null(),
+        base_colour: [0.9, 0.6, 0.3],
+        subsurface_weight: 1.0,
+        radius: [1.0, 0.5, 0.25],
+        scale: 0.5,
+        ior: 1.4,
+        anisotropy: 0.0,
+    };
+    let mut result = null_mut();
+    let status = unsafe {
+        sssbake_bake(
+            scene.0,
+            object.as_ptr(),
+            &wax,
+            &settings(32, 1),
+            None,
+            null_mut(),
+            null(),
+            &mut result,
+        )
+    };
+    assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
+    let summary = unsafe { CStr::from_ptr(sssbake_result_summary(result)) }
+        .to_str()
+        .unwrap();
+    assert!(summary.contains("\"material\":\"Wax\""), "{summary}");
+    unsafe { sssbake_result_free(result) };
+    let none = SssbakeMaterial {
+        subsurface_weight: 0.0,
+        ..wax
+    };
+    let status = unsafe {
+        sssbake_bake(
+            scene.0,
+            object.as_ptr(),
+            &none,
+            &settings(32, 1),
+            None,
+            null_mut(),
+            null(),
+            &mut result,
+        )
+    };
+    assert_eq!(status, SssbakeStatus::BadInput);
+    assert!(
+        last_error().contains("Subsurface Weight is 0"),
+        "{}",
+        last_error()
+    );
+}
+
+#[test]
+fn misuse_gets_a_status_and_a_message() {
+    let mut scene = null_mut();
+    assert_eq!(
+        unsafe { sssbake_scene_new(0.0, &mut scene) },
+        SssbakeStatus::InvalidArgument
+    );
+    assert!(last_error().contains("millimetres per unit"));
+    assert_eq!(
+        unsafe { sssbake_scene_new(1.0, null_mut()) },
+        SssbakeStatus::InvalidArgument
+    );
+    let scene = lit_sphere();
+    // A mesh whose index runs past its vertices.
+    let name = CString::new("Broken").unwrap();
+    let p = [0.0f32; 9];
+    let idx = [0u32, 1, 7];
+    let mesh = SssbakeMesh {
+        name: name.as_ptr(),
+        positions: p.as_ptr(),
+        normals: null(),
+        uvs: null(),
+        vertex_count: 3,
+        indices: idx.as_ptr(),
+        index_count: 3,
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene.0, &mesh) },
+        SssbakeStatus::BadInput
+    );
+    assert!(
+        last_error().contains("object `Broken`: index 7"),
+        "{}",
+        last_error()
+    );
+    // Null arrays with a length.
+    let hollow = SssbakeMesh {
+        positions: null(),
+        ..mesh
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene.0, &hollow) },
+        SssbakeStatus::InvalidArgument
+    );
+    // A light that is not finite, or of no kind.
+    let mut light = SssbakeLight {
+        kind: SSSBAKE_LIGHT_POINT,
+        colour: [1.0; 3],
+        power: f32::NAN,
+        position: [0.0; 3],
+        direction: [0.0, 0.0, -1.0],
+        tangent: [1.0, 0.0, 0.0],
+        size: 0.1,
+        size_y: 0.0,
+        angle: 0.0,
+        spot_size: 0.0,
+        spot_blend: 0.0,
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_light(scene.0, &light) },
+        SssbakeStatus::InvalidArgument
+    );
+    light.power = 10.0;
+    light.kind = 99;
+    assert_eq!(
+        unsafe { sssbake_scene_add_light(scene.0, &light) },
+        SssbakeStatus::InvalidArgument
+    );
+    // An unknown object, an unknown preset, a bad resolution, a short buffer.
+    let skin = CString::new("skin1").unwrap();
+    let unknown = CString::new("Nobody").unwrap();
+    let ball = CString::new("Ball").unwrap();
+    let mut result = null_mut();
+    let bake = |object: &CString,
+                material: &SssbakeMaterial,
+                settings: &SssbakeSettings,
+                out: &mut *mut SssbakeResult| unsafe {
+        sssbake_bake(
+            scene.0,
+            object.as_ptr(),
+            material,
+            settings,
+            None,
+            null_mut(),
+            null(),
+            out,
+        )
+    };
+    assert_eq!(
+        bake(&unknown, &preset(&skin), &settings(16, 0), &mut result),
+        SssbakeStatus::BadInput
+    );
+    assert!(last_error().contains("Nobody"), "{}", last_error());
+    let jelly = CString::new("jelly").unwrap();
+    assert_eq!(
+        bake(&ball, &preset(&jelly), &settings(16, 0), &mut result),
+        SssbakeStatus::BadInput
+    );
+    assert!(last_error().contains("unknown preset `jelly`"));
+    assert_eq!(
+        bake(&ball, &preset(&skin), &settings(0, 0), &mut result),
+        SssbakeStatus::InvalidArgument
+    );
+    assert_eq!(
+        bake(&ball, &preset(&skin), &settings(16, 9), &mut result),
+        SssbakeStatus::InvalidArgument
+    );
+    assert_eq!(
+        bake(&ball, &preset(&skin), &settings(16, 1), &mut result),
+        SssbakeStatus::Ok
+    );
+    let mut short = vec![0.0f32; 10];
+    let status = unsafe { sssbake_result_image(result, 0, short.as_mut_ptr(), short.len()) };
+    assert_eq!(status, SssbakeStatus::InvalidArgument);
+    assert!(last_error().contains("needs 1024"), "{}", last_error());
+    let status = unsafe { sssbake_result_image(result, 6, short.as_mut_ptr(), short.len()) };
+    assert_eq!(status, SssbakeStatus::InvalidArgument);
+    unsafe { sssbake_result_free(result) };
+    // Null everywhere.
+    unsafe { sssbake_result_free(null_mut()) };
+    unsafe { sssbake_scene_free(null_mut()) };
+    assert_eq!(unsafe { sssbake_result_resolution(null()) }, 0);
+    assert!(unsafe { sssbake_result_summary(null()) }.is_null());
+}

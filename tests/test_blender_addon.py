@@ -1,0 +1,222 @@
+"""The Blender add-on in a headless bpy: registered from blender_addon/, it bakes Suzanne
+on a floor under a sun into images, agrees texel for texel with the CLI baking the same
+scene exported to glTF, leaves the scene as it was when cancelled, and answers bad
+settings with a report."""
+
+import json
+import os
+import subprocess
+import sys
+import threading
+import zipfile
+
+import numpy as np
+import OpenEXR
+import pytest
+from conftest import ROOT, run
+
+LIBRARY = ROOT / "target" / "release" / "libsssbake_ffi.so"
+
+
+@pytest.fixture
+def addon(monkeypatch):
+    import bpy
+
+    assert LIBRARY.exists(), "scripts/test.sh builds it (cargo build --release -p sssbake-ffi)"
+    monkeypatch.setenv("SSSBAKE_LIBRARY", str(LIBRARY))
+    monkeypatch.syspath_prepend(str(ROOT / "blender_addon"))
+    import sssbake
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sssbake.register()
+    yield sssbake
+    sssbake.unregister()
+
+
+def suzanne_scene():
+    """Suzanne (subdivided once) in a Principled skin, a floor, a hard sun; Suzanne selected."""
+    import bpy
+
+    bpy.ops.mesh.primitive_monkey_add(size=0.2)
+    head = bpy.context.active_object
+    head.name = "Head"
+    head.modifiers.new("smooth", "SUBSURF").levels = 1
+    bpy.ops.object.shade_smooth()
+    material = bpy.data.materials.new("Skin")
+    if material.node_tree is None:  # Blender before 5 makes node trees on request
+        material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (0.8, 0.55, 0.45, 1.0)
+    bsdf.inputs["Subsurface Weight"].default_value = 1.0
+    bsdf.inputs["Subsurface Radius"].default_value = (1.0, 0.35, 0.2)
+    bsdf.inputs["Subsurface Scale"].default_value = 0.002
+    head.data.materials.append(material)
+    bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.0, 0.0, -0.12))
+    bpy.context.active_object.name = "Floor"
+    bpy.ops.object.light_add(type="SUN", rotation=(0.6, 0.3, 0.0))
+    sun = bpy.context.active_object
+    sun.data.energy = 2.0
+    sun.data.angle = 0.0
+    bpy.ops.object.select_all(action="DESELECT")
+    head.select_set(True)
+    bpy.context.view_layer.objects.active = head
+    return head
+
+
+def pixels(name):
+    import bpy
+
+    image = bpy.data.images[name]
+    values = np.empty(len(image.pixels), dtype=np.float32)
+    image.pixels.foreach_get(values)
+    return values.reshape(image.size[1], image.size[0], 4)
+
+
+def test_the_operator_makes_images_with_physical_values(addon):
+    import bpy
+
+    suzanne_scene()
+    result = bpy.ops.sssbake.bake(resolution=64, method="BRUTE", outputs={"SUBSURFACE", "IRRADIANCE", "AREA"})
+    assert result == {"FINISHED"}
+    subsurface, irradiance, area = (pixels(f"Head_{o}") for o in ("subsurface", "irradiance", "area"))
+    assert subsurface.shape == (64, 64, 4)
+    assert np.isfinite(subsurface).all() and (subsurface >= 0).all()
+    covered = area[..., 3] > 0
+    flux_in = (irradiance[..., :3].sum(axis=2) * area[..., 0])[covered].sum()
+    flux_out = (subsurface[..., :3].sum(axis=2) * area[..., 0])[covered].sum()
+    assert flux_in > 0 and 0.2 * flux_in < flux_out < flux_in
+    # Skin: red travels furthest and leaves most.
+    mean = subsurface[covered][:, :3].mean(axis=0)
+    assert mean[0] > mean[1] > mean[2]
+    assert bpy.data.images["Head_subsurface"].packed_file is not None
+
+
+def exr(path):
+    return OpenEXR.File(str(path)).parts[0].channels["RGB"].pixels
+
+
+def test_the_cli_bakes_the_same_scene_from_gltf_to_the_same_texels(addon, sssbake, tmp_path):
+    import bpy
+
+    suzanne_scene()
+    common = {"resolution": 64, "method": "BRUTE", "margin": 0}
+    result = bpy.ops.sssbake.bake(
+        material_source="PRESET", preset="skin1", outputs={"SUBSURFACE", "IRRADIANCE"}, **common
+    )
+    assert result == {"FINISHED"}
+    scene = tmp_path / "suzanne.gltf"
+    bpy.ops.export_scene.gltf(
+        filepath=str(scene), export_format="GLTF_SEPARATE", export_lights=True, export_apply=True
+    )
+    baked = run(
+        sssbake,
+        "bake",
+        str(scene),
+        "--object",
+        "Head",
+        "--out",
+        str(tmp_path / "cli"),
+        "--preset",
+        "skin1",
+        "--resolution",
+        "64",
+        "--method",
+        "brute",
+        "--margin",
+        "0",
+        "--light-samples",
+        "16",
+        "--outputs",
+        "subsurface,irradiance",
+    )
+    assert baked.returncode == 0, baked.stderr
+    for output in ("irradiance", "subsurface"):
+        blender = pixels(f"Head_{output}")
+        covered = blender[..., 3] > 0
+        # The CLI's rows run down the image; Blender's run up.
+        cli = exr(tmp_path / "cli" / f"Head_{output}.exr")[::-1]
+        assert covered.sum() > 1000
+        scale = np.abs(cli[covered]).max()
+        difference = np.abs(cli[covered] - blender[..., :3][covered]).max()
+        assert difference <= 1e-3 * scale, (output, difference, scale)
+
+
+def test_a_cancelled_bake_leaves_the_scene_unchanged(addon):
+    import bpy
+
+    head = suzanne_scene()
+    nodes_before = sorted(n.name for n in head.active_material.node_tree.nodes)
+    maps_before = [layer.name for layer in head.data.uv_layers]
+    finished = threading.Event()
+
+    def keep_cancelling():
+        while not finished.wait(0.05):
+            addon.operators.cancel_running()
+
+    canceller = threading.Thread(target=keep_cancelling)
+    canceller.start()
+    try:
+        result = bpy.ops.sssbake.bake(resolution=2048, method="BRUTE", unwrap=True, wire_material=True)
+    finally:
+        finished.set()
+        canceller.join()
+    assert result == {"CANCELLED"}
+    assert len(bpy.data.images) == 0
+    assert [layer.name for layer in head.data.uv_layers] == maps_before
+    assert sorted(n.name for n in head.active_material.node_tree.nodes) == nodes_before
+
+
+def test_bad_settings_give_a_report_not_an_exception(addon, tmp_path, capfd):
+    import bpy
+
+    head = suzanne_scene()
+    cases = [
+        ({"uv_map": "NoSuchMap"}, "has no UV map NoSuchMap"),
+        (
+            {"material_source": "LAYERS", "layers_file": str(tmp_path / "missing.toml")},
+            "cannot read the layers file",
+        ),
+        ({"destination": "FOLDER", "folder": ""}, "choose a folder"),
+        ({"outputs": set()}, "choose at least one output"),
+    ]
+    for settings, message in cases:
+        assert bpy.ops.sssbake.bake(resolution=16, **settings) == {"CANCELLED"}
+        assert message in capfd.readouterr().out, settings
+    head.active_material.node_tree.nodes["Principled BSDF"].inputs["Subsurface Weight"].default_value = 0.0
+    assert bpy.ops.sssbake.bake(resolution=16) == {"CANCELLED"}
+    assert "Subsurface Weight is 0" in capfd.readouterr().out
+    bpy.ops.object.select_all(action="DESELECT")
+    assert bpy.ops.sssbake.bake(resolution=16) == {"CANCELLED"}
+    assert "select the mesh objects" in capfd.readouterr().out
+    assert len(bpy.data.images) == 0
+
+
+def test_a_library_of_another_abi_version_is_refused(addon, monkeypatch):
+    native = addon.native
+    monkeypatch.setattr(native, "_library", None)
+    monkeypatch.setattr(native, "ABI_VERSION", native.ABI_VERSION + 1)
+    with pytest.raises(native.NativeError, match="speaks ABI version 1, but this add-on needs 2"):
+        native.library()
+    monkeypatch.setattr(native, "_library", None)
+
+
+def test_the_packaged_extension_loads_its_own_library(tmp_path):
+    build = subprocess.run(
+        [str(ROOT / "scripts" / "build-addon.sh")], capture_output=True, text=True, check=False
+    )
+    assert build.returncode == 0, build.stderr
+    package = next((ROOT / "target").glob("sssbake-*-linux-x64.zip"))
+    with zipfile.ZipFile(package) as archive:
+        archive.extractall(tmp_path / "sssbake")
+    probe = (
+        "import sssbake, json; from sssbake import native; "
+        "print(json.dumps([str(native.library_path()), native.library().sssbake_abi_version()]))"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "SSSBAKE_LIBRARY"}
+    loaded = subprocess.run(
+        [sys.executable, "-c", probe], cwd=tmp_path, capture_output=True, text=True, check=False, env=env
+    )
+    assert loaded.returncode == 0, loaded.stderr
+    path, version = json.loads(loaded.stdout.strip().splitlines()[-1])
+    assert path == str(tmp_path / "sssbake" / "lib" / "libsssbake.so")
+    assert version == 1
