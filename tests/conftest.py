@@ -28,3 +28,15 @@ def run(binary: pathlib.Path, *args: str, env: dict | None = None) -> subprocess
         timeout=300,
         env={**os.environ, **(env or {})},
     )
+
+
+def usd_validation_errors(stage) -> list[str]:
+    """usd-core's validators' messages for `stage`, less one kind: usd-core is built
+    without MaterialX, so its shader registry does not know MaterialX node ids (`ND_…`,
+    such as the examples' OpenPBR shaders), which a MaterialX-enabled USD resolves."""
+    from pxr import UsdValidation
+
+    registry = UsdValidation.ValidationRegistry()
+    context = UsdValidation.ValidationContext(registry.GetOrLoadAllValidators())
+    messages = [error.GetMessage() for error in context.Validate(stage)]
+    return [m for m in messages if not ("shaderId 'ND_" in m and "not found in sdrRegistry" in m)]

@@ -4,7 +4,7 @@ right prim, passes usd-core's validators, packages as .usdz and imports into Ble
 import sys
 
 import pytest
-from conftest import ROOT, run
+from conftest import ROOT, run, usd_validation_errors
 
 
 @pytest.fixture(scope="module")
@@ -41,12 +41,9 @@ def test_the_layer_binds_the_diffuse_map_to_the_baked_mesh(layer):
 
 
 def test_the_layer_passes_validation_and_packages(layer, tmp_path):
-    from pxr import Usd, UsdUtils, UsdValidation
+    from pxr import Usd, UsdUtils
 
-    stage = Usd.Stage.Open(str(layer))
-    context = UsdValidation.ValidationContext(UsdValidation.ValidationRegistry().GetOrLoadAllValidators())
-    issues = context.Validate(stage)
-    assert issues == [], [e.GetMessage() for e in issues]
+    assert usd_validation_errors(Usd.Stage.Open(str(layer))) == []
     package = tmp_path / "marble.usdz"
     assert UsdUtils.CreateNewUsdzPackage(str(layer), str(package))
     assert package.stat().st_size > 0
