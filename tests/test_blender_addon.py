@@ -220,3 +220,25 @@ def test_the_packaged_extension_loads_its_own_library(tmp_path):
     path, version = json.loads(loaded.stdout.strip().splitlines()[-1])
     assert path == str(tmp_path / "sssbake" / "lib" / "libsssbake.so")
     assert version == 1
+
+
+def test_results_saved_to_a_folder_are_openexr_files(addon, tmp_path):
+    import bpy
+
+    suzanne_scene()
+    folder = tmp_path / "maps"
+    result = bpy.ops.sssbake.bake(
+        resolution=64,
+        method="BRUTE",
+        outputs={"SUBSURFACE", "DIFFUSE"},
+        destination="FOLDER",
+        folder=str(folder),
+    )
+    assert result == {"FINISHED"}
+    assert sorted(p.name for p in folder.iterdir()) == ["Head_diffuse.exr", "Head_subsurface.exr"]
+    image = bpy.data.images["Head_subsurface"]
+    assert image.packed_file is None and bpy.path.abspath(image.filepath) == str(
+        folder / "Head_subsurface.exr"
+    )
+    saved = exr(folder / "Head_subsurface.exr")[::-1]
+    assert np.allclose(saved, pixels("Head_subsurface")[..., :3], rtol=1e-6, atol=1e-7)

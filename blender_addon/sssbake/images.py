@@ -16,32 +16,35 @@ def _linear_space():
     return next((n for n in ("Linear Rec.709", "Linear") if n in names), None)
 
 
-def store(obj, output, pixels, resolution, destination, folder):
-    """The image `<object>_<output>` holding `pixels` (RGBA, rows from v = 0 up)."""
+def store(obj, output, result, destination, folder):
+    """The image `<object>_<output>` holding map `output` of `result`: packed into the
+    .blend, or an OpenEXR file the library writes into `folder` (whole or not at all)."""
     name = f"{obj.name}_{output}"
+    resolution = result.resolution
     image = bpy.data.images.get(name)
     if image is not None and tuple(image.size) != (resolution, resolution):
         bpy.data.images.remove(image)
         image = None
-    if image is None:
-        image = bpy.data.images.new(name, resolution, resolution, alpha=True, float_buffer=True)
+    if destination == "FOLDER":
+        os.makedirs(folder, exist_ok=True)
+        path = os.path.join(folder, f"{bpy.path.clean_name(name)}.exr")
+        result.write_exr(output, path)
+        if image is None:
+            image = bpy.data.images.load(path)
+            image.name = name
+        else:
+            image.filepath = path
+            image.source = "FILE"
+            image.reload()
+    else:
+        if image is None:
+            image = bpy.data.images.new(name, resolution, resolution, alpha=True, float_buffer=True)
+        image.pixels.foreach_set(result.image(output))
+        image.file_format = "OPEN_EXR"
+        image.pack()
     space = "Non-Color" if output in DATA_OUTPUTS else _linear_space()
     if space:
         image.colorspace_settings.name = space
-    image.pixels.foreach_set(pixels)
-    image.file_format = "OPEN_EXR"
-    if destination == "FOLDER":
-        os.makedirs(folder, exist_ok=True)
-        final = os.path.join(folder, f"{bpy.path.clean_name(name)}.exr")
-        partial = final + ".partial.exr"
-        image.filepath_raw = partial
-        image.save()
-        os.replace(partial, final)
-        image.filepath_raw = final
-        image.source = "FILE"
-        image.reload()
-    else:
-        image.pack()
     image.update()
     return image
 

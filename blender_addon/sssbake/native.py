@@ -155,6 +155,13 @@ def library():
         ctypes.c_size_t,
     ]
     lib.sssbake_result_image.restype = status
+    lib.sssbake_result_write_exr.argtypes = [
+        ctypes.c_void_p,
+        ctypes.c_uint32,
+        ctypes.c_char_p,
+        ctypes.c_uint32,
+    ]
+    lib.sssbake_result_write_exr.restype = status
     _library = lib
     return lib
 
@@ -242,6 +249,14 @@ class Result:
         pixels = np.empty(4 * n * n, dtype=np.float32)
         check(library().sssbake_result_image(self.handle, OUTPUTS.index(output), floats(pixels), pixels.size))
         return pixels
+
+    def write_exr(self, output, path):
+        """Writes the map as a linear 32-bit OpenEXR file, whole or not at all."""
+        check(
+            library().sssbake_result_write_exr(
+                self.handle, OUTPUTS.index(output), str(path).encode("utf-8"), 0
+            )
+        )
 
 
 def bake(scene, obj, material, settings, cancel, progress=None):

@@ -105,14 +105,7 @@ class Job:
                 for output in native.OUTPUTS:
                     if output.upper() not in self.settings.outputs:
                         continue
-                    image = images.store(
-                        obj,
-                        output,
-                        result.image(output),
-                        result.resolution,
-                        self.settings.destination,
-                        folder,
-                    )
+                    image = images.store(obj, output, result, self.settings.destination, folder)
                     made.append(image.name)
                     if output == "diffuse" and self.settings.wire_material:
                         uv_map = self.uv_map or obj.data.uv_layers.active.name
@@ -170,7 +163,10 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
             if job.error.status == native.CANCELLED:
                 self.report({"WARNING"}, "sssbake: cancelled; nothing was changed")
             else:
-                self.report({level}, f"sssbake: {job.error}")
+                hint = (
+                    "; tick Unwrap or choose another UV map" if "UVs are not usable" in str(job.error) else ""
+                )
+                self.report({level}, f"sssbake: {job.error}{hint}")
             return {"CANCELLED"}
         try:
             made = job.finish()

@@ -346,6 +346,20 @@ enum SssbakeStatus sssbake_result_image(const struct SssbakeResult *result,
                                         size_t len);
 
 /**
+ * Writes map `output` (as for [`sssbake_result_image`]) to `path` as a
+ * linear OpenEXR file, 32-bit float (or 16-bit when `half` is nonzero),
+ * the same bytes `sssbake bake` writes. The file appears whole or not at
+ * all: it is written beside its place and renamed.
+ *
+ * # Safety
+ * `result` is a live result; `path` is NUL-terminated UTF-8.
+ */
+enum SssbakeStatus sssbake_result_write_exr(const struct SssbakeResult *result,
+                                            uint32_t output,
+                                            const char *path,
+                                            uint32_t half);
+
+/**
  * The message of the last failed call on this thread (empty after a
  * success). Valid until the next call on this thread; do not free it.
  */

@@ -9,6 +9,7 @@ use sssbake::maps::{Output, margin_fill, render};
 use sssbake::pipeline::{BakeError, BakeSettings, Integration, Lighting, Prepared, prepare};
 use sssbake::transport::kernel::Kernel;
 use sssbake::transport::{Method, MethodSettings};
+use sssbake_io::image_writer::{Precision, exr_bytes};
 use sssbake_profile::model::{Model, build_profile};
 use std::ffi::{CString, c_char, c_void};
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
@@ -318,5 +319,53 @@ pub unsafe extern "C" fn sssbake_result_image(
             }
         }
         Ok(())
+    })
+}
+
+/// Writes map `output` (as for [`sssbake_result_image`]) to `path` as a
+/// linear OpenEXR file, 32-bit float (or 16-bit when `half` is nonzero),
+/// the same bytes `sssbake bake` writes. The file appears whole or not at
+/// all: it is written beside its place and renamed.
+///
+/// # Safety
+/// `result` is a live result; `path` is NUL-terminated UTF-8.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sssbake_result_write_exr(
+    result: *const SssbakeResult,
+    output: u32,
+    path: *const c_char,
+    half: u32,
+) -> SssbakeStatus {
+    guarded(|| {
+        // SAFETY: the caller passes a live result or null.
+        let Some(result) = (unsafe { result.as_ref() }) else {
+            return Err(Failure::argument("result is null"));
+        };
+        // SAFETY: forwarded from the caller.
+        let path = std::path::Path::new(unsafe { text(path, "path") }?);
+        let output = *Output::ALL
+            .get(output as usize)
+            .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;
+        let image = render(
+            &result.prepared,
+            &result.integration.exitance,
+            result.eta,
+            output,
+            &result.fill,
+        );
+        let precision = if half != 0 {
+            Precision::Half
+        } else {
+            Precision::Float
+        };
+        let bytes = exr_bytes(&image, precision).map_err(Failure::input)?;
+        let failed =
+            |e: std::io::Error| Failure::input(format!("{}: cannot write: {e}", path.display()));
+        let partial = path.with_extension("exr.partial");
+        std::fs::write(&partial, bytes).map_err(failed)?;
+        std::fs::rename(&partial, path).map_err(|e| {
+            let _ = std::fs::remove_file(&partial);
+            failed(e)
+        })
     })
 }

@@ -197,6 +197,23 @@ fn a_bake_gives_physical_maps_and_reports_progress() {
     assert!(area.chunks(4).any(|t| t[3] == 1.0) && area.chunks(4).any(|t| t[3] == 0.0));
     let seen = seen.lock().unwrap();
     assert!(!seen.is_empty() && seen.iter().all(|f| (0.0..=1.0).contains(f)));
+    // Written whole, with nothing left beside it; a folder that is not there
+    // is named in the error.
+    let dir = std::env::temp_dir().join(format!("sssbake-abi-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = CString::new(dir.join("Ball_subsurface.exr").to_str().unwrap()).unwrap();
+    let status = unsafe { sssbake_result_write_exr(result, 0, path.as_ptr(), 0) };
+    assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, vec![std::ffi::OsString::from("Ball_subsurface.exr")]);
+    let nowhere = CString::new(dir.join("no/such/folder/x.exr").to_str().unwrap()).unwrap();
+    let status = unsafe { sssbake_result_write_exr(result, 0, nowhere.as_ptr(), 0) };
+    assert_eq!(status, SssbakeStatus::BadInput);
+    assert!(last_error().contains("no/such/folder"), "{}", last_error());
+    std::fs::remove_dir_all(&dir).unwrap();
     unsafe { sssbake_result_free(result) };
 }
 
