@@ -100,9 +100,8 @@ def test_the_cli_bakes_the_same_scene_from_gltf_to_the_same_texels(addon, sssbak
 
     suzanne_scene()
     common = {"resolution": 64, "method": "BRUTE", "margin": 0}
-    result = bpy.ops.sssbake.bake(
-        material_source="PRESET", preset="skin1", outputs={"SUBSURFACE", "IRRADIANCE"}, **common
-    )
+    # A preset given alone picks the preset as the material.
+    result = bpy.ops.sssbake.bake(preset="skin1", outputs={"SUBSURFACE", "IRRADIANCE"}, **common)
     assert result == {"FINISHED"}
     scene = tmp_path / "suzanne.gltf"
     bpy.ops.export_scene.gltf(

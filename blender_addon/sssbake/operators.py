@@ -140,14 +140,19 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
     __annotations__ = bake_properties()
 
     def settings(self, context):
-        """The operator's properties where given, the panel's otherwise."""
+        """The operator's properties where given, the panel's otherwise; a preset or a
+        layers file given without a material source picks that source."""
         panel = context.scene.sssbake
-        return types.SimpleNamespace(
-            **{
-                name: getattr(self, name) if self.properties.is_property_set(name) else getattr(panel, name)
-                for name in SETTING_NAMES
-            }
+        given = self.properties.is_property_set
+        settings = types.SimpleNamespace(
+            **{name: getattr(self, name) if given(name) else getattr(panel, name) for name in SETTING_NAMES}
         )
+        if not given("material_source"):
+            if given("preset"):
+                settings.material_source = "PRESET"
+            elif given("layers_file"):
+                settings.material_source = "LAYERS"
+        return settings
 
     def start(self, context, level):
         try:
