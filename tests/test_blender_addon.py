@@ -98,7 +98,16 @@ def exr(path):
 def test_the_cli_bakes_the_same_scene_from_gltf_to_the_same_texels(addon, sssbake, tmp_path):
     import bpy
 
-    suzanne_scene()
+    head = suzanne_scene()
+    # A point light and a spot with hard edges, as glTF carries them.
+    for kind, location, power in (("POINT", (0.15, -0.2, 0.1), 30.0), ("SPOT", (-0.2, -0.25, 0.2), 60.0)):
+        bpy.ops.object.light_add(type=kind, location=location, rotation=(1.0, 0.0, -0.6))
+        light = bpy.context.active_object.data
+        light.energy, light.shadow_soft_size = power, 0.0
+        if kind == "SPOT":
+            light.spot_size, light.spot_blend = 1.2, 0.0
+    bpy.ops.object.select_all(action="DESELECT")
+    head.select_set(True)
     common = {"resolution": 64, "method": "BRUTE", "margin": 0}
     # A preset given alone picks the preset as the material.
     result = bpy.ops.sssbake.bake(preset="skin1", outputs={"SUBSURFACE", "IRRADIANCE"}, **common)

@@ -99,11 +99,7 @@ pub(crate) fn light_from_host(light: &SssbakeLight, mm_per_unit: f64) -> Result<
         SSSBAKE_LIGHT_RECTANGLE => {
             let (width_mm, height_mm) = (size, light.size_y.max(0.0) * scale);
             let area_m2 = width_mm * height_mm * 1e-6;
-            let radiance = if area_m2 > 0.0 {
-                light.power / (PI * area_m2)
-            } else {
-                0.0
-            };
+            let radiance = area_radiance(light.power, area_m2)?;
             (
                 LightKind::Rectangle {
                     width_mm,
@@ -116,11 +112,7 @@ pub(crate) fn light_from_host(light: &SssbakeLight, mm_per_unit: f64) -> Result<
         SSSBAKE_LIGHT_DISK => {
             let radius_mm = 0.5 * size;
             let area_m2 = PI * (radius_mm * 1e-3).powi(2);
-            let radiance = if area_m2 > 0.0 {
-                light.power / (PI * area_m2)
-            } else {
-                0.0
-            };
+            let radiance = area_radiance(light.power, area_m2)?;
             (LightKind::Disk { radius_mm }, radiance, "disk")
         }
         other => {
@@ -138,4 +130,17 @@ pub(crate) fn light_from_host(light: &SssbakeLight, mm_per_unit: f64) -> Result<
         direction: Vec3::from(light.direction).normalize_or(Vec3::NEG_Z),
         tangent: Vec3::from(light.tangent).normalize_or(Vec3::X),
     })
+}
+
+/// The radiance of a Lambertian emitter of `power` W and `area_m2` m²:
+/// P / (π A). An area light needs an area.
+fn area_radiance(power: f32, area_m2: f32) -> Result<f32, Failure> {
+    let radiance = power / (PI * area_m2);
+    if area_m2 > 0.0 && radiance.is_finite() {
+        Ok(radiance)
+    } else {
+        Err(Failure::argument(format!(
+            "an area light of {area_m2} m² has no area to emit {power} W from"
+        )))
+    }
 }

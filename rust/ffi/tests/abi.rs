@@ -362,6 +362,13 @@ fn misuse_gets_a_status_and_a_message() {
         SssbakeStatus::InvalidArgument
     );
     light.power = 10.0;
+    light.kind = SSSBAKE_LIGHT_RECTANGLE;
+    light.size_y = 0.0;
+    assert_eq!(
+        unsafe { sssbake_scene_add_light(scene.0, &light) },
+        SssbakeStatus::InvalidArgument
+    );
+    assert!(last_error().contains("no area"), "{}", last_error());
     light.kind = 99;
     assert_eq!(
         unsafe { sssbake_scene_add_light(scene.0, &light) },
