@@ -120,6 +120,8 @@ pub unsafe extern "C" fn sssbake_bake(
         if out.is_null() {
             return Err(Failure::argument("out is null"));
         }
+        // SAFETY: checked non-null; the caller gives writable storage.
+        unsafe { *out = std::ptr::null_mut() };
         // SAFETY: forwarded from the caller.
         let object = unsafe { text(object, "object name") }?;
         let scene = &scene.scene;
@@ -130,6 +132,12 @@ pub unsafe extern "C" fn sssbake_bake(
             return Err(Failure::argument(format!(
                 "resolution {} must be between 1 and 16384",
                 settings.resolution
+            )));
+        }
+        if !(settings.octree_epsilon.is_finite() && settings.octree_epsilon >= 0.0) {
+            return Err(Failure::argument(format!(
+                "octree epsilon {} must be a non-negative number",
+                settings.octree_epsilon
             )));
         }
         let model = Model::default_for(&material);
@@ -168,7 +176,7 @@ pub unsafe extern "C" fn sssbake_bake(
             }
             other => Failure::input(other.to_string()),
         })?;
-        let fill = margin_fill(&prepared, settings.margin);
+        let fill = margin_fill(&prepared, settings.margin.min(settings.resolution));
         let summary = serde_json::json!({
             "object": object,
             "material": material.name,

@@ -413,6 +413,15 @@ fn misuse_gets_a_status_and_a_message() {
         bake(&ball, &preset(&skin), &settings(16, 9), &mut result),
         SssbakeStatus::InvalidArgument
     );
+    let nan_epsilon = SssbakeSettings {
+        octree_epsilon: f32::NAN,
+        ..settings(16, 2)
+    };
+    assert_eq!(
+        bake(&ball, &preset(&skin), &nan_epsilon, &mut result),
+        SssbakeStatus::InvalidArgument
+    );
+    assert!(result.is_null());
     assert_eq!(
         bake(&ball, &preset(&skin), &settings(16, 1), &mut result),
         SssbakeStatus::Ok
