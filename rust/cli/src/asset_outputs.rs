@@ -103,7 +103,7 @@ impl BakeRecord<'_> {
     /// `sssbake_io::usd_writer`).
     pub fn usd_layer(
         &self,
-        maps: &[Encoded],
+        maps: &[std::path::PathBuf],
         notes: &mut Vec<String>,
     ) -> Result<Vec<Encoded>, Failure> {
         let extensions = ["usd", "usda", "usdc", "usdz"];
@@ -134,7 +134,7 @@ impl BakeRecord<'_> {
                 diffuse: format!("{stem}diffuse.png"),
                 maps: maps
                     .iter()
-                    .filter_map(|m| m.path.file_name()?.to_str().map(String::from))
+                    .filter_map(|m| m.file_name()?.to_str().map(String::from))
                     .filter(|f| f.starts_with(&stem))
                     .collect(),
                 attributes: json!({

@@ -5,6 +5,7 @@ use crate::Failure;
 use crate::asset_outputs::{BakeRecord, NewLayout};
 use crate::progress::watch;
 use crate::scene_options::SceneOptions;
+use crate::staging::Staging;
 use serde_json::json;
 use sssbake::control::Control;
 use sssbake::maps::{Output, margin_fill, render};
@@ -156,7 +157,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
     } else {
         Precision::Float
     };
-    let mut encoded = Vec::new();
+    let mut staging = Staging::new(&args.out)?;
     let mut summaries = Vec::new();
     let mut layouts = BTreeMap::new();
     for ((object, assigned), stem) in loaded.objects.iter().zip(&stems) {
@@ -200,10 +201,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
                 exr_bytes(&image, precision)
             }
             .map_err(|e| Failure::Output(format!("{}: {e}", path.display())))?;
-            encoded.push(Encoded {
-                path: path.clone(),
-                bytes,
-            });
+            staging.stage(path, &bytes)?;
         }
         if prepared.unwrapped {
             let layout = NewLayout {
@@ -236,10 +234,11 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         summaries: &summaries,
         layouts: &layouts,
     };
-    encoded.extend(record.gltf_copy(&mut notes)?);
-    encoded.extend(record.usd_layer(&encoded, &mut notes)?);
+    let maps: Vec<PathBuf> = staging.files().map(Path::to_path_buf).collect();
+    let mut assets = record.gltf_copy(&mut notes)?;
+    assets.extend(record.usd_layer(&maps, &mut notes)?);
     if !args.force
-        && let Some(existing) = encoded.iter().find(|e| e.path.exists())
+        && let Some(existing) = assets.iter().find(|e| e.path.exists())
     {
         return Err(Failure::Output(format!(
             "{}: exists (use --force to replace it)",
@@ -247,12 +246,12 @@ pub fn run(args: &BakeArgs) -> Result<(), Failure> {
         )));
     }
     let start = Instant::now();
-    write_all(&args.out, &encoded)?;
+    for asset in &assets {
+        staging.stage(&asset.path, &asset.bytes)?;
+    }
+    let files: Vec<String> = staging.files().map(|p| p.display().to_string()).collect();
+    staging.commit()?;
     let write_seconds = start.elapsed().as_secs_f64();
-    let files: Vec<String> = encoded
-        .iter()
-        .map(|e| e.path.display().to_string())
-        .collect();
     let left_out: Vec<String> = loaded
         .scene
         .objects
@@ -323,54 +322,6 @@ fn refuse_input_folder(input: &Path, out: &Path) -> Result<(), Failure> {
             out.display(),
             input.display()
         )));
-    }
-    Ok(())
-}
-
-/// Writes every map to a temporary file, then renames them all into place;
-/// on any error removes what this run wrote (and the folder, if it made it
-/// and left it empty).
-fn write_all(out: &Path, encoded: &[Encoded]) -> Result<(), Failure> {
-    let created = !out.exists();
-    std::fs::create_dir_all(out).map_err(|e| {
-        Failure::Output(format!("{}: cannot create the folder: {e}", out.display()))
-    })?;
-    let temporary = |path: &Path| {
-        path.with_file_name(format!(
-            ".{}.{}.partial",
-            path.file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default(),
-            std::process::id()
-        ))
-    };
-    let mut staged = Vec::new();
-    let mut placed = Vec::new();
-    let result = (|| -> Result<(), String> {
-        for e in encoded {
-            let t = temporary(&e.path);
-            std::fs::write(&t, &e.bytes)
-                .map_err(|err| format!("{}: cannot write: {err}", e.path.display()))?;
-            staged.push(t);
-        }
-        for (e, t) in encoded.iter().zip(&staged) {
-            std::fs::rename(t, &e.path)
-                .map_err(|err| format!("{}: cannot write: {err}", e.path.display()))?;
-            placed.push(e.path.clone());
-        }
-        Ok(())
-    })();
-    if let Err(message) = result {
-        for t in &staged {
-            let _ = std::fs::remove_file(t);
-        }
-        for p in &placed {
-            let _ = std::fs::remove_file(p);
-        }
-        if created {
-            let _ = std::fs::remove_dir(out);
-        }
-        return Err(Failure::Output(message));
     }
     Ok(())
 }

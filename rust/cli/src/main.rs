@@ -17,6 +17,7 @@ mod progress;
 mod report_command;
 mod report_plot;
 mod scene_options;
+mod staging;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

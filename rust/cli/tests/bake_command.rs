@@ -373,3 +373,52 @@ fn the_gltf_copy_brings_files_from_outside_the_inputs_folder_and_names_stay_apar
         .collect();
     assert!(images.contains(&"Ball__diffuse.png") && images.contains(&"Ball_-2_diffuse.png"));
 }
+
+#[test]
+fn a_failure_after_the_first_object_leaves_nothing_behind() {
+    let dir = scratch("midway");
+    std::fs::create_dir_all(&dir).unwrap();
+    let marble = example("marble");
+    std::fs::copy(marble.with_extension("bin"), dir.join("marble.bin")).unwrap();
+    let mut document: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&marble).unwrap()).unwrap();
+    // A second ball whose mesh has no UVs: with an irradiance image, which
+    // needs the object's own UVs, it fails after the first is baked.
+    let mut bare = document["meshes"][0].clone();
+    bare["primitives"][0]["attributes"]
+        .as_object_mut()
+        .unwrap()
+        .remove("TEXCOORD_0");
+    document["meshes"].as_array_mut().unwrap().push(bare);
+    let nodes = document["nodes"].as_array_mut().unwrap();
+    let ball = nodes.iter().position(|n| n["name"] == "Ball").unwrap();
+    let mut twin = nodes[ball].clone();
+    twin["name"] = "Ball2".into();
+    twin["mesh"] = 1.into();
+    nodes.push(twin);
+    let twin_index = nodes.len() - 1;
+    document["scenes"][0]["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(twin_index.into());
+    let scene = dir.join("two.gltf");
+    std::fs::write(&scene, serde_json::to_vec(&document).unwrap()).unwrap();
+    let out = dir.join("out");
+    let result = sssbake(&[
+        "bake",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--resolution",
+        "16",
+        "--irradiance",
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../docs/head_subsurface.png")
+            .to_str()
+            .unwrap(),
+    ]);
+    assert_eq!(result.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("Ball2"), "{stderr}");
+    assert!(!out.exists(), "{:?}", files_in(&out));
+}
