@@ -136,7 +136,7 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
 
     bl_idname = "sssbake.bake"
     bl_label = "Bake Subsurface"
-    bl_options = {"REGISTER"}  # noqa: RUF012 (Blender reads a set)
+    bl_options = {"REGISTER", "UNDO"}  # noqa: RUF012 (Blender reads a set)
     __annotations__ = bake_properties()
 
     def settings(self, context):
