@@ -20,6 +20,21 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// Adds a copy of the marble's `Ball` node named `name` to the scene; the copy.
+fn add_twin<'a>(document: &'a mut serde_json::Value, name: &str) -> &'a mut serde_json::Value {
+    let nodes = document["nodes"].as_array_mut().unwrap();
+    let ball = nodes.iter().position(|n| n["name"] == "Ball").unwrap();
+    let mut twin = nodes[ball].clone();
+    twin["name"] = name.into();
+    nodes.push(twin);
+    let index = nodes.len() - 1;
+    document["scenes"][0]["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(index.into());
+    &mut document["nodes"][index]
+}
+
 fn files_in(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .map(|d| {
@@ -323,18 +338,15 @@ fn the_gltf_copy_brings_files_from_outside_the_inputs_folder_and_names_stay_apar
         serde_json::from_slice(&std::fs::read(&marble).unwrap()).unwrap();
     document["buffers"][0]["uri"] = "../data/marble.bin".into();
     // Two objects whose names differ only in characters a file name cannot hold.
-    let nodes = document["nodes"].as_array_mut().unwrap();
-    let ball = nodes.iter().position(|n| n["name"] == "Ball").unwrap();
-    let mut twin = nodes[ball].clone();
-    nodes[ball]["name"] = "Ball?".into();
-    twin["name"] = "Ball*".into();
+    let twin = add_twin(&mut document, "Ball*");
     twin["translation"] = serde_json::json!([5.0, 0.0, 0.0]);
-    nodes.push(twin);
-    let twin_index = nodes.len() - 1;
-    document["scenes"][0]["nodes"]
+    let ball = document["nodes"]
         .as_array_mut()
         .unwrap()
-        .push(twin_index.into());
+        .iter_mut()
+        .find(|n| n["name"] == "Ball")
+        .unwrap();
+    ball["name"] = "Ball?".into();
     let scene = scenes.join("twins.gltf");
     std::fs::write(&scene, serde_json::to_vec(&document).unwrap()).unwrap();
     let out = dir.join("out");
@@ -390,17 +402,7 @@ fn a_failure_after_the_first_object_leaves_nothing_behind() {
         .unwrap()
         .remove("TEXCOORD_0");
     document["meshes"].as_array_mut().unwrap().push(bare);
-    let nodes = document["nodes"].as_array_mut().unwrap();
-    let ball = nodes.iter().position(|n| n["name"] == "Ball").unwrap();
-    let mut twin = nodes[ball].clone();
-    twin["name"] = "Ball2".into();
-    twin["mesh"] = 1.into();
-    nodes.push(twin);
-    let twin_index = nodes.len() - 1;
-    document["scenes"][0]["nodes"]
-        .as_array_mut()
-        .unwrap()
-        .push(twin_index.into());
+    add_twin(&mut document, "Ball2")["mesh"] = 1.into();
     let scene = dir.join("two.gltf");
     std::fs::write(&scene, serde_json::to_vec(&document).unwrap()).unwrap();
     let out = dir.join("out");

@@ -287,13 +287,8 @@ pub unsafe extern "C" fn sssbake_result_image(
     len: usize,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: the caller passes a live result or null.
-        let Some(result) = (unsafe { result.as_ref() }) else {
-            return Err(Failure::argument("result is null"));
-        };
-        let output = *Output::ALL
-            .get(output as usize)
-            .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;
+        // SAFETY: forwarded from the caller.
+        let (result, image) = unsafe { rendered(result, output) }?;
         let n = result.prepared.surfels.resolution as usize;
         if len != 4 * n * n || rgba.is_null() {
             return Err(Failure::argument(format!(
@@ -303,13 +298,6 @@ pub unsafe extern "C" fn sssbake_result_image(
         }
         // SAFETY: checked non-null; the caller gives `len` writable floats.
         let pixels = unsafe { std::slice::from_raw_parts_mut(rgba, len) };
-        let image = render(
-            &result.prepared,
-            &result.integration.exitance,
-            result.eta,
-            output,
-            &result.fill,
-        );
         let mut covered = vec![false; n * n];
         for &t in &result.prepared.surfels.texel {
             covered[t as usize] = true;
@@ -345,22 +333,10 @@ pub unsafe extern "C" fn sssbake_result_write_exr(
     half: u32,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: the caller passes a live result or null.
-        let Some(result) = (unsafe { result.as_ref() }) else {
-            return Err(Failure::argument("result is null"));
-        };
+        // SAFETY: forwarded from the caller.
+        let (_, image) = unsafe { rendered(result, output) }?;
         // SAFETY: forwarded from the caller.
         let path = std::path::Path::new(unsafe { text(path, "path") }?);
-        let output = *Output::ALL
-            .get(output as usize)
-            .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;
-        let image = render(
-            &result.prepared,
-            &result.integration.exitance,
-            result.eta,
-            output,
-            &result.fill,
-        );
         let precision = if half != 0 {
             Precision::Half
         } else {
@@ -376,4 +352,29 @@ pub unsafe extern "C" fn sssbake_result_write_exr(
             failed(e)
         })
     })
+}
+
+/// Map `output` of `result` as an image (rows top to bottom).
+///
+/// # Safety
+/// `result` is null or a live result.
+unsafe fn rendered<'a>(
+    result: *const SssbakeResult,
+    output: u32,
+) -> Result<(&'a SssbakeResult, sssbake::image::Image), Failure> {
+    // SAFETY: the caller passes a live result or null.
+    let Some(result) = (unsafe { result.as_ref() }) else {
+        return Err(Failure::argument("result is null"));
+    };
+    let output = *Output::ALL
+        .get(output as usize)
+        .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;
+    let image = render(
+        &result.prepared,
+        &result.integration.exitance,
+        result.eta,
+        output,
+        &result.fill,
+    );
+    Ok((result, image))
 }
