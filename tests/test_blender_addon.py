@@ -149,7 +149,7 @@ def test_the_cli_bakes_the_same_scene_from_gltf_to_the_same_texels(addon, sssbak
         assert difference <= 1e-3 * scale, (output, difference, scale)
 
 
-def test_a_cancelled_bake_leaves_the_scene_unchanged(addon):
+def test_a_cancelled_bake_leaves_the_scene_unchanged(addon, capfd):
     import bpy
 
     head = suzanne_scene()
@@ -169,6 +169,7 @@ def test_a_cancelled_bake_leaves_the_scene_unchanged(addon):
         finished.set()
         canceller.join()
     assert result == {"CANCELLED"}
+    assert "sssbake: cancelled; nothing was changed" in capfd.readouterr().out
     assert len(bpy.data.images) == 0
     assert [layer.name for layer in head.data.uv_layers] == maps_before
     assert sorted(n.name for n in head.active_material.node_tree.nodes) == nodes_before
@@ -250,3 +251,24 @@ def test_results_saved_to_a_folder_are_openexr_files(addon, tmp_path):
     )
     saved = exr(folder / "Head_subsurface.exr")[::-1]
     assert np.allclose(saved, pixels("Head_subsurface")[..., :3], rtol=1e-6, atol=1e-7)
+
+
+def test_unwrapping_bakes_into_a_new_uv_map_the_material_reads(addon):
+    import bpy
+
+    head = suzanne_scene()
+    result = bpy.ops.sssbake.bake(resolution=64, method="OCTREE", unwrap=True, margin=0, wire_material=True)
+    assert result == {"FINISHED"}
+    layer = head.data.uv_layers["sssbake"]
+    nodes = head.active_material.node_tree.nodes
+    assert nodes["sssbake UV"].uv_map == "sssbake"
+    assert nodes["sssbake diffuse"].image.name == "Head_diffuse"
+    assert nodes["sssbake output"].is_active_output and not nodes["Material Output"].is_active_output
+    # The bake follows the new map: faces' UV centroids land on covered texels.
+    alpha = pixels("Head_diffuse")[..., 3]
+    centroids = np.array(
+        [np.mean([layer.data[i].uv for i in polygon.loop_indices], axis=0) for polygon in head.data.polygons]
+    )
+    rows = np.clip((centroids[:, 1] * 64).astype(int), 0, 63)
+    columns = np.clip((centroids[:, 0] * 64).astype(int), 0, 63)
+    assert (alpha[rows, columns] > 0).mean() > 0.95

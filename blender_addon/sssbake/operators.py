@@ -49,9 +49,9 @@ class Job:
         self.results = []
         self.error = None
         self.keep = []
-        if settings.unwrap:
-            self._unwrap(context)
         try:
+            if settings.unwrap:
+                self._unwrap(context)
             self.scene = scene_export.build_scene(context, self.uv_map)
             self.materials = [scene_export.material_struct(settings, o, self.keep) for o in self.targets]
         except Exception:
@@ -74,9 +74,11 @@ class Job:
                 active_object=obj, object=obj, selected_objects=[obj], selected_editable_objects=[obj]
             ):
                 bpy.ops.object.mode_set(mode="EDIT")
-                bpy.ops.mesh.select_all(action="SELECT")
-                bpy.ops.uv.smart_project(island_margin=0.01)
-                bpy.ops.object.mode_set(mode="OBJECT")
+                try:
+                    bpy.ops.mesh.select_all(action="SELECT")
+                    bpy.ops.uv.smart_project(island_margin=0.01)
+                finally:
+                    bpy.ops.object.mode_set(mode="OBJECT")
 
     def run(self):
         """Bakes every target; may run on another thread (it touches no Blender data)."""
@@ -97,11 +99,13 @@ class Job:
             self.error = error
 
     def finish(self):
-        """Makes the images (main thread); the names of those made."""
-        made = []
+        """Makes the images (main thread); the names of those made, and warnings."""
+        made, warnings = [], []
         folder = bpy.path.abspath(self.settings.folder)
         try:
             for obj, result in zip(self.targets, self.results, strict=True):
+                if result.summary.get("uv_warning"):
+                    warnings.append(f"{obj.name}: {result.summary['uv_warning']}")
                 for output in native.OUTPUTS:
                     if output.upper() not in self.settings.outputs:
                         continue
@@ -112,7 +116,7 @@ class Job:
                         images.show_in_material(obj, image, uv_map)
         finally:
             self.close()
-        return made
+        return made, warnings
 
     def close(self):
         for result in self.results:
@@ -157,7 +161,9 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
     def start(self, context, level):
         try:
             return Job(context, self.settings(context))
-        except native.NativeError as error:
+        except (native.NativeError, RuntimeError, OSError, ValueError) as error:
+            # RuntimeError: an operator Blender refused (such as unwrapping a
+            # mesh it cannot edit); the others: bad data on the way across.
             self.report({level}, f"sssbake: {error}")
             return None
 
@@ -174,11 +180,13 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
                 self.report({level}, f"sssbake: {job.error}{hint}")
             return {"CANCELLED"}
         try:
-            made = job.finish()
+            made, warnings = job.finish()
         except (ReferenceError, RuntimeError, OSError, native.NativeError) as error:
             # An object deleted while the bake ran, or a folder that cannot be written.
             self.report({level}, f"sssbake: the bake finished but its images could not be made: {error}")
             return {"CANCELLED"}
+        for warning in warnings:
+            self.report({"WARNING"}, f"sssbake: {warning}")
         self.report({"INFO"}, f"sssbake: made {', '.join(made)}")
         return {"FINISHED"}
 

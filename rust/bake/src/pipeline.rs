@@ -62,8 +62,10 @@ pub struct BakeSettings {
     pub padding: u32,
     /// Unwrap even when the UVs are usable.
     pub force_unwrap: bool,
-    /// Never unwrap: fail when the UVs are not usable (for callers that
-    /// show the maps through UVs of their own, such as Blender's).
+    /// Never unwrap: bake into the object's UVs even where they overlap or
+    /// stretch (reported in [`Prepared::uv_warning`]), and fail only when
+    /// it has none; for callers that show the maps through UVs of their
+    /// own, such as Blender's.
     pub keep_uvs: bool,
     /// Light sampling.
     pub irradiance: IrradianceSettings,
@@ -108,6 +110,8 @@ pub struct Prepared {
     /// For an unwrapped mesh, the scene mesh's vertex each vertex copies;
     /// empty otherwise.
     pub source_vertex: Vec<u32>,
+    /// What is wrong with UVs kept although they overlap or stretch.
+    pub uv_warning: Option<String>,
     /// The texels.
     pub surfels: TexelSurfels,
     /// Transmitted irradiance per surfel, W/m² (before the colour split).
@@ -136,14 +140,18 @@ pub fn prepare(
         .ok_or_else(|| BakeError::Input(format!("{}: no object named `{object}`", scene.source)))?;
     let original = &scene.objects[index].mesh;
     let report = analyse_uvs(original, None, settings.resolution);
-    let unwrapped = settings.force_unwrap || !report.usable();
-    if unwrapped && settings.keep_uvs {
+    let keep = settings.keep_uvs && original.uvs.is_some();
+    if settings.keep_uvs && !keep {
         return Err(BakeError::Input(format!(
-            "{}: object `{object}`: its UVs are not usable for a bake ({})",
-            scene.source,
-            report.verdict()
+            "{}: object `{object}`: has no UVs to bake into",
+            scene.source
         )));
     }
+    let unwrapped = !keep && (settings.force_unwrap || !report.usable());
+    let uv_warning = report
+        .problems()
+        .filter(|_| keep && !report.usable())
+        .map(|problems| format!("baked into its UVs as they are: {problems}"));
     if unwrapped && matches!(lighting, Lighting::Irradiance(_)) {
         return Err(BakeError::Input(format!(
             "{}: object `{object}`: an irradiance image needs the object's own UVs, but they are not usable ({})",
@@ -227,6 +235,7 @@ pub fn prepare(
         uvs,
         unwrapped,
         source_vertex,
+        uv_warning,
         surfels,
         irradiance,
         colour,

@@ -43,6 +43,20 @@ impl UvReport {
         if self.missing {
             return "no UVs: the mesh will be unwrapped".into();
         }
+        let state = if self.usable() {
+            "usable"
+        } else {
+            "unusable, the mesh will be unwrapped"
+        };
+        match self.problems() {
+            None => format!("usable: {} triangles, no problems", self.triangles),
+            Some(problems) => format!("{state}: {problems}"),
+        }
+    }
+
+    /// The problems found, as "4 overlapping, 2 flipped of 3936
+    /// triangles"; `None` when there are none.
+    pub fn problems(&self) -> Option<String> {
         let mut problems = Vec::new();
         for (count, what) in [
             (self.outside, "outside [0,1]"),
@@ -55,20 +69,8 @@ impl UvReport {
                 problems.push(format!("{count} {what}"));
             }
         }
-        let state = if self.usable() {
-            "usable"
-        } else {
-            "unusable, the mesh will be unwrapped"
-        };
-        if problems.is_empty() {
-            format!("usable: {} triangles, no problems", self.triangles)
-        } else {
-            format!(
-                "{state}: {} of {} triangles",
-                problems.join(", "),
-                self.triangles
-            )
-        }
+        (!problems.is_empty())
+            .then(|| format!("{} of {} triangles", problems.join(", "), self.triangles))
     }
 }
 

@@ -184,6 +184,7 @@ pub unsafe extern "C" fn sssbake_bake(
             "method": integration.choice.method.name(),
             "reason": integration.choice.reason,
             "texels": prepared.surfels.len(),
+            "uv_warning": prepared.uv_warning,
             "seconds": { "prepare": prepared.seconds(), "integrate": integration.seconds },
         });
         let result = SssbakeResult {
@@ -262,7 +263,8 @@ pub unsafe extern "C" fn sssbake_result_resolution(result: *const SssbakeResult)
 }
 
 /// What the bake did, as JSON (object, material, model, method and why,
-/// texels, seconds). Owned by the result; do not free it.
+/// texels, what is wrong with UVs it baked into anyway or null, seconds).
+/// Owned by the result; do not free it.
 ///
 /// # Safety
 /// `result` is null or a live result.

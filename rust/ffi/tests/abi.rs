@@ -334,6 +334,43 @@ fn misuse_gets_a_status_and_a_message() {
         "{}",
         last_error()
     );
+    // A mesh without UVs: a host's maps follow its UVs, so there is nothing to bake into.
+    let bare_name = CString::new("Bare").unwrap();
+    let triangle = [0.0f32, 0.0, 0.0, 10.0, 0.0, 0.0, 0.0, 10.0, 0.0];
+    let corners = [0u32, 1, 2];
+    let bare = SssbakeMesh {
+        name: bare_name.as_ptr(),
+        positions: triangle.as_ptr(),
+        normals: null(),
+        uvs: null(),
+        vertex_count: 3,
+        indices: corners.as_ptr(),
+        index_count: 3,
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene.0, &bare) },
+        SssbakeStatus::Ok
+    );
+    let skin1 = CString::new("skin1").unwrap();
+    let mut none = null_mut();
+    let status = unsafe {
+        sssbake_bake(
+            scene.0,
+            bare_name.as_ptr(),
+            &preset(&skin1),
+            &settings(16, 1),
+            None,
+            null_mut(),
+            null(),
+            &mut none,
+        )
+    };
+    assert_eq!(status, SssbakeStatus::BadInput);
+    assert!(
+        last_error().contains("has no UVs to bake into"),
+        "{}",
+        last_error()
+    );
     // Null arrays with a length.
     let hollow = SssbakeMesh {
         positions: null(),
