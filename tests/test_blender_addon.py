@@ -155,6 +155,7 @@ def test_a_cancelled_bake_leaves_the_scene_unchanged(addon, capfd):
     head = suzanne_scene()
     nodes_before = sorted(n.name for n in head.active_material.node_tree.nodes)
     maps_before = [layer.name for layer in head.data.uv_layers]
+    active_before = head.data.uv_layers.active.name
     finished = threading.Event()
 
     def keep_cancelling():
@@ -172,6 +173,7 @@ def test_a_cancelled_bake_leaves_the_scene_unchanged(addon, capfd):
     assert "sssbake: cancelled; nothing was changed" in capfd.readouterr().out
     assert len(bpy.data.images) == 0
     assert [layer.name for layer in head.data.uv_layers] == maps_before
+    assert head.data.uv_layers.active.name == active_before
     assert sorted(n.name for n in head.active_material.node_tree.nodes) == nodes_before
 
 
@@ -272,3 +274,23 @@ def test_unwrapping_bakes_into_a_new_uv_map_the_material_reads(addon):
     rows = np.clip((centroids[:, 1] * 64).astype(int), 0, 63)
     columns = np.clip((centroids[:, 0] * 64).astype(int), 0, 63)
     assert (alpha[rows, columns] > 0).mean() > 0.95
+
+
+def test_baking_again_updates_the_images_in_place(addon, tmp_path):
+    import bpy
+
+    suzanne_scene()
+    folder = str(tmp_path / "maps")
+    assert bpy.ops.sssbake.bake(
+        resolution=64, outputs={"SUBSURFACE"}, destination="FOLDER", folder=folder
+    ) == {"FINISHED"}
+    first = pixels("Head_subsurface").copy()
+    bpy.data.objects["Sun"].data.energy *= 2
+    assert bpy.ops.sssbake.bake(resolution=64, outputs={"SUBSURFACE"}) == {"FINISHED"}
+    image = bpy.data.images["Head_subsurface"]
+    assert len(bpy.data.images) == 1 and image.packed_file is not None
+    # Twice the sun, twice the light under the skin, in the same image name.
+    covered = first[..., 3] > 0
+    assert np.allclose(
+        pixels("Head_subsurface")[..., :3][covered], 2 * first[..., :3][covered], rtol=1e-4, atol=1e-6
+    )

@@ -37,6 +37,10 @@ def store(obj, output, result, destination, folder):
             image.source = "FILE"
             image.reload()
     else:
+        if image is not None and image.source != "GENERATED":
+            # A file-backed image (an earlier bake to a folder) would pack its file.
+            bpy.data.images.remove(image)
+            image = None
         if image is None:
             image = bpy.data.images.new(name, resolution, resolution, alpha=True, float_buffer=True)
         image.pixels.foreach_set(result.image(output))

@@ -66,10 +66,12 @@ class Job:
 
     def _unwrap(self, context):
         for obj in self.targets:
-            if obj.data.uv_layers.get("sssbake") is None:
-                obj.data.uv_layers.new(name="sssbake")
-                self.created_uv_maps.append(obj)
-            obj.data.uv_layers.active = obj.data.uv_layers["sssbake"]
+            layers = obj.data.uv_layers
+            if layers.get("sssbake") is None:
+                previous = layers.active.name if layers.active else None
+                layers.new(name="sssbake")
+                self.created_uv_maps.append((obj, previous))
+            layers.active = layers["sssbake"]
             with context.temp_override(
                 active_object=obj, object=obj, selected_objects=[obj], selected_editable_objects=[obj]
             ):
@@ -128,10 +130,12 @@ class Job:
         """Undoes what the job changed (the UV maps it made) and frees the native data."""
         if hasattr(self, "scene"):
             self.close()
-        for obj in self.created_uv_maps:
-            layer = obj.data.uv_layers.get("sssbake")
-            if layer is not None:
-                obj.data.uv_layers.remove(layer)
+        for obj, previous in self.created_uv_maps:
+            layers = obj.data.uv_layers
+            if layers.get("sssbake") is not None:
+                layers.remove(layers["sssbake"])
+            if previous in layers:
+                layers.active = layers[previous]
         self.created_uv_maps = []
 
 
