@@ -324,7 +324,8 @@ uint32_t sssbake_result_resolution(const struct SssbakeResult *result);
 
 /**
  * What the bake did, as JSON (object, material, model, method and why,
- * texels, seconds). Owned by the result; do not free it.
+ * texels, what is wrong with UVs it baked into anyway or null, seconds).
+ * Owned by the result; do not free it.
  *
  * # Safety
  * `result` is null or a live result.
