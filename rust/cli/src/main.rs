@@ -6,7 +6,6 @@
 //! line; 3 an output could not be written.
 
 mod asset_outputs;
-mod atomic_write;
 mod bake_command;
 mod material_choice;
 mod material_map;

@@ -1,9 +1,9 @@
 //! `sssbake profile`: a material's reflectance profile as a table, JSON or plot.
 
 use crate::Failure;
-use crate::atomic_write::write_atomically;
 use crate::plot::{Curve, render_png, render_svg};
 use serde_json::{Value, json};
+use sssbake_io::atomic_write::write_atomically;
 use sssbake_profile::monte_carlo::{self, MonteCarlo};
 use sssbake_profile::{Material, Model, Profile, Rgb, Tabulated, build_profile};
 use std::path::{Path, PathBuf};

@@ -3,7 +3,6 @@
 //! log–log plot, and the runs no other run beats on both.
 
 use crate::Failure;
-use crate::atomic_write::write_atomically;
 use crate::plot::render_png;
 use crate::report_plot::{Series, render};
 use crate::scene_options::SceneOptions;
@@ -13,6 +12,7 @@ use sssbake::pipeline::{BakeError, Prepared, prepare};
 use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::kernel::Kernel;
 use sssbake::transport::{Method, MethodSettings};
+use sssbake_io::atomic_write::write_atomically;
 use sssbake_profile::profile::Profile;
 use std::path::PathBuf;
 

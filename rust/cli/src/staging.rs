@@ -3,6 +3,7 @@
 //! or not at all, and no more than one map is held in memory.
 
 use crate::Failure;
+use sssbake_io::atomic_write::write_temporary;
 use std::path::{Path, PathBuf};
 
 /// Files staged in an output folder, not yet in place.
@@ -32,13 +33,7 @@ impl Staging {
 
     /// Writes `bytes` for `path` under a hidden temporary name beside it.
     pub fn stage(&mut self, path: &Path, bytes: &[u8]) -> Result<(), Failure> {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let temporary = path.with_file_name(format!(".{name}.{}.partial", std::process::id()));
-        std::fs::write(&temporary, bytes)
-            .map_err(|e| Failure::Output(format!("{}: cannot write: {e}", path.display())))?;
+        let temporary = write_temporary(path, bytes).map_err(Failure::Output)?;
         self.staged.push((temporary, path.to_path_buf()));
         Ok(())
     }

@@ -9,6 +9,7 @@ use sssbake::maps::{Output, margin_fill, render};
 use sssbake::pipeline::{BakeError, BakeSettings, Integration, Lighting, Prepared, prepare};
 use sssbake::transport::kernel::Kernel;
 use sssbake::transport::{Method, MethodSettings};
+use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
 use sssbake_profile::model::{Model, build_profile};
 use std::ffi::{CString, c_char, c_void};
@@ -345,14 +346,7 @@ pub unsafe extern "C" fn sssbake_result_write_exr(
             Precision::Float
         };
         let bytes = exr_bytes(&image, precision).map_err(Failure::input)?;
-        let failed =
-            |e: std::io::Error| Failure::input(format!("{}: cannot write: {e}", path.display()));
-        let partial = path.with_extension("exr.partial");
-        std::fs::write(&partial, bytes).map_err(failed)?;
-        std::fs::rename(&partial, path).map_err(|e| {
-            let _ = std::fs::remove_file(&partial);
-            failed(e)
-        })
+        write_atomically(path, &bytes).map_err(Failure::input)
     })
 }
 

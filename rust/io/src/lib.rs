@@ -1,6 +1,7 @@
 //! Reading scenes into sssbake's model (glTF and USD) and, later, writing
 //! textures and assets. Scene units become millimetres here, once.
 
+pub mod atomic_write;
 pub mod gltf_reader;
 pub mod gltf_writer;
 pub mod image_reader;
