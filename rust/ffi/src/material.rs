@@ -2,7 +2,7 @@
 //! Blender's Principled BSDF subsurface inputs.
 
 use crate::errors::{Failure, text};
-use sssbake_profile::presets::preset;
+use sssbake_profile::presets;
 use sssbake_profile::{Appearance, Material};
 use std::ffi::c_char;
 
@@ -52,7 +52,7 @@ pub(crate) unsafe fn material_from_host(
         SSSBAKE_MATERIAL_PRESET => {
             // SAFETY: forwarded from the caller.
             let name = unsafe { text(material.name, "preset name") }?;
-            preset(name).ok_or_else(|| Failure::input(format!("unknown preset `{name}`")))
+            presets::named(name).map_err(Failure::input)
         }
         SSSBAKE_MATERIAL_TOML => {
             // SAFETY: forwarded from the caller.

@@ -71,6 +71,14 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
     names
 }
 
+/// The preset called `name`, or an error that lists the known names.
+pub fn named(name: &str) -> Result<Material, String> {
+    preset(name).ok_or_else(|| {
+        let names: Vec<&str> = list().into_iter().map(|(n, _)| n).collect();
+        format!("unknown preset `{name}` (known: {})", names.join(", "))
+    })
+}
+
 /// The preset called `name`, if there is one.
 pub fn preset(name: &str) -> Option<Material> {
     let optics = match name {
