@@ -86,3 +86,25 @@ pub fn parallel_fill<T: Send>(
             control.advance(slot.len() as u64)
         })
 }
+
+/// Runs `work` on this thread while a watcher thread calls `tick` every
+/// `period` until `work` is done (progress reports, a host's cancel flag);
+/// returns what `work` returns.
+pub fn watch_while<T>(
+    period: std::time::Duration,
+    mut tick: impl FnMut() + Send,
+    work: impl FnOnce() -> T,
+) -> T {
+    let done = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            while !done.load(Ordering::Acquire) {
+                tick();
+                std::thread::sleep(period);
+            }
+        });
+        let result = work();
+        done.store(true, Ordering::Release);
+        result
+    })
+}

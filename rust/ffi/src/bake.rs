@@ -4,7 +4,7 @@
 use crate::errors::{Failure, SssbakeStatus, guarded, text};
 use crate::material::{SssbakeMaterial, material_from_host};
 use crate::scene::SssbakeScene;
-use sssbake::control::{Cancelled, Control};
+use sssbake::control::{Cancelled, Control, watch_while};
 use sssbake::maps::{Output, margin_fill, render};
 use sssbake::pipeline::{BakeError, BakeSettings, Integration, Lighting, Prepared, prepare};
 use sssbake::transport::kernel::Kernel;
@@ -13,7 +13,7 @@ use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
 use sssbake_profile::model::{Model, build_profile};
 use std::ffi::{CString, c_char, c_void};
-use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::atomic::{AtomicI32, Ordering};
 use std::time::Duration;
 
 /// How a bake runs. [`sssbake_settings_default`] fills the defaults.
@@ -221,24 +221,16 @@ fn watched<T>(
     cancel: Option<&AtomicI32>,
     work: impl FnOnce() -> T,
 ) -> T {
-    let done = AtomicBool::new(false);
-    std::thread::scope(|scope| {
-        scope.spawn(|| {
-            while !done.load(Ordering::Acquire) {
-                if cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0) {
-                    control.cancel();
-                }
-                if let Some(callback) = progress {
-                    // SAFETY: the host's callback, called as documented.
-                    unsafe { callback(user.0, control.fraction() as f32) };
-                }
-                std::thread::sleep(Duration::from_millis(200));
-            }
-        });
-        let result = work();
-        done.store(true, Ordering::Release);
-        result
-    })
+    let tick = || {
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0) {
+            control.cancel();
+        }
+        if let Some(callback) = progress {
+            // SAFETY: the host's callback, called as documented.
+            unsafe { callback(user.0, control.fraction() as f32) };
+        }
+    };
+    watch_while(Duration::from_millis(200), tick, work)
 }
 
 /// Frees a result (null is allowed).
