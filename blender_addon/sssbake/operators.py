@@ -26,6 +26,8 @@ class Job:
     def __init__(self, context, settings):
         self.settings = settings
         self.targets = [o for o in context.selected_objects if o.type == "MESH"]
+        # Read here: the bakes may run on another thread, which must not touch Blender data.
+        self.names = [o.name for o in self.targets]
         if not self.targets:
             raise native.NativeError(1, "select the mesh objects to bake")
         if not settings.outputs:
@@ -84,11 +86,9 @@ class Job:
 
     def run(self):
         """Bakes every target; may run on another thread (it touches no Blender data)."""
-        count = len(self.targets)
+        count = len(self.names)
         try:
-            for i, (obj_name, material) in enumerate(
-                zip([o.name for o in self.targets], self.materials, strict=True)
-            ):
+            for i, (obj_name, material) in enumerate(zip(self.names, self.materials, strict=True)):
                 self.current = obj_name
 
                 def report(fraction, i=i):
