@@ -70,8 +70,8 @@ def wax_stage(tmp_path_factory):
 def test_an_openpbr_material_is_baked_with_its_colour(sssbake, wax_stage, tmp_path):
     summary = bake(sssbake, wax_stage, tmp_path, python=True)
     ball = summary["objects"][0]
-    assert ball["material"] == "Wax"
-    assert ball["material_source"].startswith("asset: OpenPBR")
+    assert ball["material"]["name"] == "Wax"
+    assert ball["material"]["source"].startswith("asset: OpenPBR")
     # On a ball many mean free paths across, what leaves is the colour asked for,
     # less the light that reaches the far side; the channels keep their order.
     ratio = flux_ratio(tmp_path, "Ball")
@@ -82,8 +82,8 @@ def test_an_openpbr_material_is_baked_with_its_colour(sssbake, wax_stage, tmp_pa
 
 def test_a_preset_on_the_command_line_wins_over_the_asset(sssbake, wax_stage, tmp_path):
     summary = bake(sssbake, wax_stage, tmp_path, "--preset", "marble", python=True)
-    assert summary["objects"][0]["material"] == "marble"
-    assert summary["objects"][0]["material_source"] == "--preset"
+    assert summary["objects"][0]["material"]["name"] == "marble"
+    assert summary["objects"][0]["material"]["source"] == "--preset"
 
 
 def test_a_gltf_volume_is_read_as_a_mean_free_path(sssbake, tmp_path):
@@ -99,7 +99,7 @@ def test_a_gltf_volume_is_read_as_a_mean_free_path(sssbake, tmp_path):
     scene.write_text(json.dumps(document))
     (tmp_path / "in" / "marble.bin").write_bytes((MARBLE / "marble.bin").read_bytes())
     summary = bake(sssbake, scene, tmp_path / "out")
-    assert "KHR_materials_volume_scatter colour" in summary["objects"][0]["material_source"]
+    assert "KHR_materials_volume_scatter colour" in summary["objects"][0]["material"]["source"]
     ratio = flux_ratio(tmp_path / "out", "Ball")
     assert np.all(ratio <= np.array([0.8, 0.5, 0.2]) + 0.01), ratio
     assert np.all(ratio >= 0.75 * np.array([0.8, 0.5, 0.2])), ratio
@@ -140,7 +140,7 @@ def test_an_unwrapped_gltf_object_carries_its_new_uvs(sssbake, tmp_path):
     (tmp_path / "in" / "marble.bin").write_bytes((MARBLE / "marble.bin").read_bytes())
     out = tmp_path / "out"
     summary = bake(sssbake, scene, out, "--margin", "1")
-    assert summary["objects"][0]["unwrapped"]
+    assert summary["objects"][0]["uvs"]["unwrap"]
     assert (out / "marble_sssbake.bin").exists()
     assert validate(out / "marble.gltf")["numErrors"] == 0
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -177,7 +177,7 @@ def test_an_unwrapped_usd_object_carries_its_new_uvs(sssbake, tmp_path):
     stage.Save()
     out = tmp_path / "out"
     summary = bake(sssbake, scene, out, "--margin", "1", python=True)
-    assert summary["objects"][0]["unwrapped"]
+    assert summary["objects"][0]["uvs"]["unwrap"]
     layer = Usd.Stage.Open(str(out / "plain_sssbake.usda"))
     mesh = layer.GetPrimAtPath("/root/Ball/Sphere")
     primvar = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("sssbake_st")

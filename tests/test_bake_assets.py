@@ -44,7 +44,7 @@ def baked(sssbake, tmp_path_factory):
 def test_maps_are_finite_and_create_no_light(baked, name):
     out, summary = baked[name]
     obj = EXAMPLES[name]
-    assert summary["objects"][0]["object"] == obj
+    assert summary["objects"][0]["name"] == obj
     subsurface, irradiance, area = (exr(out / f"{obj}_{o}.exr") for o in ("subsurface", "irradiance", "area"))
     assert subsurface.shape == (128, 128, 3)
     assert np.isfinite(subsurface).all() and (subsurface >= 0).all()

@@ -51,7 +51,7 @@ def test_gltf_and_usd_exports_read_the_same(sssbake, exported):
         assert mine["area_mm2"] == pytest.approx(other["area_mm2"], rel=1e-3)
         # Both readers put v up, so the same UVs cover the same texels.
         assert mine["texels"] == other["texels"]
-        assert mine["unwrap"] == other["unwrap"]
+        assert mine["uvs"]["unwrap"] == other["uvs"]["unwrap"]
     box = objects["Box"]
     assert box["area_mm2"] == pytest.approx(6 * 200.0**2, rel=1e-6)
     assert len(from_gltf["lights"]) == len(from_usd["lights"]) == 1

@@ -6,14 +6,14 @@ import os
 import pathlib
 import sys
 
-ABI_VERSION = 1
+ABI_VERSION = 2
 
 LIGHT_SUN, LIGHT_POINT, LIGHT_SPOT, LIGHT_RECTANGLE, LIGHT_DISK = range(5)
-MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML = range(3)
+MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML, MATERIAL_SCENE, MATERIAL_SIDECAR = range(5)
 OUTPUTS = ("subsurface", "irradiance", "diffuse", "thickness", "stretch", "area")
 METHODS = ("auto", "brute", "octree", "texture", "importance")
-STATUS = {1: "invalid argument", 2: "bad input", 3: "cancelled", 4: "internal error"}
-CANCELLED = 3
+STATUS = {1: "invalid argument", 2: "bad input", 3: "cancelled", 4: "internal error", 5: "cannot write"}
+INVALID_ARGUMENT, BAD_INPUT, CANCELLED, INTERNAL, CANNOT_WRITE = range(1, 6)
 
 
 class NativeError(Exception):
@@ -79,6 +79,7 @@ class Settings(ctypes.Structure):
         ("octree_epsilon", ctypes.c_float),
         ("gaussians", ctypes.c_uint32),
         ("samples", ctypes.c_uint32),
+        ("outputs", ctypes.c_uint32),
     ]
 
 

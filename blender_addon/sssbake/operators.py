@@ -64,6 +64,9 @@ class Job:
         native_settings.method = ("AUTO", "BRUTE", "OCTREE", "TEXTURE", "IMPORTANCE").index(settings.method)
         native_settings.margin = settings.margin
         native_settings.light_samples = QUALITY_SAMPLES[settings.quality]
+        native_settings.outputs = sum(
+            1 << i for i, output in enumerate(native.OUTPUTS) if output.upper() in settings.outputs
+        )
         self.native_settings = native_settings
 
     def _unwrap(self, context):
@@ -106,8 +109,9 @@ class Job:
         folder = bpy.path.abspath(self.settings.folder)
         try:
             for obj, result in zip(self.targets, self.results, strict=True):
-                if result.summary.get("uv_warning"):
-                    warnings.append(f"{obj.name}: {result.summary['uv_warning']}")
+                for planned in result.summary["objects"]:
+                    if planned["uvs"]["warning"]:
+                        warnings.append(f"{obj.name}: {planned['uvs']['warning']}")
                 for output in native.OUTPUTS:
                     if output.upper() not in self.settings.outputs:
                         continue

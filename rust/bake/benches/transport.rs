@@ -8,15 +8,16 @@
 
 use glam::Vec3;
 use sssbake::control::Control;
-use sssbake::pipeline::{BakeSettings, Lighting, Prepared, prepare};
+use sssbake::materials::MaterialAssignment;
+use sssbake::pipeline::{Prepared, prepare};
 use sssbake::rays::RayScene;
 use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::importance::{self, Surface};
-use sssbake::transport::kernel::Kernel;
+use sssbake::transport::integrator::IntegratorSettings;
 use sssbake::transport::sources::Targets;
-use sssbake::transport::{Method, MethodSettings, brute};
-use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
-use sssbake_profile::model::{Model, build_profile};
+use sssbake::transport::{Method, brute};
+use sssbake::{BakeRequest, Light, LightKind, Mesh, Scene, SceneObject, plan};
+use sssbake_profile::model::Model;
 use sssbake_profile::presets::preset;
 use std::time::Instant;
 
@@ -81,19 +82,29 @@ fn main() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(2048);
-    let material = preset("skin1").unwrap();
-    let profile = build_profile(&material, Model::Dipole, 6).unwrap();
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
     let scene = scene();
-    let settings = BakeSettings {
+    let request = BakeRequest {
         resolution,
-        mean_free_path_mm: 0.671,
-        ..BakeSettings::default()
+        materials: MaterialAssignment::everywhere(preset("skin1").unwrap(), "skin1"),
+        model: Some(Model::Dipole),
+        ..BakeRequest::default()
     };
     let control = Control::new();
     let start = Instant::now();
-    let prepared: Prepared =
-        prepare(&scene, "head", Lighting::SceneLights, &settings, &control).unwrap();
+    let plan = plan(&scene, &request).unwrap();
+    let planned = &plan.objects[0];
+    let skin = planned.scattering_profile.as_ref();
+    let (profile, kernel) = (&skin.profile, &skin.kernel);
+    let prepared: Prepared = prepare(
+        &scene,
+        0,
+        planned.layout.clone(),
+        &plan.request,
+        skin.entry_index(),
+        true,
+        &control,
+    )
+    .unwrap();
     let texels = prepared.surfels.len();
     println!(
         "{} triangles, {resolution}² → {texels} texels, d_max {:.1} mm, {} threads; prepared in {:.2} s",
@@ -115,8 +126,7 @@ fn main() {
         normal: &normal,
     };
     let start = Instant::now();
-    let reference =
-        brute::integrate(&kernel, &prepared.texel_sources(), targets, &control).unwrap();
+    let reference = brute::integrate(kernel, &prepared.texel_sources(), targets, &control).unwrap();
     let brute_full = start.elapsed().as_secs_f64() * texels as f64 / subset.len() as f64;
     println!(
         "{:<34} {:>10} {:>9} {:>11} {:>9}",
@@ -135,32 +145,27 @@ fn main() {
             100.0 * max
         );
     };
+    let settings = |change: &dyn Fn(&mut IntegratorSettings)| {
+        let mut settings = IntegratorSettings::default();
+        change(&mut settings);
+        settings
+    };
     for (name, method, settings) in [
-        ("octree ε 0.05", Method::Octree, MethodSettings::default()),
+        ("octree ε 0.05", Method::Octree, settings(&|_| {})),
         (
             "octree ε 0.2",
             Method::Octree,
-            MethodSettings {
-                octree_epsilon: 0.2,
-                ..Default::default()
-            },
+            settings(&|s| s.octree.epsilon = 0.2),
         ),
-        (
-            "texture 6 Gaussians",
-            Method::Texture,
-            MethodSettings::default(),
-        ),
+        ("texture 6 Gaussians", Method::Texture, settings(&|_| {})),
         (
             "texture 3 Gaussians",
             Method::Texture,
-            MethodSettings {
-                gaussians: 3,
-                ..Default::default()
-            },
+            settings(&|s| s.texture.gaussians = 3),
         ),
     ] {
         let result = prepared
-            .integrate(profile.as_ref(), &kernel, method, &settings, &control)
+            .integrate(skin, settings.get(method), &control)
             .unwrap();
         let picked: Vec<[f32; 3]> = subset.iter().map(|&s| result.exitance[s]).collect();
         report(name, result.seconds, &picked);
@@ -178,7 +183,7 @@ fn main() {
     for samples in [64u32, 256] {
         let start = Instant::now();
         let got = importance::integrate(
-            &kernel,
+            kernel,
             profile.as_ref(),
             &surface,
             &position,

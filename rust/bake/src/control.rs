@@ -2,6 +2,7 @@
 //! started it (the command line's progress bar, the Blender add-on's modal
 //! operator, the C ABI's callback).
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// A computation stopped because its caller asked it to.
@@ -11,11 +12,17 @@ pub struct Cancelled;
 
 /// Counts work done against work planned, and carries a cancel flag that
 /// every long loop checks. Shared by reference across threads.
+///
+/// A whole bake runs in stages (each object's lighting, then its
+/// scattering); [`Control::fraction`] counts the stages done and the share
+/// of the current one, so it only rises.
 #[derive(Debug, Default)]
 pub struct Control {
     done: AtomicU64,
     total: AtomicU64,
     cancel: AtomicBool,
+    /// (stage index, stage count, label) of the current stage.
+    stage: Mutex<(usize, usize, String)>,
 }
 
 impl Control {
@@ -55,13 +62,33 @@ impl Control {
         self.cancel.load(Ordering::Relaxed)
     }
 
-    /// Fraction of the planned work done, in [0, 1] (0 before any plan).
+    /// Starts stage `index` of `count`, named `label` for progress reports;
+    /// the work planned and done so far belongs to the stages before.
+    pub fn begin_stage(&self, index: usize, count: usize, label: &str) {
+        if let Ok(mut stage) = self.stage.lock() {
+            *stage = (index, count.max(1), label.to_string());
+        }
+        self.total.store(0, Ordering::Relaxed);
+        self.done.store(0, Ordering::Relaxed);
+    }
+
+    /// The current stage's label (empty before any stage).
+    pub fn stage_label(&self) -> String {
+        self.stage.lock().map(|s| s.2.clone()).unwrap_or_default()
+    }
+
+    /// Fraction of the planned work done, in [0, 1]: stages done plus the
+    /// share of the current one (0 before any plan).
     pub fn fraction(&self) -> f64 {
         let total = self.total.load(Ordering::Relaxed);
-        if total == 0 {
-            return 0.0;
-        }
-        (self.done.load(Ordering::Relaxed) as f64 / total as f64).min(1.0)
+        let within = if total == 0 {
+            0.0
+        } else {
+            (self.done.load(Ordering::Relaxed) as f64 / total as f64).min(1.0)
+        };
+        let (index, count) = self.stage.lock().map(|s| (s.0, s.1)).unwrap_or((0, 1));
+        let count = count.max(1);
+        ((index as f64 + within) / count as f64).min(1.0)
     }
 }
 

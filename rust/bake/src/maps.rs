@@ -15,11 +15,28 @@ use crate::image::Image;
 use crate::irradiance::entry::{Boundary, EntryTransmittance};
 use crate::pipeline::Prepared;
 use crate::rays::RayScene;
-use std::fmt;
-use std::str::FromStr;
+use serde::{Deserialize, Serialize};
 
 /// A map sssbake can write.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    Serialize,
+    Deserialize,
+    strum::Display,
+    strum::EnumString,
+    strum::IntoStaticStr,
+    strum::VariantArray,
+    strum::VariantNames,
+)]
+#[serde(rename_all = "lowercase")]
+#[strum(serialize_all = "lowercase")]
 pub enum Output {
     /// Radiant exitance.
     Subsurface,
@@ -36,7 +53,7 @@ pub enum Output {
 }
 
 impl Output {
-    /// Every output.
+    /// Every output, in the order of the C ABI's numbers.
     pub const ALL: [Output; 6] = [
         Output::Subsurface,
         Output::Irradiance,
@@ -46,16 +63,12 @@ impl Output {
         Output::Area,
     ];
 
+    /// The outputs a bake writes when none are named.
+    pub const DEFAULT: [Output; 3] = [Output::Subsurface, Output::Irradiance, Output::Diffuse];
+
     /// The name in file names and on the command line.
     pub fn name(self) -> &'static str {
-        match self {
-            Output::Subsurface => "subsurface",
-            Output::Irradiance => "irradiance",
-            Output::Diffuse => "diffuse",
-            Output::Thickness => "thickness",
-            Output::Stretch => "stretch",
-            Output::Area => "area",
-        }
+        self.into()
     }
 
     /// True for maps that are colours (also written as sRGB PNG).
@@ -65,25 +78,15 @@ impl Output {
             Output::Subsurface | Output::Irradiance | Output::Diffuse
         )
     }
-}
 
-impl fmt::Display for Output {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+    /// True for maps that need the light scattered under the surface.
+    pub fn needs_scattering(self) -> bool {
+        matches!(self, Output::Subsurface | Output::Diffuse)
     }
-}
 
-impl FromStr for Output {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        Output::ALL
-            .into_iter()
-            .find(|o| o.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Output::ALL.iter().map(|o| o.name()).collect();
-                format!("unknown output `{s}` (one of {})", names.join(", "))
-            })
+    /// True for maps that need the light entering the surface.
+    pub fn needs_light(self) -> bool {
+        self.needs_scattering() || self == Output::Irradiance
     }
 }
 
@@ -96,8 +99,8 @@ pub fn margin_fill(prepared: &Prepared, margin: u32) -> Vec<(u32, u32)> {
 
 /// The map `output` of `prepared` as an image, rows top to bottom, with
 /// the empty texels of `fill` (from [`margin_fill`]) filled. `exitance` is
-/// the integration's result; `eta` the material's index for the exit
-/// Fresnel.
+/// the integration's result (zero where there is none); `eta` the
+/// material's index for the exit Fresnel.
 pub fn render(
     prepared: &Prepared,
     exitance: &[[f32; 3]],

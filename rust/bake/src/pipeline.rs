@@ -1,9 +1,10 @@
-//! One object from scene to exitance: layout, texels, irradiance, then any
-//! integrator. [`prepare`] does what every method shares, so a report can
-//! run many integrators on one preparation.
+//! The stages of one object's bake below the plan: its layout (UVs and
+//! texels, made while planning), its light (the irradiance entering every
+//! texel), and the integration of the exitance by any [`Integrator`].
 
-use crate::control::{Cancelled, Control};
+use crate::control::Control;
 use crate::dilation::seam_aware_offsets;
+use crate::error::{Error, InputError};
 use crate::image::Image;
 use crate::irradiance::emitters::Emitter;
 use crate::irradiance::entry::{Boundary, EntryTransmittance};
@@ -11,30 +12,18 @@ use crate::irradiance::environment::EnvironmentMap;
 use crate::irradiance::{IrradianceSettings, Receivers, transmitted_irradiance};
 use crate::mesh::Mesh;
 use crate::rays::RayScene;
+use crate::request::{BakeRequest, UvPolicy};
+use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
 use crate::texels::{TexelSurfels, rasterize, uv_jacobian};
-use crate::transport::choice::{Choice, choose};
-use crate::transport::clusters::cluster;
-use crate::transport::kernel::Kernel;
+use crate::transport::integrator::Integrator;
 use crate::transport::sources::{Sources, Targets};
-use crate::transport::{Method, MethodSettings, brute, importance, octree, texture_space};
-use crate::turk::{place_points, point_count, relax};
+use crate::transport::texture_space;
+use crate::turk::{place_points, relax};
 use crate::uv_analysis::analyse_uvs;
 use glam::{Vec2, Vec3};
-use sssbake_profile::gaussians::fit_gaussians;
-use sssbake_profile::profile::Profile;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
-
-/// Why a bake stopped.
-#[derive(Debug, thiserror::Error)]
-pub enum BakeError {
-    /// The caller cancelled.
-    #[error("cancelled")]
-    Cancelled(#[from] Cancelled),
-    /// The inputs cannot be baked; the message names the object and why.
-    #[error("{0}")]
-    Input(String),
-}
 
 /// What light reaches the object.
 #[derive(Clone, Debug, Default)]
@@ -53,54 +42,10 @@ pub enum Lighting {
     Irradiance(Image),
 }
 
-/// Settings shared by every method.
+/// Where an object's texels are: the mesh with the UVs the bake uses and
+/// the texels they cover. Made by the plan, shared by every stage after.
 #[derive(Clone, Debug)]
-pub struct BakeSettings {
-    /// Texels per side.
-    pub resolution: u32,
-    /// Texels between charts when unwrapping.
-    pub padding: u32,
-    /// Unwrap even when the UVs are usable.
-    pub force_unwrap: bool,
-    /// Never unwrap: bake into the object's UVs even where they overlap or
-    /// stretch (reported in [`Prepared::uv_warning`]), and fail only when
-    /// it has none; for callers that show the maps through UVs of their
-    /// own, such as Blender's.
-    pub keep_uvs: bool,
-    /// Light sampling.
-    pub irradiance: IrradianceSettings,
-    /// The boundary light enters through.
-    pub boundary: Boundary,
-    /// Material index of refraction (inside over outside).
-    pub eta: f64,
-    /// Base colour map applied as C^α before scattering and C^(1−α)
-    /// after (Mikkelsen §3.5).
-    pub base_colour: Option<Image>,
-    /// α of the colour split, in [0, 1] (½ by default).
-    pub colour_split: f32,
-    /// The material's mean free path, mm (Turk point spacing).
-    pub mean_free_path_mm: f64,
-}
-
-impl Default for BakeSettings {
-    fn default() -> Self {
-        BakeSettings {
-            resolution: 1024,
-            padding: 4,
-            force_unwrap: false,
-            keep_uvs: false,
-            irradiance: IrradianceSettings::default(),
-            boundary: Boundary::Smooth,
-            eta: 1.3,
-            base_colour: None,
-            colour_split: 0.5,
-            mean_free_path_mm: 1.0,
-        }
-    }
-}
-
-/// An object ready to integrate.
-pub struct Prepared {
+pub struct Layout {
     /// The mesh with the UVs the bake uses.
     pub mesh: Mesh,
     /// Those UVs.
@@ -110,137 +55,204 @@ pub struct Prepared {
     /// For an unwrapped mesh, the scene mesh's vertex each vertex copies;
     /// empty otherwise.
     pub source_vertex: Vec<u32>,
-    /// What is wrong with UVs kept although they overlap or stretch.
-    pub uv_warning: Option<String>,
     /// The texels.
     pub surfels: TexelSurfels,
-    /// Transmitted irradiance per surfel, W/m² (before the colour split).
+}
+
+/// The layout's verdict on an object's own UVs, and what it did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UvDecision {
+    /// The UV analysis in words.
+    pub verdict: String,
+    /// Whether the object is unwrapped.
+    pub unwrap: bool,
+    /// Why (or why not).
+    pub reason: String,
+    /// What is wrong with UVs kept although they overlap or stretch.
+    pub warning: Option<String>,
+}
+
+impl Layout {
+    /// Decides whether object `index` of `scene` keeps its UVs, unwraps if
+    /// not, and finds the texels its layout covers.
+    pub fn new(
+        scene: &Scene,
+        index: usize,
+        request: &BakeRequest,
+    ) -> Result<(Layout, UvDecision), Error> {
+        let original = &scene.objects[index].mesh;
+        let object_error = |message: String| {
+            Error::Input(InputError {
+                file: Some(scene.source.clone()),
+                object: Some(original.name.clone()),
+                field: None,
+                message,
+            })
+        };
+        let resolution = request.resolution;
+        let report = analyse_uvs(original, None, resolution);
+        let verdict = report.verdict();
+        let has_uvs = original.uvs.is_some();
+        let (unwrap, reason, warning) = match request.uvs {
+            UvPolicy::Keep if !has_uvs => {
+                return Err(object_error("has no UVs to bake into".into()));
+            }
+            UvPolicy::Keep => (
+                false,
+                "its own UVs, as asked".to_string(),
+                report
+                    .problems()
+                    .filter(|_| !report.usable())
+                    .map(|problems| format!("baked into its UVs as they are: {problems}")),
+            ),
+            UvPolicy::Unwrap => (true, "unwrapping was asked for".to_string(), None),
+            UvPolicy::Auto if report.usable() => {
+                (false, "its own UVs are usable".to_string(), None)
+            }
+            UvPolicy::Auto => (true, format!("its UVs are not usable ({verdict})"), None),
+        };
+        if unwrap && matches!(request.lighting, Lighting::Irradiance(_)) {
+            return Err(object_error(format!(
+                "an irradiance image needs the object's own UVs, but {reason}"
+            )));
+        }
+        let (mesh, source_vertex) = if unwrap {
+            crate::unwrap::unwrap_with_sources(original, resolution, request.margin)
+                .map_err(|e| Error::from(e).in_file(scene.source.clone()))?
+        } else {
+            (original.clone(), Vec::new())
+        };
+        let uvs = mesh.uvs.clone().unwrap_or_default();
+        let surfels = rasterize(&mesh, &uvs, resolution);
+        if surfels.is_empty() {
+            return Err(object_error(format!("covers no texel at {resolution}²")));
+        }
+        let layout = Layout {
+            mesh,
+            uvs,
+            unwrapped: unwrap,
+            source_vertex,
+            surfels,
+        };
+        let decision = UvDecision {
+            verdict,
+            unwrap,
+            reason,
+            warning,
+        };
+        Ok((layout, decision))
+    }
+
+    /// The centre of surfel `s`'s texel in UV space.
+    fn texel_uv(&self, s: usize) -> Vec2 {
+        let n = self.surfels.resolution;
+        let t = self.surfels.texel[s];
+        Vec2::new(
+            ((t % n) as f32 + 0.5) / n as f32,
+            ((t / n) as f32 + 0.5) / n as f32,
+        )
+    }
+}
+
+/// An object ready to integrate: its layout and the light entering it.
+pub struct Prepared {
+    layout: Arc<Layout>,
+    /// Transmitted irradiance per surfel, W/m² (before the colour split);
+    /// empty when the bake needs no light.
     pub irradiance: Vec<[f32; 3]>,
     /// The base colour per surfel (ones without a map).
     pub colour: Vec<[f32; 3]>,
-    /// Empty texels and the texels they copy, for blurs and lookups.
-    pub dilation: Vec<(u32, u32)>,
-    settings: BakeSettings,
+    colour_split: f32,
+    dilation: OnceLock<Vec<(u32, u32)>>,
     seconds: f64,
 }
 
-/// Lays out `object` of `scene`, finds its texels and lights them.
+/// The layout's fields read straight through a prepared object.
+impl std::ops::Deref for Prepared {
+    type Target = Layout;
+
+    fn deref(&self) -> &Layout {
+        &self.layout
+    }
+}
+
+/// Lights object `index` of `scene` laid out as `layout`: the irradiance
+/// entering each texel through a boundary of index `eta`, by the
+/// request's lighting. `lit` false leaves the light out (outputs that need
+/// none).
 pub fn prepare(
     scene: &Scene,
-    object: &str,
-    lighting: Lighting,
-    settings: &BakeSettings,
+    index: usize,
+    layout: Arc<Layout>,
+    request: &BakeRequest,
+    eta: f64,
+    lit: bool,
     control: &Control,
-) -> Result<Prepared, BakeError> {
+) -> Result<Prepared, Error> {
     let start = Instant::now();
-    let index = scene
-        .objects
-        .iter()
-        .position(|o| o.mesh.name == object)
-        .ok_or_else(|| BakeError::Input(format!("{}: no object named `{object}`", scene.source)))?;
-    let original = &scene.objects[index].mesh;
-    let report = analyse_uvs(original, None, settings.resolution);
-    let keep = settings.keep_uvs && original.uvs.is_some();
-    if settings.keep_uvs && !keep {
-        return Err(BakeError::Input(format!(
-            "{}: object `{object}`: has no UVs to bake into",
-            scene.source
-        )));
-    }
-    let unwrapped = !keep && (settings.force_unwrap || !report.usable());
-    let uv_warning = report
-        .problems()
-        .filter(|_| keep && !report.usable())
-        .map(|problems| format!("baked into its UVs as they are: {problems}"));
-    if unwrapped && matches!(lighting, Lighting::Irradiance(_)) {
-        return Err(BakeError::Input(format!(
-            "{}: object `{object}`: an irradiance image needs the object's own UVs, but they are not usable ({})",
-            scene.source,
-            report.verdict()
-        )));
-    }
-    let (mesh, source_vertex) = if unwrapped {
-        crate::unwrap::unwrap_with_sources(original, settings.resolution, settings.padding)
-            .map_err(|e| BakeError::Input(format!("{}: {e}", scene.source)))?
+    let count = layout.surfels.len();
+    let colour: Vec<[f32; 3]> = match &request.base_colour {
+        Some(map) => (0..count).map(|s| map.sample(layout.texel_uv(s))).collect(),
+        None => vec![[1.0; 3]; count],
+    };
+    let irradiance = if !lit {
+        Vec::new()
     } else {
-        (original.clone(), Vec::new())
-    };
-    control.check()?;
-    let uvs = mesh.uvs.clone().unwrap_or_default();
-    let surfels = rasterize(&mesh, &uvs, settings.resolution);
-    if surfels.is_empty() {
-        return Err(BakeError::Input(format!(
-            "{}: object `{object}`: covers no texel at {}²",
-            scene.source, settings.resolution
-        )));
-    }
-    let n = settings.resolution as f32;
-    let texel_uv = |s: usize| {
-        let t = surfels.texel[s];
-        Vec2::new(
-            ((t % settings.resolution) as f32 + 0.5) / n,
-            ((t / settings.resolution) as f32 + 0.5) / n,
-        )
-    };
-    let colour: Vec<[f32; 3]> = match &settings.base_colour {
-        Some(map) => (0..surfels.len())
-            .map(|s| map.sample(texel_uv(s)))
-            .collect(),
-        None => vec![[1.0; 3]; surfels.len()],
-    };
-    let irradiance = match &lighting {
-        Lighting::Irradiance(image) => (0..surfels.len())
-            .map(|s| image.sample(texel_uv(s)))
-            .collect(),
-        Lighting::SceneLights | Lighting::SceneLightsWith { .. } => {
-            let environment = match &lighting {
-                Lighting::SceneLightsWith { environment } => Some(environment),
-                _ => None,
-            };
-            // Every object casts shadows; this one with the UVs it bakes into.
-            let meshes: Vec<&Mesh> = scene
-                .objects
-                .iter()
-                .enumerate()
-                .map(|(i, o)| if i == index { &mesh } else { &o.mesh })
-                .collect();
-            let emitters: Vec<Emitter> = scene
-                .lights
-                .iter()
-                .map(|light| {
-                    let map = matches!(light.kind, LightKind::Environment { .. })
-                        .then(|| environment.cloned())
-                        .flatten();
-                    Emitter::new(light, map)
-                })
-                .collect();
-            transmitted_irradiance(
-                Receivers {
-                    mesh: index as u32,
-                    position: &surfels.position,
-                    normal: &surfels.normal,
-                    triangle: &surfels.triangle,
-                },
-                &emitters,
-                &RayScene::new(&meshes),
-                &EntryTransmittance::new(settings.eta, settings.boundary),
-                &settings.irradiance,
-                control,
-            )?
+        match &request.lighting {
+            Lighting::Irradiance(image) => (0..count)
+                .map(|s| image.sample(layout.texel_uv(s)))
+                .collect(),
+            Lighting::SceneLights | Lighting::SceneLightsWith { .. } => {
+                let environment = match &request.lighting {
+                    Lighting::SceneLightsWith { environment } => Some(environment),
+                    _ => None,
+                };
+                // Every object casts shadows; this one with the UVs it bakes into.
+                let meshes: Vec<&Mesh> = scene
+                    .objects
+                    .iter()
+                    .enumerate()
+                    .map(|(i, o)| if i == index { &layout.mesh } else { &o.mesh })
+                    .collect();
+                let emitters: Vec<Emitter> = scene
+                    .lights
+                    .iter()
+                    .map(|light| {
+                        let map = matches!(light.kind, LightKind::Environment { .. })
+                            .then(|| environment.cloned())
+                            .flatten();
+                        Emitter::new(light, map)
+                    })
+                    .collect();
+                let boundary = request
+                    .roughness
+                    .map_or(Boundary::Smooth, |roughness| Boundary::Rough { roughness });
+                let surfels = &layout.surfels;
+                transmitted_irradiance(
+                    Receivers {
+                        mesh: index as u32,
+                        position: &surfels.position,
+                        normal: &surfels.normal,
+                        triangle: &surfels.triangle,
+                    },
+                    &emitters,
+                    &RayScene::new(&meshes),
+                    &EntryTransmittance::new(eta, boundary),
+                    &IrradianceSettings {
+                        samples: request.light_samples,
+                        shadows: true,
+                    },
+                    control,
+                )?
+            }
         }
     };
-    let dilation = seam_aware_offsets(&mesh, &uvs, &surfels, texture_space::MAX_REACH);
     Ok(Prepared {
-        mesh,
-        uvs,
-        unwrapped,
-        source_vertex,
-        uv_warning,
-        surfels,
+        layout,
         irradiance,
         colour,
-        dilation,
-        settings: settings.clone(),
+        colour_split: request.colour_split.clamp(0.0, 1.0),
+        dilation: OnceLock::new(),
         seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -250,8 +262,6 @@ pub fn prepare(
 pub struct Integration {
     /// Radiant exitance per surfel, W/m² (after the colour split).
     pub exitance: Vec<[f32; 3]>,
-    /// The method that ran, and why.
-    pub choice: Choice,
     /// Seconds spent integrating (not preparing).
     pub seconds: f64,
     /// Sources the 3-D methods gathered from (texels or Turk points).
@@ -259,14 +269,40 @@ pub struct Integration {
 }
 
 impl Prepared {
-    /// Seconds spent preparing.
+    /// Seconds spent lighting.
     pub fn seconds(&self) -> f64 {
         self.seconds
     }
 
+    /// The layout this object was prepared on.
+    pub fn layout(&self) -> &Arc<Layout> {
+        &self.layout
+    }
+
+    /// The texels as targets of the integration.
+    pub fn targets(&self) -> Targets<'_> {
+        Targets {
+            position: &self.surfels.position,
+            normal: &self.surfels.normal,
+        }
+    }
+
+    /// Empty texels near a chart and the covered texels they copy, as far
+    /// as texture-space blurs reach (made on first use).
+    pub fn dilation(&self) -> &[(u32, u32)] {
+        self.dilation.get_or_init(|| {
+            seam_aware_offsets(
+                &self.mesh,
+                &self.uvs,
+                &self.surfels,
+                texture_space::MAX_REACH,
+            )
+        })
+    }
+
     /// The irradiance per surfel with the colour applied before scattering.
-    fn entering(&self) -> Vec<[f32; 3]> {
-        let alpha = self.settings.colour_split.clamp(0.0, 1.0);
+    pub fn entering(&self) -> Vec<[f32; 3]> {
+        let alpha = self.colour_split;
         self.irradiance
             .iter()
             .zip(&self.colour)
@@ -297,24 +333,23 @@ impl Prepared {
         }
     }
 
-    /// Turk points as sources: `multiplier` points per disk of one mean
-    /// free path, relaxed, each carrying the texels of its Voronoi cell.
+    /// `count` relaxed Turk points as sources, each carrying the texels of
+    /// its Voronoi cell.
     pub fn point_sources(
         &self,
-        multiplier: f64,
+        count: usize,
         seed: u64,
         control: &Control,
-    ) -> Result<Sources, BakeError> {
-        let count = point_count(
-            self.mesh.area(),
-            self.settings.mean_free_path_mm,
-            multiplier,
-        );
+    ) -> Result<Sources, Error> {
         let (mut points, mut weights) = place_points(&self.mesh, count, seed);
         relax(&self.mesh, &mut points, &mut weights, 10);
         control.check()?;
         let spacing = (self.mesh.area() / points.position.len().max(1) as f64).sqrt() as f32;
-        Ok(cluster(&self.texel_sources(), &points.position, spacing))
+        Ok(crate::transport::clusters::cluster(
+            &self.texel_sources(),
+            &points.position,
+            spacing,
+        ))
     }
 
     /// The irradiance entering (after the colour split) as a dilated N × N
@@ -325,103 +360,37 @@ impl Prepared {
         for (s, e) in self.entering().into_iter().enumerate() {
             image[self.surfels.texel[s] as usize] = e;
         }
-        for &(to, from) in &self.dilation {
+        for &(to, from) in self.dilation() {
             image[to as usize] = image[from as usize];
         }
         image
     }
 
-    /// Which method `method` means here (auto chooses).
-    pub fn choose(&self, method: Method, kernel: &Kernel) -> Choice {
-        if method != Method::Auto {
-            return Choice {
-                method,
-                reason: "asked for".to_string(),
-            };
-        }
-        let texels = self.surfels.len();
-        let mean_area = self.surfels.total_area() / texels.max(1) as f64;
-        choose(texels, mean_area, kernel.d_max as f64, kernel.transmits())
-    }
-
-    /// Integrates with `method` and applies the colour after scattering.
+    /// Integrates with `integrator` under `scattering` and applies the
+    /// colour after scattering.
     pub fn integrate(
         &self,
-        profile: &dyn Profile,
-        kernel: &Kernel,
-        method: Method,
-        settings: &MethodSettings,
+        scattering: &Scattering,
+        integrator: &dyn Integrator,
         control: &Control,
-    ) -> Result<Integration, BakeError> {
-        let choice = self.choose(method, kernel);
+    ) -> Result<Integration, Error> {
+        if self.irradiance.len() != self.surfels.len() {
+            return Err(Error::input(
+                "the object was prepared without light; nothing to scatter",
+            ));
+        }
         let start = Instant::now();
-        let targets = Targets {
-            position: &self.surfels.position,
-            normal: &self.surfels.normal,
-        };
-        let (mut exitance, sources) = match choice.method {
-            Method::Auto | Method::Brute => {
-                let sources = self.texel_sources();
-                (
-                    brute::integrate(kernel, &sources, targets, control)?,
-                    sources.len(),
-                )
-            }
-            Method::Octree => {
-                // Turk points do not crowd, and their weight sums scatter by
-                // several percent with their spacing: capping them would
-                // darken flat ground to catch folds the texels catch.
-                let sources =
-                    self.point_sources(settings.point_multiplier, settings.seed, control)?;
-                let m =
-                    octree::integrate(kernel, &sources, targets, settings.octree_epsilon, control)?;
-                (m, sources.len())
-            }
-            Method::Texture => {
-                let fit = fit_gaussians(profile, settings.gaussians);
-                let m = texture_space::integrate(
-                    &fit.gaussians,
-                    &self.surfels,
-                    &self.entering(),
-                    &self.dilation,
-                    control,
-                )?;
-                (m, 0)
-            }
-            Method::Importance => {
-                let probes = RayScene::new(&[&self.mesh]);
-                let texture = self.entering_texture();
-                let surface = importance::Surface {
-                    mesh: &self.mesh,
-                    uvs: &self.uvs,
-                    probes: &probes,
-                    irradiance: &texture,
-                    resolution: self.surfels.resolution,
-                };
-                let m = importance::integrate(
-                    kernel,
-                    profile,
-                    &surface,
-                    &self.surfels.position,
-                    &self.surfels.normal,
-                    settings.samples,
-                    settings.seed,
-                    control,
-                )?;
-                (m, 0)
-            }
-        };
-        let alpha = self.settings.colour_split.clamp(0.0, 1.0);
-        for (m, c) in exitance.iter_mut().zip(&self.colour) {
+        let mut integrated = integrator.integrate(self, scattering, control)?;
+        let beta = 1.0 - self.colour_split;
+        for (m, c) in integrated.exitance.iter_mut().zip(&self.colour) {
             for k in 0..3 {
-                m[k] *= c[k].powf(1.0 - alpha);
+                m[k] *= c[k].powf(beta);
             }
         }
         Ok(Integration {
-            exitance,
-            choice,
+            exitance: integrated.exitance,
             seconds: start.elapsed().as_secs_f64(),
-            sources,
+            sources: integrated.sources,
         })
     }
 }

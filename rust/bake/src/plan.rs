@@ -1,58 +1,24 @@
-//! What a bake of a scene will do, and what it leaves out and why.
+//! What a bake of a scene will do, per object, and what it leaves out and
+//! why. The plan is not a description beside the bake: it holds the
+//! layouts and profiles the bake runs, so `sssbake plan` prints exactly
+//! the decisions `sssbake bake` follows.
 
+use crate::error::{Error, InputError};
+use crate::maps::Output;
+use crate::pipeline::{Layout, Lighting};
+use crate::request::BakeRequest;
+use crate::scattering::Scattering;
 use crate::scene::Scene;
-use crate::texels::rasterize;
 use crate::topology::{TopologyReport, topology_report};
-use crate::turk::point_count;
-use crate::uv_analysis::analyse_uvs;
+use crate::transport::Method;
+use crate::transport::choice::{Choice, choose};
+use serde::Serialize;
+use std::fmt;
+use std::sync::Arc;
 use std::time::Instant;
 
-/// What the plan needs to know beyond the scene.
-#[derive(Clone, Debug)]
-pub struct PlanSettings {
-    /// Objects to bake by name; all when empty.
-    pub objects: Vec<String>,
-    /// Texels per side of each object's maps.
-    pub resolution: u32,
-    /// Mean free path of the material, mm (sets the sample-point count).
-    pub mean_free_path_mm: f64,
-    /// Points per mean-free-path disk.
-    pub point_multiplier: f64,
-    /// Unwrap every object, even those whose UVs are usable.
-    pub force_unwrap: bool,
-    /// Texels between charts of an unwrap.
-    pub padding: u32,
-}
-
-/// The plan for one object.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ObjectPlan {
-    /// Object name.
-    pub name: String,
-    /// Triangles with area.
-    pub triangles: usize,
-    /// Surface area, mm².
-    pub area_mm2: f64,
-    /// The surface's shape in words: parts, open edges, non-manifold edges.
-    pub topology: String,
-    /// The UV verdict in words.
-    pub uv_verdict: String,
-    /// Whether the mesh is unwrapped first.
-    pub unwrap: bool,
-    /// Seconds the unwrap took, when there was one.
-    pub unwrap_seconds: Option<f64>,
-    /// Texels the layout (after any unwrap) covers at the resolution.
-    pub texels: usize,
-    /// Surface area those texels stand for, mm².
-    pub texel_area_mm2: f64,
-    /// Sample points for the hierarchical integrator.
-    pub points: usize,
-    /// What the asset's material says, in words.
-    pub material: String,
-}
-
 /// The plan for a scene.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Serialize)]
 pub struct Plan {
     /// Input file.
     pub source: String,
@@ -60,72 +26,314 @@ pub struct Plan {
     pub millimetres_per_unit: f64,
     /// Texels per side.
     pub resolution: u32,
+    /// Texels filled beyond each chart.
+    pub margin: u32,
+    /// The maps asked for.
+    pub outputs: Vec<Output>,
     /// Objects to bake.
     pub objects: Vec<ObjectPlan>,
     /// Lights that light the bake, described.
     pub lights: Vec<String>,
     /// What is left out, each with its reason.
     pub left_out: Vec<String>,
+    /// What the scene reader noticed.
+    pub notes: Vec<String>,
+    /// The request the plan was made for.
+    #[serde(skip)]
+    pub request: BakeRequest,
 }
 
-/// Plans a bake of `scene`.
-pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String> {
-    let selected = scene.select(&settings.objects)?;
-    let mut left_out: Vec<String> = scene
-        .objects
-        .iter()
-        .filter(|o| !selected.iter().any(|s| s.mesh.name == o.mesh.name))
-        .map(|o| format!("object `{}`: not selected", o.mesh.name))
+/// A stage of a bake: whether it runs, and why.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Stage {
+    /// Whether the stage runs.
+    pub run: bool,
+    /// Why it runs or is left out.
+    pub reason: String,
+}
+
+impl Stage {
+    fn new(run: bool, reason: impl Into<String>) -> Self {
+        Stage {
+            run,
+            reason: reason.into(),
+        }
+    }
+}
+
+/// The plan for one object.
+#[derive(Clone, Debug, Serialize)]
+pub struct ObjectPlan {
+    /// Object name.
+    pub name: String,
+    /// A file-name-safe form of the name, unique among the scene's objects.
+    pub file_stem: String,
+    /// Triangles with area.
+    pub triangles: usize,
+    /// Surface area, mm².
+    pub area_mm2: f64,
+    /// The surface's shape in words: parts, open edges, non-manifold edges.
+    pub topology: String,
+    /// What the bake does with the object's UVs.
+    pub uvs: UvPlan,
+    /// Texels the layout covers.
+    pub texels: usize,
+    /// Surface area those texels stand for, mm².
+    pub texel_area_mm2: f64,
+    /// The material and its profile.
+    pub material: MaterialPlan,
+    /// Lighting: the irradiance entering every texel.
+    pub lighting: Stage,
+    /// Scattering: the exitance by the integrator.
+    pub scattering: Stage,
+    /// The integrator, when the bake scatters.
+    pub integrator: Option<IntegratorPlan>,
+    /// Seconds the layout took (UV analysis, unwrap, texels).
+    #[serde(skip)]
+    pub layout_seconds: f64,
+    /// The layout the bake uses.
+    #[serde(skip)]
+    pub layout: Arc<Layout>,
+    /// The profile the bake integrates.
+    #[serde(skip)]
+    pub scattering_profile: Arc<Scattering>,
+}
+
+/// What the bake does with an object's UVs.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct UvPlan {
+    /// The UV analysis in words.
+    pub verdict: String,
+    /// Whether the object is unwrapped with xatlas.
+    pub unwrap: bool,
+    /// Why.
+    pub reason: String,
+    /// What is wrong with UVs baked into although they overlap or stretch.
+    pub warning: Option<String>,
+}
+
+/// An object's material as the bake uses it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MaterialPlan {
+    /// The material's name.
+    pub name: String,
+    /// Where it came from (sidecar, option, asset, default).
+    pub source: String,
+    /// The profile model.
+    pub model: String,
+    /// Index of refraction light enters through.
+    pub ior: f64,
+    /// Radius holding all but the request's share of the reflectance, mm.
+    pub d_max_mm: f32,
+    /// The finest mean free path, mm.
+    pub mean_free_path_mm: f64,
+    /// Whether light crosses thin parts (the profile transmits).
+    pub transmits: bool,
+}
+
+/// The integrator a bake runs for an object.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct IntegratorPlan {
+    /// The method.
+    pub method: Method,
+    /// Why.
+    pub reason: String,
+    /// Turk points, for the octree.
+    pub points: Option<usize>,
+}
+
+/// Plans a bake of `scene` as `request` asks.
+pub fn plan(scene: &Scene, request: &BakeRequest) -> Result<Plan, Error> {
+    let mut request = request.clone();
+    request.validate()?;
+    let selected: Vec<usize> = if request.objects.is_empty() {
+        (0..scene.objects.len()).collect()
+    } else {
+        scene
+            .select(&request.objects)
+            .map_err(Error::input)?
+            .iter()
+            .filter_map(|o| {
+                scene
+                    .objects
+                    .iter()
+                    .position(|s| s.mesh.name == o.mesh.name)
+            })
+            .collect()
+    };
+    if selected.is_empty() {
+        return Err(Error::Input(InputError {
+            file: Some(scene.source.clone()),
+            message: "has no object to bake".into(),
+            ..InputError::default()
+        }));
+    }
+    let names: Vec<&str> = scene.objects.iter().map(|o| o.mesh.name.as_str()).collect();
+    if let Some(sidecar) = &request.materials.sidecar {
+        sidecar.check_objects(&names)?;
+    }
+    let stems = file_stems(&names);
+    let mut left_out: Vec<String> = (0..scene.objects.len())
+        .filter(|i| !selected.contains(i))
+        .map(|i| format!("object `{}`: not selected", names[i]))
         .collect();
-    left_out.extend(scene.notes.iter().cloned());
+    let lights = describe_lights(scene, &mut left_out);
     let objects = selected
         .iter()
-        .map(|object| {
-            let mesh = &object.mesh;
-            let report = analyse_uvs(mesh, None, settings.resolution);
-            let shape = topology_report(mesh);
-            let unwrap = settings.force_unwrap || !report.usable();
-            let mut unwrap_seconds = None;
-            let unwrapped;
-            let layout = if unwrap {
-                let start = Instant::now();
-                unwrapped = crate::unwrap::unwrap(mesh, settings.resolution, settings.padding)
-                    .map_err(|e| e.to_string())?;
-                unwrap_seconds = Some(start.elapsed().as_secs_f64());
-                &unwrapped
-            } else {
-                mesh
-            };
-            let uvs = layout.uvs.as_deref().unwrap_or_default();
-            let surfels = rasterize(layout, uvs, settings.resolution);
-            let (texels, texel_area_mm2) = (surfels.len(), surfels.total_area());
-            let material = match &object.material {
-                None => "none".to_string(),
-                Some(m) if let Some(s) = &m.subsurface => {
-                    format!("`{}`, subsurface from {}", m.name, s.from)
-                }
-                Some(m) if m.is_translucent() => format!("`{}`, translucent", m.name),
-                Some(m) => format!("`{}`, opaque in the asset", m.name),
-            };
-            Ok(ObjectPlan {
-                name: mesh.name.clone(),
-                triangles: mesh.triangles.len(),
-                area_mm2: mesh.area(),
-                topology: describe(&shape),
-                uv_verdict: report.verdict(),
-                unwrap,
-                unwrap_seconds,
-                texels,
-                texel_area_mm2,
-                points: point_count(
-                    mesh.area(),
-                    settings.mean_free_path_mm,
-                    settings.point_multiplier,
+        .map(|&index| plan_object(scene, index, &stems[index], &request))
+        .collect::<Result<Vec<_>, Error>>()?;
+    if !request.lights() {
+        left_out.push(format!(
+            "lighting and scattering: the outputs ({}) need neither",
+            output_names(&request.outputs)
+        ));
+    } else if !request.scatters() {
+        left_out.push(format!(
+            "scattering: the outputs ({}) do not need it",
+            output_names(&request.outputs)
+        ));
+    }
+    Ok(Plan {
+        source: scene.source.clone(),
+        millimetres_per_unit: scene.millimetres_per_unit,
+        resolution: request.resolution,
+        margin: request.margin,
+        outputs: request.outputs.clone(),
+        objects,
+        lights,
+        left_out,
+        notes: scene.notes.clone(),
+        request,
+    })
+}
+
+fn output_names(outputs: &[Output]) -> String {
+    outputs
+        .iter()
+        .map(|o| o.name())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn plan_object(
+    scene: &Scene,
+    index: usize,
+    file_stem: &str,
+    request: &BakeRequest,
+) -> Result<ObjectPlan, Error> {
+    let object = &scene.objects[index];
+    let name = object.mesh.name.clone();
+    let sourced = request.materials.resolve(object, &scene.source)?;
+    let source = sourced.source;
+    let scattering = Scattering::new(
+        sourced.material,
+        request.model,
+        request.integrators.texture.gaussians,
+        request.d_max_epsilon,
+    )
+    .map_err(|e| e.for_object(name.clone()))?;
+    let start = Instant::now();
+    let (layout, uvs) = Layout::new(scene, index, request)?;
+    let layout_seconds = start.elapsed().as_secs_f64();
+    let texels = layout.surfels.len();
+    let texel_area_mm2 = layout.surfels.total_area();
+    let material = MaterialPlan {
+        name: scattering.material.name.clone(),
+        source,
+        model: scattering.model.name().to_string(),
+        ior: scattering.entry_index(),
+        d_max_mm: scattering.kernel.d_max,
+        mean_free_path_mm: scattering.material.finest_mean_free_path_mm(),
+        transmits: scattering.kernel.transmits(),
+    };
+    let lighting = if !request.lights() {
+        Stage::new(false, "no output needs light")
+    } else {
+        match &request.lighting {
+            Lighting::Irradiance(_) => Stage::new(true, "read from the irradiance image"),
+            _ if scene.lights.is_empty() => {
+                Stage::new(true, "the scene has no lights: the maps are black")
+            }
+            _ => Stage::new(
+                true,
+                format!(
+                    "{} lights, shadowed by every object of the scene",
+                    scene.lights.len()
                 ),
-                material,
-            })
-        })
-        .collect::<Result<Vec<_>, String>>()?;
+            ),
+        }
+    };
+    let (scattering_stage, integrator) = if request.scatters() {
+        let choice = choose_integrator(request.method, texels, texel_area_mm2, &scattering);
+        let points = (choice.method == Method::Octree).then(|| {
+            request.integrators.octree.point_count(
+                layout.mesh.area(),
+                material.mean_free_path_mm,
+                texels,
+            )
+        });
+        let plan = IntegratorPlan {
+            method: choice.method,
+            reason: choice.reason,
+            points,
+        };
+        (
+            Stage::new(true, "the subsurface or diffuse map"),
+            Some(plan),
+        )
+    } else {
+        (Stage::new(false, "no output needs the exitance"), None)
+    };
+    Ok(ObjectPlan {
+        name,
+        file_stem: file_stem.to_string(),
+        triangles: object.mesh.triangles.len(),
+        area_mm2: object.mesh.area(),
+        topology: describe(&topology_report(&object.mesh)),
+        uvs: UvPlan {
+            verdict: uvs.verdict,
+            unwrap: uvs.unwrap,
+            reason: uvs.reason,
+            warning: uvs.warning,
+        },
+        texels,
+        texel_area_mm2,
+        material,
+        lighting,
+        scattering: scattering_stage,
+        integrator,
+        layout_seconds,
+        layout: Arc::new(layout),
+        scattering_profile: Arc::new(scattering),
+    })
+}
+
+/// `method` itself, or for `auto` the method that suits the texels and
+/// the profile, with the reason.
+fn choose_integrator(
+    method: Method,
+    texels: usize,
+    texel_area_mm2: f64,
+    scattering: &Scattering,
+) -> Choice {
+    if method != Method::Auto {
+        return Choice {
+            method,
+            reason: "asked for".to_string(),
+        };
+    }
+    let mean_area = texel_area_mm2 / texels.max(1) as f64;
+    choose(
+        texels,
+        mean_area,
+        f64::from(scattering.kernel.d_max),
+        scattering.kernel.transmits(),
+    )
+}
+
+/// The lights that give light, described; those that give none go to
+/// `left_out`.
+fn describe_lights(scene: &Scene, left_out: &mut Vec<String>) -> Vec<String> {
     let mut lights = Vec::new();
     for light in &scene.lights {
         let power = light.intensity * light.color.iter().sum::<f32>();
@@ -133,23 +341,43 @@ pub fn make_plan(scene: &Scene, settings: &PlanSettings) -> Result<Plan, String>
             left_out.push(format!("light `{}`: gives no light", light.name));
             continue;
         }
-        let kind = light.kind.name();
         lights.push(format!(
-            "`{}`: {kind}, intensity {}",
-            light.name, light.intensity
+            "`{}`: {}, intensity {}",
+            light.name,
+            light.kind.name(),
+            light.intensity
         ));
     }
-    if lights.is_empty() {
-        left_out.push("shadows and light transport: the scene has no lights (irradiance must come from an image)".into());
-    }
-    Ok(Plan {
-        source: scene.source.clone(),
-        millimetres_per_unit: scene.millimetres_per_unit,
-        resolution: settings.resolution,
-        objects,
-        lights,
-        left_out,
-    })
+    lights
+}
+
+/// A file-name-safe form of each name: characters outside letters, digits
+/// and `-_.` become `_`, and names that then coincide (ignoring case, as
+/// some file systems do) get `-2`, `-3`, … in order.
+pub fn file_stems(names: &[&str]) -> Vec<String> {
+    let mut taken = std::collections::HashSet::new();
+    names
+        .iter()
+        .map(|name| {
+            let safe: String = name
+                .chars()
+                .map(|c| {
+                    if c.is_alphanumeric() || "-_.".contains(c) {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect();
+            let mut stem = safe.clone();
+            let mut n = 1;
+            while !taken.insert(stem.to_lowercase()) {
+                n += 1;
+                stem = format!("{safe}-{n}");
+            }
+            stem
+        })
+        .collect()
 }
 
 /// "1 part, closed", or the parts and the edges that are open or shared by
@@ -174,4 +402,85 @@ fn describe(shape: &TopologyReport) -> String {
         ));
     }
     words.join(", ")
+}
+
+impl fmt::Display for Plan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "scene {}: {} mm per unit, maps of {}² texels ({}), margin {}",
+            self.source,
+            self.millimetres_per_unit,
+            self.resolution,
+            output_names(&self.outputs),
+            self.margin
+        )?;
+        for o in &self.objects {
+            o.fmt_decisions(f)?;
+        }
+        let lights = if self.lights.is_empty() {
+            "none".to_string()
+        } else {
+            self.lights.join("; ")
+        };
+        writeln!(f, "lights: {lights}")?;
+        for note in &self.notes {
+            writeln!(f, "note: {note}")?;
+        }
+        for reason in &self.left_out {
+            writeln!(f, "leaves out {reason}")?;
+        }
+        Ok(())
+    }
+}
+
+impl ObjectPlan {
+    /// The decisions in words, a few lines.
+    pub fn fmt_decisions(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "object `{}`: {} triangles, {:.1} mm², {}",
+            self.name, self.triangles, self.area_mm2, self.topology
+        )?;
+        let unwrap = if self.uvs.unwrap { "unwrap" } else { "keep" };
+        writeln!(
+            f,
+            "  UVs: {}; {unwrap}: {}",
+            self.uvs.verdict, self.uvs.reason
+        )?;
+        if let Some(warning) = &self.uvs.warning {
+            writeln!(f, "  warning: {warning}")?;
+        }
+        writeln!(
+            f,
+            "  texels: {} covering {:.1} mm²",
+            self.texels, self.texel_area_mm2
+        )?;
+        let m = &self.material;
+        writeln!(
+            f,
+            "  material `{}` ({}): {}, η {}, ℓ {:.3} mm, d_max {:.3} mm{}",
+            m.name,
+            m.source,
+            m.model,
+            m.ior,
+            m.mean_free_path_mm,
+            m.d_max_mm,
+            if m.transmits { ", transmits" } else { "" }
+        )?;
+        let stage = |s: &Stage| if s.run { "yes" } else { "no" };
+        writeln!(
+            f,
+            "  lighting: {}, {}",
+            stage(&self.lighting),
+            self.lighting.reason
+        )?;
+        match &self.integrator {
+            Some(i) => {
+                let points = i.points.map_or(String::new(), |p| format!(", {p} points"));
+                writeln!(f, "  scattering: {}{points}: {}", i.method, i.reason)
+            }
+            None => writeln!(f, "  scattering: no, {}", self.scattering.reason),
+        }
+    }
 }

@@ -226,7 +226,7 @@ fn an_environment_gives_pi_times_its_radiance_through_fresnel() {
 #[test]
 fn a_lit_sphere_follows_the_cosine_law_without_shadow_acne() {
     let scene = scene(vec![sphere(10.0, 48, 96)], vec![sun_from(Vec3::NEG_Z)]);
-    let prepared = prepared(&scene, "sphere", 128, 1.0);
+    let prepared = prepared(&scene, "sphere", 128);
     let mut checked = 0;
     for (s, e) in prepared.irradiance.iter().enumerate() {
         let cos = prepared.surfels.normal[s].z as f64;

@@ -6,12 +6,15 @@ mod shapes;
 
 use glam::Vec3;
 use sssbake::control::Control;
-use sssbake::pipeline::{BakeSettings, Lighting, Prepared, prepare};
-use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
+use sssbake::materials::MaterialAssignment;
+use sssbake::pipeline::{Prepared, prepare};
+use sssbake::scattering::{D_MAX_EPSILON, Scattering};
+use sssbake::transport::Method;
+use sssbake::transport::integrator::IntegratorSettings;
+use sssbake::{BakeRequest, Error, Light, LightKind, Mesh, Scene, SceneObject, plan};
 use sssbake_profile::material::Material;
-use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::model::Model;
 use sssbake_profile::presets::preset;
-use sssbake_profile::profile::Profile;
 
 #[allow(unused_imports)]
 pub use shapes::{quad, sphere};
@@ -57,27 +60,80 @@ pub fn scene(meshes: Vec<Mesh>, lights: Vec<Light>) -> Scene {
     }
 }
 
-/// The profile of preset `name` by `model`.
-pub fn profile_of(name: &str, model: Model) -> Box<dyn Profile> {
-    let material: Material = preset(name).unwrap();
-    build_profile(&material, model, 6).unwrap()
+/// The profile of preset `name` by `model`, with its kernel.
+pub fn scattering_of(name: &str, model: Model) -> Scattering {
+    scattering_for(&preset(name).unwrap(), model)
+}
+
+/// The profile of `material` by `model`, with its kernel.
+pub fn scattering_for(material: &Material, model: Model) -> Scattering {
+    Scattering::new(material.clone(), Some(model), 6, D_MAX_EPSILON).unwrap()
+}
+
+/// A request for `resolution`² maps of skin1.
+pub fn request(resolution: u32) -> BakeRequest {
+    BakeRequest {
+        resolution,
+        materials: MaterialAssignment::everywhere(preset("skin1").unwrap(), "test"),
+        ..BakeRequest::default()
+    }
+}
+
+/// Plans `request` for object `object` alone and lights it under `control`.
+pub fn prepare_with(
+    scene: &Scene,
+    object: &str,
+    request: &BakeRequest,
+    control: &Control,
+) -> Result<Prepared, Error> {
+    let request = BakeRequest {
+        objects: vec![object.to_string()],
+        ..request.clone()
+    };
+    let plan = plan(scene, &request)?;
+    let planned = &plan.objects[0];
+    let index = scene
+        .objects
+        .iter()
+        .position(|o| o.mesh.name == object)
+        .unwrap();
+    prepare(
+        scene,
+        index,
+        planned.layout.clone(),
+        &plan.request,
+        planned.scattering_profile.entry_index(),
+        true,
+        control,
+    )
 }
 
 /// Prepares object `object` of `scene` at `resolution`² lit by its lights.
-pub fn prepared(scene: &Scene, object: &str, resolution: u32, mean_free_path_mm: f64) -> Prepared {
-    let settings = BakeSettings {
-        resolution,
-        mean_free_path_mm,
-        ..BakeSettings::default()
-    };
-    prepare(
-        scene,
-        object,
-        Lighting::SceneLights,
-        &settings,
-        &Control::new(),
-    )
-    .unwrap()
+pub fn prepared(scene: &Scene, object: &str, resolution: u32) -> Prepared {
+    prepare_with(scene, object, &request(resolution), &Control::new()).unwrap()
+}
+
+/// The exitance of `prepared` by `method` with `settings`.
+pub fn exitance(
+    prepared: &Prepared,
+    scattering: &Scattering,
+    method: Method,
+    settings: &IntegratorSettings,
+) -> Vec<[f32; 3]> {
+    prepared
+        .integrate(scattering, settings.get(method), &Control::new())
+        .unwrap()
+        .exitance
+}
+
+/// Integrator settings with `samples` importance probes, `gaussians` and
+/// `seed`.
+pub fn with(samples: u32, gaussians: usize, seed: u64) -> IntegratorSettings {
+    let mut settings = IntegratorSettings::default();
+    settings.importance.samples = samples;
+    settings.texture.gaussians = gaussians;
+    settings.seed(seed);
+    settings
 }
 
 /// Indices of surfels at least `margin` mm inside a centred square of

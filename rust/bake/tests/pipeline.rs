@@ -8,11 +8,12 @@ use lit_scenes::*;
 use sssbake::Mesh;
 use sssbake::control::Control;
 use sssbake::image::Image;
-use sssbake::pipeline::{BakeError, BakeSettings, Lighting, prepare};
-use sssbake::transport::kernel::Kernel;
-use sssbake::transport::{Method, MethodSettings};
+use sssbake::materials::MaterialAssignment;
+use sssbake::transport::Method;
+use sssbake::transport::integrator::IntegratorSettings;
+use sssbake::{BakeRequest, Error, Lighting, Output, bake, plan};
 use sssbake_profile::material::{Layer, Material, Optics};
-use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::model::Model;
 
 /// Two 80 mm squares `gap` mm apart, back to back (top faces +Z, bottom
 /// faces −Z), in one object; the top in the left half of the UVs.
@@ -62,10 +63,10 @@ fn slab(thickness_mm: f64) -> Material {
 fn light_crosses_a_thin_sheet_in_the_3d_integrators_only() {
     let scene = scene(vec![sheet(1.0)], vec![sun_from(Vec3::NEG_Z)]);
     let material = slab(1.0);
-    let profile = build_profile(&material, Model::default_for(&material), 6).unwrap();
+    let thin = scattering_for(&material, Model::default_for(&material));
+    let profile = &thin.profile;
     assert!(profile.total_transmittance()[0] > 0.1);
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
-    let prepared = prepared(&scene, "sheet", 192, 1.0);
+    let prepared = prepared(&scene, "sheet", 192);
     let centre_below: Vec<usize> = (0..prepared.surfels.len())
         .filter(|&s| {
             let p = prepared.surfels.position[s];
@@ -80,20 +81,7 @@ fn light_crosses_a_thin_sheet_in_the_3d_integrators_only() {
     );
     let lit = prepared.irradiance.iter().map(|e| e[0]).fold(0.0, f32::max) as f64;
     for method in Method::ALL {
-        let settings = MethodSettings {
-            samples: 256,
-            ..MethodSettings::default()
-        };
-        let m = prepared
-            .integrate(
-                profile.as_ref(),
-                &kernel,
-                method,
-                &settings,
-                &Control::new(),
-            )
-            .unwrap()
-            .exitance;
+        let m = exitance(&prepared, &thin, method, &with(256, 6, 1));
         let below: f64 =
             centre_below.iter().map(|&s| m[s][0] as f64).sum::<f64>() / centre_below.len() as f64;
         let expected = lit * profile.total_transmittance()[0];
@@ -115,8 +103,7 @@ fn a_base_colour_splits_before_and_after_scattering() {
         vec![centred_square(60.0, "square")],
         vec![sun_from(Vec3::NEG_Z)],
     );
-    let profile = profile_of("skin1", Model::Dipole);
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
+    let skin = scattering_of("skin1", Model::Dipole);
     // Left half red-ish, right half white.
     let (w, h) = (64, 64);
     let texels = (0..w * h)
@@ -130,30 +117,18 @@ fn a_base_colour_splits_before_and_after_scattering() {
         .collect();
     let colour = Image::new(w, h, texels).unwrap();
     let run = |alpha: f32, colour: Option<Image>| {
-        let settings = BakeSettings {
-            resolution: 128,
+        let request = BakeRequest {
             base_colour: colour,
             colour_split: alpha,
-            ..BakeSettings::default()
+            ..request(128)
         };
-        let prepared = prepare(
-            &scene,
-            "square",
-            Lighting::SceneLights,
-            &settings,
-            &Control::new(),
-        )
-        .unwrap();
-        let m = prepared
-            .integrate(
-                profile.as_ref(),
-                &kernel,
-                Method::Brute,
-                &MethodSettings::default(),
-                &Control::new(),
-            )
-            .unwrap()
-            .exitance;
+        let prepared = prepare_with(&scene, "square", &request, &Control::new()).unwrap();
+        let m = exitance(
+            &prepared,
+            &skin,
+            Method::Brute,
+            &IntegratorSettings::default(),
+        );
         (prepared, m)
     };
     let (plain_prep, plain) = run(0.5, None);
@@ -198,18 +173,11 @@ fn an_irradiance_image_replaces_the_lights() {
         vec![sun_from(Vec3::NEG_Z)],
     );
     let image = Image::new(4, 4, vec![[2.0, 1.0, 0.5]; 16]).unwrap();
-    let settings = BakeSettings {
-        resolution: 64,
-        ..BakeSettings::default()
+    let request = BakeRequest {
+        lighting: Lighting::Irradiance(image),
+        ..request(64)
     };
-    let prepared = prepare(
-        &scene,
-        "square",
-        Lighting::Irradiance(image),
-        &settings,
-        &Control::new(),
-    )
-    .unwrap();
+    let prepared = prepare_with(&scene, "square", &request, &Control::new()).unwrap();
     assert!(prepared.irradiance.iter().all(|e| *e == [2.0, 1.0, 0.5]));
 }
 
@@ -221,35 +189,19 @@ fn a_cancelled_bake_stops_with_cancelled() {
     );
     let control = Control::new();
     control.cancel();
-    let settings = BakeSettings {
-        resolution: 64,
-        ..BakeSettings::default()
-    };
-    let result = prepare(&scene, "square", Lighting::SceneLights, &settings, &control);
-    assert!(matches!(result, Err(BakeError::Cancelled(_))));
-    let prepared = prepared(&scene, "square", 64, 1.0);
-    let profile = profile_of("skin1", Model::Dipole);
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
+    let result = prepare_with(&scene, "square", &request(64), &control);
+    assert!(matches!(result, Err(Error::Cancelled)));
+    let prepared = prepared(&scene, "square", 64);
+    let skin = scattering_of("skin1", Model::Dipole);
+    let settings = IntegratorSettings::default();
     for method in Method::ALL {
-        let result = prepared.integrate(
-            profile.as_ref(),
-            &kernel,
-            method,
-            &MethodSettings::default(),
-            &control,
-        );
-        assert!(matches!(result, Err(BakeError::Cancelled(_))), "{method}");
+        let result = prepared.integrate(&skin, settings.get(method), &control);
+        assert!(matches!(result, Err(Error::Cancelled)), "{method}");
     }
     // Progress reaches one when nothing stops it.
     let fresh = Control::new();
     prepared
-        .integrate(
-            profile.as_ref(),
-            &kernel,
-            Method::Brute,
-            &MethodSettings::default(),
-            &fresh,
-        )
+        .integrate(&skin, settings.get(Method::Brute), &fresh)
         .unwrap();
     assert!((fresh.fraction() - 1.0).abs() < 1e-9);
 }
@@ -260,20 +212,130 @@ fn auto_says_what_it_chose_and_why() {
         vec![centred_square(60.0, "square")],
         vec![sun_from(Vec3::NEG_Z)],
     );
-    let profile = profile_of("skin1", Model::Dipole);
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
-    let small = prepared(&scene, "square", 32, 1.0);
-    let choice = small.choose(Method::Auto, &kernel);
-    assert_eq!(choice.method, Method::Brute, "{}", choice.reason);
-    let large = prepared(&scene, "square", 1024, 1.0);
-    let choice = large.choose(Method::Auto, &kernel);
-    assert_eq!(choice.method, Method::Texture, "{}", choice.reason);
-    assert!(choice.reason.contains("texels"));
-    let thin = build_profile(&slab(1.0), Model::Multipole, 6).unwrap();
-    let choice = large.choose(Method::Auto, &Kernel::new(thin.as_ref(), 1e-3));
-    assert_eq!(choice.method, Method::Octree, "{}", choice.reason);
+    let chosen = |resolution: u32, material: Material, method: Method| {
+        let request = BakeRequest {
+            materials: MaterialAssignment::everywhere(material, "test"),
+            method,
+            ..request(resolution)
+        };
+        plan(&scene, &request).unwrap().objects[0]
+            .integrator
+            .clone()
+            .unwrap()
+    };
+    let skin1 = sssbake_profile::presets::preset("skin1").unwrap();
+    let small = chosen(32, skin1.clone(), Method::Auto);
+    assert_eq!(small.method, Method::Brute, "{}", small.reason);
+    let large = chosen(1024, skin1.clone(), Method::Auto);
+    assert_eq!(large.method, Method::Texture, "{}", large.reason);
+    assert!(large.reason.contains("texels"));
+    let thin = chosen(1024, slab(1.0), Method::Auto);
+    assert_eq!(thin.method, Method::Octree, "{}", thin.reason);
+    assert!(thin.points.is_some_and(|p| p > 0));
     assert_eq!(
-        large.choose(Method::Importance, &kernel).method,
+        chosen(1024, skin1, Method::Importance).method,
         Method::Importance
     );
+}
+
+#[test]
+fn a_bake_computes_only_what_its_outputs_need() {
+    let scene = scene(
+        vec![centred_square(60.0, "square")],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let bake_of = |outputs: Vec<Output>| {
+        let request = BakeRequest {
+            outputs,
+            ..request(64)
+        };
+        let plan = plan(&scene, &request).unwrap();
+        let (mut objects, summary) = bake(&scene, &plan, &Control::new()).unwrap();
+        (objects.remove(0), summary)
+    };
+    // The irradiance alone is lit but never scattered.
+    let (lit, summary) = bake_of(vec![Output::Irradiance]);
+    assert!(lit.exitance.is_empty());
+    assert_eq!(lit.prepared.irradiance.len(), lit.prepared.surfels.len());
+    assert!(summary.objects[0].plan.integrator.is_none());
+    assert!(!summary.objects[0].plan.scattering.run);
+    assert!(lit.render(Output::Irradiance).is_ok());
+    assert!(lit.render(Output::Subsurface).is_err());
+    // Area and stretch need neither light nor scattering.
+    let (shape, summary) = bake_of(vec![Output::Area, Output::Stretch]);
+    assert!(shape.prepared.irradiance.is_empty() && shape.exitance.is_empty());
+    assert!(!summary.objects[0].plan.lighting.run);
+    assert!(summary.left_out.iter().any(|r| r.contains("need neither")));
+    let area = shape.render(Output::Area).unwrap();
+    let total: f64 = area.texels.iter().map(|t| t[0] as f64).sum();
+    assert!(total > 0.0);
+    // The subsurface map runs everything.
+    let (full, summary) = bake_of(vec![Output::Subsurface]);
+    assert_eq!(full.exitance.len(), full.prepared.surfels.len());
+    assert!(summary.objects[0].plan.integrator.is_some());
+}
+
+#[test]
+fn the_plan_is_what_the_bake_runs() {
+    let scene = scene(
+        vec![centred_square(60.0, "square"), sheet(1.0)],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let request = BakeRequest {
+        method: Method::Auto,
+        ..request(96)
+    };
+    let plan = plan(&scene, &request).unwrap();
+    let (_, summary) = bake(&scene, &plan, &Control::new()).unwrap();
+    let decisions = |value: serde_json::Value| -> Vec<serde_json::Value> {
+        value["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|o| {
+                let mut o = o.clone();
+                let map = o.as_object_mut().unwrap();
+                map.remove("seconds");
+                map.remove("sources");
+                o
+            })
+            .collect()
+    };
+    assert_eq!(
+        decisions(serde_json::to_value(&plan).unwrap()),
+        decisions(serde_json::to_value(&summary).unwrap())
+    );
+}
+
+#[test]
+fn a_request_out_of_range_names_its_setting() {
+    let scene = scene(
+        vec![centred_square(60.0, "square")],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let mut gaussians = request(64);
+    gaussians.integrators.texture.gaussians = 0;
+    for (request, field) in [
+        (request(0), "resolution"),
+        (
+            BakeRequest {
+                outputs: vec![],
+                ..request(64)
+            },
+            "outputs",
+        ),
+        (
+            BakeRequest {
+                colour_split: 2.0,
+                ..request(64)
+            },
+            "colour_split",
+        ),
+        (gaussians, "texture.gaussians"),
+    ] {
+        match plan(&scene, &request) {
+            Err(Error::Setting { field: named, .. }) => assert_eq!(named, field),
+            other => panic!("{field}: {:?}", other.map(|p| p.objects.len())),
+        }
+    }
 }

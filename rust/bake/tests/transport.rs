@@ -6,30 +6,12 @@ use glam::Vec3;
 use lit_scenes::*;
 use sssbake::control::Control;
 use sssbake::pipeline::Prepared;
-use sssbake::transport::kernel::Kernel;
-use sssbake::transport::sources::Targets;
-use sssbake::transport::{Method, MethodSettings, brute, octree};
+use sssbake::transport::integrator::IntegratorSettings;
+use sssbake::transport::{Method, brute, octree};
+use sssbake::turk::point_count;
 use sssbake_profile::material::{Layer, Material, Optics};
-use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::model::Model;
 use sssbake_profile::profile::Profile;
-
-fn run(
-    prepared: &Prepared,
-    profile: &dyn Profile,
-    kernel: &Kernel,
-    method: Method,
-) -> Vec<[f32; 3]> {
-    prepared
-        .integrate(
-            profile,
-            kernel,
-            method,
-            &MethodSettings::default(),
-            &Control::new(),
-        )
-        .unwrap()
-        .exitance
-}
 
 /// Mean of exitance over transmitted irradiance on `texels`, per channel.
 fn mean_ratio(prepared: &Prepared, exitance: &[[f32; 3]], texels: &[usize]) -> [f64; 3] {
@@ -48,9 +30,9 @@ fn a_flat_lit_square_returns_the_total_reflectance() {
         vec![centred_square(120.0, "square")],
         vec![sun_from(Vec3::NEG_Z)],
     );
-    let profile = profile_of("skin1", Model::Dipole);
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
-    let prepared = prepared(&scene, "square", 256, 0.67);
+    let skin = scattering_of("skin1", Model::Dipole);
+    let (profile, kernel) = (&skin.profile, &skin.kernel);
+    let prepared = prepared(&scene, "square", 256);
     let inside = interior(&prepared, 60.0, kernel.d_max);
     assert!(
         inside.len() > 1000,
@@ -65,7 +47,7 @@ fn a_flat_lit_square_returns_the_total_reflectance() {
         (Method::Texture, 0.03),
         (Method::Importance, 0.03),
     ] {
-        let exitance = run(&prepared, profile.as_ref(), &kernel, method);
+        let exitance = exitance(&prepared, &skin, method, &IntegratorSettings::default());
         assert!(
             exitance
                 .iter()
@@ -121,9 +103,9 @@ fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
         vec![centred_square(120.0, "square"), blocker],
         vec![sun_from(Vec3::NEG_Z)],
     );
-    let profile = profile_of("skin1", Model::Dipole);
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
-    let prepared = prepared(&scene, "square", 256, 0.67);
+    let skin = scattering_of("skin1", Model::Dipole);
+    let (profile, kernel) = (&skin.profile, &skin.kernel);
+    let prepared = prepared(&scene, "square", 256);
     let lit = prepared.irradiance.iter().map(|e| e[1]).fold(0.0, f32::max) as f64;
     let band: Vec<usize> = (0..prepared.surfels.len())
         .filter(|&s| {
@@ -141,20 +123,7 @@ fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
         (Method::Importance, 0.04),
     ] {
         // Enough probes that Monte Carlo noise sits well inside the bound.
-        let settings = MethodSettings {
-            samples: 256,
-            ..MethodSettings::default()
-        };
-        let exitance = prepared
-            .integrate(
-                profile.as_ref(),
-                &kernel,
-                method,
-                &settings,
-                &Control::new(),
-            )
-            .unwrap()
-            .exitance;
+        let exitance = exitance(&prepared, &skin, method, &with(256, 6, 1));
         // Average each column of the band (same x) to tame Monte Carlo noise.
         let mut columns: std::collections::BTreeMap<i32, (f64, [f64; 3], usize)> =
             Default::default();
@@ -186,19 +155,17 @@ fn the_octree_converges_to_the_exact_sum_as_epsilon_shrinks() {
         vec![sphere(20.0, 48, 96)],
         vec![sun_from(Vec3::new(-1.0, -0.3, -0.2))],
     );
-    let profile = profile_of("skin1", Model::Dipole);
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
-    let prepared = prepared(&scene, "sphere", 128, 0.67);
-    let sources = prepared.point_sources(2.0, 7, &Control::new()).unwrap();
-    let targets = Targets {
-        position: &prepared.surfels.position,
-        normal: &prepared.surfels.normal,
-    };
-    let exact = brute::integrate(&kernel, &sources, targets, &Control::new()).unwrap();
+    let skin = scattering_of("skin1", Model::Dipole);
+    let kernel = &skin.kernel;
+    let prepared = prepared(&scene, "sphere", 128);
+    let count = point_count(prepared.mesh.area(), 0.67, 2.0);
+    let sources = prepared.point_sources(count, 7, &Control::new()).unwrap();
+    let targets = prepared.targets();
+    let exact = brute::integrate(kernel, &sources, targets, &Control::new()).unwrap();
     let scale: f64 = exact.iter().map(|m| m[0] as f64).sum::<f64>() / exact.len() as f64;
     let mut previous = f64::INFINITY;
     for epsilon in [0.5f32, 0.2, 0.05, 0.01, 0.0] {
-        let tree = octree::integrate(&kernel, &sources, targets, epsilon, &Control::new()).unwrap();
+        let tree = octree::integrate(kernel, &sources, targets, epsilon, &Control::new()).unwrap();
         let squares: f64 = tree
             .iter()
             .zip(&exact)
@@ -224,30 +191,16 @@ fn the_importance_estimator_is_unbiased() {
         vec![centred_square(120.0, "square")],
         vec![sun_from(Vec3::NEG_Z)],
     );
-    let profile = profile_of("skin1", Model::Dipole);
-    let kernel = Kernel::new(profile.as_ref(), 1e-3);
-    let prepared = prepared(&scene, "square", 64, 0.67);
+    let skin = scattering_of("skin1", Model::Dipole);
+    let kernel = &skin.kernel;
+    let prepared = prepared(&scene, "square", 64);
     let centre: Vec<usize> = interior(&prepared, 60.0, 54.0);
     assert!(!centre.is_empty());
     let expected = kernel.enclosed(kernel.d_max);
     let seeds = 48;
     let per_seed: Vec<[f64; 3]> = (0..seeds)
         .map(|seed| {
-            let settings = MethodSettings {
-                samples: 4,
-                seed,
-                ..MethodSettings::default()
-            };
-            let m = prepared
-                .integrate(
-                    profile.as_ref(),
-                    &kernel,
-                    Method::Importance,
-                    &settings,
-                    &Control::new(),
-                )
-                .unwrap()
-                .exitance;
+            let m = exitance(&prepared, &skin, Method::Importance, &with(4, 6, seed));
             mean_ratio(&prepared, &m, &centre)
         })
         .collect();
@@ -295,7 +248,7 @@ fn no_integrator_creates_energy() {
         vec![sphere(10.0, 24, 48)],
         vec![sun_from(Vec3::new(0.3, -1.0, -0.5))],
     );
-    let prepared = prepared(&scene, "sphere", 64, 0.5);
+    let prepared = prepared(&scene, "sphere", 64);
     let incoming: f64 = prepared
         .irradiance
         .iter()
@@ -316,25 +269,9 @@ fn no_integrator_creates_energy() {
         }
     }
     for material in &materials {
-        let model = Model::default_for(material);
-        let profile = build_profile(material, model, 6).unwrap();
-        let kernel = Kernel::new(profile.as_ref(), 1e-3);
+        let scattering = scattering_for(material, Model::default_for(material));
         for method in Method::ALL {
-            let settings = MethodSettings {
-                samples: 16,
-                gaussians: 3,
-                ..MethodSettings::default()
-            };
-            let m = prepared
-                .integrate(
-                    profile.as_ref(),
-                    &kernel,
-                    method,
-                    &settings,
-                    &Control::new(),
-                )
-                .unwrap()
-                .exitance;
+            let m = exitance(&prepared, &scattering, method, &with(16, 3, 1));
             assert!(
                 m.iter().flatten().all(|v| v.is_finite() && *v >= 0.0),
                 "{method}, {}",

@@ -3,22 +3,19 @@
 //! Exit codes: 0 success; 1 bad input (a scene or image that cannot be
 //! read, an unknown object or preset, an invalid material file, a model
 //! that does not fit the material, a value out of range); 2 bad command
-//! line; 3 an output could not be written.
+//! line; 3 an output could not be written; 4 cancelled.
 
-mod asset_outputs;
 mod bake_command;
-mod material_choice;
-mod material_map;
 mod plan_command;
 mod plot;
 mod profile_command;
 mod progress;
 mod report_command;
 mod report_plot;
-mod scene_options;
-mod staging;
+mod request_args;
 
 use clap::{Parser, Subcommand};
+use sssbake::Error;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -38,7 +35,8 @@ enum Command {
     Bake(bake_command::BakeArgs),
     /// Print and plot a material's diffusion reflectance profile.
     Profile(profile_command::ProfileArgs),
-    /// Show what a bake of a scene would do, and what it would leave out.
+    /// Show what a bake with the same options would do, and what it would
+    /// leave out, without baking.
     Plan(plan_command::PlanArgs),
     /// List the material presets.
     Presets,
@@ -47,12 +45,12 @@ enum Command {
     Report(report_command::ReportArgs),
 }
 
-/// A failure with the exit code it maps to.
-pub enum Failure {
-    /// Bad input: exit code 1.
-    Input(String),
-    /// An output could not be written: exit code 3.
-    Output(String),
+/// Prints `value` as pretty JSON on stdout.
+pub fn print_json(value: &impl serde::Serialize) {
+    match serde_json::to_string_pretty(value) {
+        Ok(text) => println!("{text}"),
+        Err(e) => eprintln!("error: cannot print JSON: {e}"),
+    }
 }
 
 fn main() -> ExitCode {
@@ -71,13 +69,13 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(Failure::Input(message)) => {
-            eprintln!("error: {message}");
-            ExitCode::from(1)
-        }
-        Err(Failure::Output(message)) => {
-            eprintln!("error: {message}");
-            ExitCode::from(3)
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::from(match error {
+                Error::Input(_) | Error::Setting { .. } => 1,
+                Error::Output { .. } => 3,
+                Error::Cancelled => 4,
+            })
         }
     }
 }

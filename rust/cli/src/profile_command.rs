@@ -1,8 +1,8 @@
 //! `sssbake profile`: a material's reflectance profile as a table, JSON or plot.
 
-use crate::Failure;
 use crate::plot::{Curve, render_png, render_svg};
 use serde_json::{Value, json};
+use sssbake::Error;
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_profile::monte_carlo::{self, MonteCarlo};
 use sssbake_profile::{Material, Model, Profile, Rgb, Tabulated, build_profile};
@@ -21,9 +21,8 @@ pub struct ProfileArgs {
     /// A TOML material file with [[layers]].
     #[arg(long)]
     material: Option<PathBuf>,
-    /// dipole, multipole, layered, gaussians, burley or montecarlo
-    /// [default: the one the material needs].
-    #[arg(long)]
+    /// The profile model [default: the one the material needs].
+    #[arg(long, value_parser = crate::request_args::named::<Model>(<Model as strum::VariantNames>::VARIANTS))]
     model: Option<Model>,
     /// Radii in mm, comma-separated [default: 60 from the peak to d_max].
     #[arg(long, value_delimiter = ',')]
@@ -52,13 +51,13 @@ pub struct ProfileArgs {
 }
 
 /// Runs the command.
-pub fn run(args: &ProfileArgs) -> Result<(), Failure> {
+pub fn run(args: &ProfileArgs) -> Result<(), Error> {
     check_arguments(args)?;
     let material = load_material(args)?;
     let model = args.model.unwrap_or_else(|| Model::default_for(&material));
     let needs_simulation = model == Model::MonteCarlo || args.compare_montecarlo;
     if needs_simulation && material.layers().is_none() {
-        return Err(Failure::Input(format!(
+        return Err(Error::input(format!(
             "material `{}` is a measured sum of Gaussians; it has no layers to simulate",
             material.name
         )));
@@ -69,8 +68,7 @@ pub fn run(args: &ProfileArgs) -> Result<(), Failure> {
     } else {
         model
     };
-    let profile = build_profile(&material, reference_model, args.gaussians)
-        .map_err(|e| Failure::Input(e.to_string()))?;
+    let profile = build_profile(&material, reference_model, args.gaussians).map_err(Error::from)?;
     let radii = match &args.radii {
         Some(r) => r.clone(),
         None => default_radii(profile.as_ref(), args.epsilon),
@@ -132,8 +130,8 @@ fn emit(text: &str) {
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
 }
 
-fn check_arguments(args: &ProfileArgs) -> Result<(), Failure> {
-    let bad = |m: String| Err(Failure::Input(m));
+fn check_arguments(args: &ProfileArgs) -> Result<(), Error> {
+    let bad = |m: String| Err(Error::input(m));
     if let Some(radii) = &args.radii {
         if radii.is_empty() {
             return bad("--radii: give at least one radius in mm".into());
@@ -168,8 +166,12 @@ fn check_arguments(args: &ProfileArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn load_material(args: &ProfileArgs) -> Result<Material, Failure> {
-    crate::material_choice::load(args.preset.as_deref(), args.material.as_deref())
+fn load_material(args: &ProfileArgs) -> Result<Material, Error> {
+    match (&args.preset, &args.material) {
+        (Some(name), _) => sssbake::materials::preset(name),
+        (None, Some(path)) => Material::from_file(path).map_err(Error::from),
+        (None, None) => Err(Error::input("give --preset NAME or --material FILE")),
+    }
 }
 
 /// Sixty radii, evenly spaced in ln r, from a twentieth of the profile's
@@ -316,7 +318,7 @@ enum PlotFormat {
     Png,
 }
 
-fn plot_format(path: &Path) -> Result<PlotFormat, Failure> {
+fn plot_format(path: &Path) -> Result<PlotFormat, Error> {
     match path
         .extension()
         .and_then(|e| e.to_str())
@@ -325,7 +327,7 @@ fn plot_format(path: &Path) -> Result<PlotFormat, Failure> {
     {
         Some("svg") => Ok(PlotFormat::Svg),
         Some("png") => Ok(PlotFormat::Png),
-        _ => Err(Failure::Input(format!(
+        _ => Err(Error::input(format!(
             "--plot {}: the file must end in .svg or .png",
             path.display()
         ))),
@@ -337,7 +339,7 @@ fn write_plot(
     report: &Report,
     overlay: Option<&MonteCarlo>,
     simulated: Option<&MonteCarlo>,
-) -> Result<(), Failure> {
+) -> Result<(), Error> {
     let mut curves: Vec<Curve> = (0..3)
         .map(|c| Curve {
             channel: c,
@@ -371,9 +373,8 @@ fn write_plot(
     let svg = render_svg(&title, &curves);
     let bytes = match plot_format(path)? {
         PlotFormat::Svg => svg.into_bytes(),
-        PlotFormat::Png => {
-            render_png(&svg).map_err(|e| Failure::Output(format!("{}: {e}", path.display())))?
-        }
+        PlotFormat::Png => render_png(&svg).map_err(|e| Error::output(path.display(), e))?,
     };
-    write_atomically(path, &bytes).map_err(Failure::Output)
+    write_atomically(path, &bytes)
+        .map_err(|e| Error::output(path.display(), format!("cannot write: {e}")))
 }

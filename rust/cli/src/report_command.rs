@@ -2,25 +2,24 @@
 //! run's time and its error against the exact sum, as JSON, CSV and a
 //! log–log plot, and the runs no other run beats on both.
 
-use crate::Failure;
 use crate::plot::render_png;
 use crate::report_plot::{Series, render};
-use crate::scene_options::SceneOptions;
-use serde_json::json;
+use crate::request_args::RequestArgs;
+use serde::Serialize;
 use sssbake::control::Control;
-use sssbake::pipeline::{BakeError, Prepared, prepare};
+use sssbake::pipeline::prepare;
 use sssbake::transport::accuracy::relative_errors;
-use sssbake::transport::kernel::Kernel;
-use sssbake::transport::{Method, MethodSettings};
+use sssbake::transport::brute::BruteIntegrator;
+use sssbake::transport::integrator::{Integrator, IntegratorSettings};
+use sssbake::{Error, Method, plan};
 use sssbake_io::atomic_write::write_atomically;
-use sssbake_profile::profile::Profile;
 use std::path::PathBuf;
 
 /// Options of `sssbake report`.
 #[derive(clap::Args)]
 pub struct ReportArgs {
     #[command(flatten)]
-    scene: SceneOptions,
+    request: RequestArgs,
     /// The folder for report.json, report.csv and report.svg/.png.
     #[arg(long)]
     out: PathBuf,
@@ -30,173 +29,166 @@ pub struct ReportArgs {
 }
 
 /// One run of the ladder.
+#[derive(Serialize)]
 struct Run {
     object: String,
     method: Method,
     setting: String,
     seconds: f64,
-    rmse: f64,
+    relative_rmse: f64,
     max_error: f64,
     sources: usize,
+    pareto: bool,
 }
 
-/// The settings each integrator is run with, cheapest first.
-fn ladder() -> Vec<(Method, String, MethodSettings)> {
-    let base = MethodSettings::default();
+/// One object of the report.
+#[derive(Serialize)]
+struct ReportObject {
+    name: String,
+    material: String,
+    model: String,
+    d_max_mm: f32,
+    texels: usize,
+    unwrapped: bool,
+    prepare_seconds: f64,
+}
+
+/// The whole report, as report.json holds it.
+#[derive(Serialize)]
+struct Report {
+    scene: String,
+    resolution: u32,
+    threads: usize,
+    objects: Vec<ReportObject>,
+    runs: Vec<Run>,
+}
+
+/// The settings each integrator is run with, cheapest first, starting from
+/// the request's own.
+fn ladder(base: &IntegratorSettings) -> Vec<(Method, String, IntegratorSettings)> {
     let mut runs = Vec::new();
+    let mut with = |method: Method, setting: String, change: &dyn Fn(&mut IntegratorSettings)| {
+        let mut settings = base.clone();
+        change(&mut settings);
+        runs.push((method, setting, settings));
+    };
     for epsilon in [0.5f32, 0.2, 0.05, 0.01] {
-        let settings = MethodSettings {
-            octree_epsilon: epsilon,
-            ..base.clone()
-        };
-        runs.push((Method::Octree, format!("ε {epsilon}"), settings));
+        with(Method::Octree, format!("ε {epsilon}"), &|s| {
+            s.octree.epsilon = epsilon
+        });
     }
-    for multiplier in [1.0, 16.0] {
-        let settings = MethodSettings {
-            point_multiplier: multiplier,
-            ..base.clone()
-        };
-        runs.push((Method::Octree, format!("{multiplier} pts/disk"), settings));
+    for per_disk in [1.0, 16.0] {
+        with(Method::Octree, format!("{per_disk} pts/disk"), &|s| {
+            s.octree.points_per_disk = per_disk
+        });
     }
     for gaussians in [1, 2, 3, 4, 6, 8] {
-        let settings = MethodSettings {
-            gaussians,
-            ..base.clone()
-        };
-        runs.push((Method::Texture, format!("{gaussians} G"), settings));
+        with(Method::Texture, format!("{gaussians} G"), &|s| {
+            s.texture.gaussians = gaussians
+        });
     }
     for samples in [4, 16, 64, 256] {
-        let settings = MethodSettings {
-            samples,
-            ..base.clone()
-        };
-        runs.push((Method::Importance, format!("{samples} spp"), settings));
+        with(Method::Importance, format!("{samples} spp"), &|s| {
+            s.importance.samples = samples
+        });
     }
     runs
 }
 
-fn failure(error: BakeError) -> Failure {
-    Failure::Input(error.to_string())
-}
-
 /// Runs the command.
-pub fn run(args: &ReportArgs) -> Result<(), Failure> {
-    let loaded = args.scene.load()?;
+pub fn run(args: &ReportArgs) -> Result<(), Error> {
+    let (scene, request) = args.request.load()?;
+    let plan = plan(&scene, &request)?;
     let outputs =
         ["report.json", "report.csv", "report.svg", "report.png"].map(|f| args.out.join(f));
     if !args.force
         && let Some(existing) = outputs.iter().find(|p| p.exists())
     {
-        return Err(Failure::Output(format!(
-            "{}: exists (use --force to replace it)",
-            existing.display()
-        )));
+        return Err(Error::output(
+            existing.display(),
+            "exists (use --force to replace it)",
+        ));
     }
     std::fs::create_dir_all(&args.out)
-        .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", args.out.display())))?;
+        .map_err(|e| Error::output(args.out.display(), format!("cannot create: {e}")))?;
     let control = Control::new();
     let mut runs = Vec::new();
     let mut objects = Vec::new();
-    for (object, assigned) in &loaded.objects {
-        let profile: &dyn Profile = assigned.profile.as_ref();
-        let kernel = Kernel::new(profile, MethodSettings::default().d_max_epsilon);
-        let prepared: Prepared = prepare(
-            &loaded.scene,
-            object,
-            loaded.lighting.clone(),
-            &assigned.settings,
+    for (index, object) in plan.objects.iter().enumerate() {
+        let scattering = &object.scattering_profile;
+        let scene_index = scene
+            .objects
+            .iter()
+            .position(|o| o.mesh.name == object.name)
+            .unwrap_or(index);
+        let prepared = prepare(
+            &scene,
+            scene_index,
+            object.layout.clone(),
+            &plan.request,
+            scattering.entry_index(),
+            true,
             &control,
-        )
-        .map_err(failure)?;
-        let seeded = |settings: &MethodSettings| MethodSettings {
-            seed: args.scene.seed,
-            ..settings.clone()
-        };
-        let reference = prepared
-            .integrate(
-                profile,
-                &kernel,
-                Method::Brute,
-                &seeded(&MethodSettings::default()),
-                &control,
-            )
-            .map_err(failure)?;
+        )?;
+        let reference = prepared.integrate(scattering, &BruteIntegrator, &control)?;
         eprintln!(
-            "{object}: brute over {} texels in {:.2} s (prepared in {:.2} s)",
+            "{}: brute over {} texels in {:.2} s (lit in {:.2} s)",
+            object.name,
             prepared.surfels.len(),
             reference.seconds,
             prepared.seconds()
         );
         runs.push(Run {
-            object: object.clone(),
+            object: object.name.clone(),
             method: Method::Brute,
             setting: "exact".into(),
             seconds: reference.seconds,
-            rmse: 0.0,
+            relative_rmse: 0.0,
             max_error: 0.0,
             sources: reference.sources,
+            pareto: false,
         });
-        for (method, setting, settings) in ladder() {
-            let result = prepared
-                .integrate(profile, &kernel, method, &seeded(&settings), &control)
-                .map_err(failure)?;
+        for (method, setting, settings) in ladder(&plan.request.integrators) {
+            let integrator: &dyn Integrator = settings.get(method);
+            let result = prepared.integrate(scattering, integrator, &control)?;
             let (rmse, max_error) = relative_errors(&result.exitance, &reference.exitance);
             eprintln!(
-                "{object}: {method} {setting}: {:.3} s, RMSE {rmse:.2e}",
-                result.seconds
+                "{}: {method} {setting}: {:.3} s, RMSE {rmse:.2e}",
+                object.name, result.seconds
             );
             runs.push(Run {
-                object: object.clone(),
+                object: object.name.clone(),
                 method,
                 setting,
                 seconds: result.seconds,
-                rmse,
+                relative_rmse: rmse,
                 max_error,
                 sources: result.sources,
+                pareto: false,
             });
         }
-        objects.push(json!({
-            "name": object,
-            "material": assigned.material.name,
-            "model": profile.model(),
-            "d_max_mm": kernel.d_max,
-            "texels": prepared.surfels.len(),
-            "unwrapped": prepared.unwrapped,
-            "prepare_seconds": prepared.seconds(),
-        }));
+        objects.push(ReportObject {
+            name: object.name.clone(),
+            material: object.material.name.clone(),
+            model: object.material.model.clone(),
+            d_max_mm: object.material.d_max_mm,
+            texels: object.texels,
+            unwrapped: object.uvs.unwrap,
+            prepare_seconds: prepared.seconds(),
+        });
     }
     let front = pareto_front(&runs);
-    let report = json!({
-        "scene": args.scene.input.display().to_string(),
-        "resolution": args.scene.resolution,
-        "threads": rayon::current_num_threads(),
-        "objects": objects,
-        "runs": runs.iter().enumerate().map(|(i, r)| json!({
-            "object": r.object,
-            "method": r.method.name(),
-            "setting": r.setting,
-            "seconds": r.seconds,
-            "relative_rmse": r.rmse,
-            "max_error": r.max_error,
-            "sources": r.sources,
-            "pareto": front.contains(&i),
-        })).collect::<Vec<_>>(),
-    });
-    let mut csv =
-        String::from("object,method,setting,seconds,relative_rmse,max_error,sources,pareto\n");
-    for (i, r) in runs.iter().enumerate() {
-        csv.push_str(&format!(
-            "{},{},{},{:.6},{:.6e},{:.6e},{},{}\n",
-            r.object,
-            r.method.name(),
-            r.setting,
-            r.seconds,
-            r.rmse,
-            r.max_error,
-            r.sources,
-            front.contains(&i)
-        ));
+    for &i in &front {
+        runs[i].pareto = true;
     }
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    for run in &runs {
+        csv.serialize(run)
+            .map_err(|e| Error::output(outputs[1].display(), e.to_string()))?;
+    }
+    let csv = csv
+        .into_inner()
+        .map_err(|e| Error::output(outputs[1].display(), e.to_string()))?;
     let series: Vec<Series> = [Method::Octree, Method::Texture, Method::Importance]
         .into_iter()
         .map(|m| Series {
@@ -204,7 +196,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Failure> {
             points: runs
                 .iter()
                 .filter(|r| r.method == m)
-                .map(|r| (r.seconds, r.rmse, r.setting.clone()))
+                .map(|r| (r.seconds, r.relative_rmse, r.setting.clone()))
                 .collect(),
         })
         .collect();
@@ -213,38 +205,45 @@ pub fn run(args: &ReportArgs) -> Result<(), Failure> {
         .filter(|r| r.method == Method::Brute)
         .map(|r| r.seconds)
         .sum::<f64>();
-    let (_, first) = &loaded.objects[0];
+    let first = &plan.objects[0].material;
     let title = format!(
         "{} · {} ({}) · {}² · error against run time",
-        args.scene
+        args.request
             .input
             .file_name()
             .map(|f| f.to_string_lossy().into_owned())
             .unwrap_or_default(),
-        first.material.name,
-        first.profile.model(),
-        args.scene.resolution
+        first.name,
+        first.model,
+        plan.resolution
     );
     let svg = render(&title, &series, brute_seconds);
-    let png = render_png(&svg).map_err(Failure::Output)?;
+    let png = render_png(&svg).map_err(|e| Error::output(outputs[3].display(), e))?;
+    let report = Report {
+        scene: args.request.input.display().to_string(),
+        resolution: plan.resolution,
+        threads: rayon::current_num_threads(),
+        objects,
+        runs,
+    };
     let json_text = serde_json::to_string_pretty(&report).unwrap_or_default() + "\n";
-    for (path, bytes) in
-        outputs
-            .iter()
-            .zip([json_text.as_bytes(), csv.as_bytes(), svg.as_bytes(), &png])
+    for (path, bytes) in outputs
+        .iter()
+        .zip([json_text.as_bytes(), &csv, svg.as_bytes(), &png])
     {
-        write_atomically(path, bytes).map_err(Failure::Output)?;
+        write_atomically(path, bytes)
+            .map_err(|e| Error::output(path.display(), format!("cannot write: {e}")))?;
     }
     println!("Pareto front (no run is both faster and more accurate):");
     for &i in &front {
-        let r = &runs[i];
+        let r = &report.runs[i];
         println!(
             "  {:<12} {:<11} {:<14} {:>9.3} s   RMSE {:.2e}   max {:.2e}",
             r.object,
             r.method.name(),
             r.setting,
             r.seconds,
-            r.rmse,
+            r.relative_rmse,
             r.max_error
         );
     }
@@ -267,12 +266,12 @@ fn pareto_front(runs: &[Run]) -> Vec<usize> {
     for i in order {
         let r = &runs[i];
         let better = match best {
-            Some((object, error)) if object == r.object => r.rmse < error,
+            Some((object, error)) if object == r.object => r.relative_rmse < error,
             _ => true,
         };
         if better {
             front.push(i);
-            best = Some((&r.object, r.rmse));
+            best = Some((&r.object, r.relative_rmse));
         }
     }
     front

@@ -71,7 +71,7 @@ fn a_bake_writes_every_map_and_its_numbers_are_the_librarys() {
         String::from_utf8_lossy(&result.stderr)
     );
     let summary: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
-    assert_eq!(summary["objects"][0]["method"], "brute");
+    assert_eq!(summary["objects"][0]["integrator"]["method"], "brute");
     assert_eq!(
         files_in(&out),
         [
@@ -124,45 +124,18 @@ fn a_bake_writes_every_map_and_its_numbers_are_the_librarys() {
     assert!(thickest > 90.0 && thickest < 100.5, "{thickest}");
     // The file holds exactly what the library computes for the same bake.
     let library = {
-        use sssbake::control::Control;
-        use sssbake::pipeline::{BakeSettings, Lighting, prepare};
-        use sssbake::transport::{Method, MethodSettings, kernel::Kernel};
-        let material = sssbake_profile::presets::preset("marble").unwrap();
-        let model = sssbake_profile::model::Model::default_for(&material);
-        let profile = sssbake_profile::model::build_profile(&material, model, 6).unwrap();
+        use sssbake::materials::{MaterialAssignment, preset};
         let read = sssbake_io::read_scene(&scene, &Default::default()).unwrap();
-        // Brute needs no sample points, so the mean free path plays no part.
-        let settings = BakeSettings {
+        let request = sssbake::BakeRequest {
+            objects: vec!["Ball".into()],
+            materials: MaterialAssignment::everywhere(preset("marble").unwrap(), "test"),
             resolution: 64,
-            eta: 1.3,
-            ..BakeSettings::default()
+            method: sssbake::Method::Brute,
+            ..Default::default()
         };
-        let prepared = prepare(
-            &read,
-            "Ball",
-            Lighting::SceneLights,
-            &settings,
-            &Control::new(),
-        )
-        .unwrap();
-        let kernel = Kernel::new(profile.as_ref(), 1e-3);
-        let m = prepared
-            .integrate(
-                profile.as_ref(),
-                &kernel,
-                Method::Brute,
-                &MethodSettings::default(),
-                &Control::new(),
-            )
-            .unwrap();
-        let fill = sssbake::maps::margin_fill(&prepared, 8);
-        sssbake::maps::render(
-            &prepared,
-            &m.exitance,
-            1.3,
-            sssbake::maps::Output::Subsurface,
-            &fill,
-        )
+        let plan = sssbake::plan(&read, &request).unwrap();
+        let (objects, _) = sssbake::bake(&read, &plan, &sssbake::control::Control::new()).unwrap();
+        objects[0].render(sssbake::Output::Subsurface).unwrap()
     };
     assert_eq!(library.texels, subsurface.texels);
     // Refuses to replace without --force; leaves the maps as they were.
@@ -304,7 +277,7 @@ fn a_sidecar_gives_objects_their_materials() {
         String::from_utf8_lossy(&result.stderr)
     );
     let summary: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
-    assert_eq!(summary["objects"][0]["material"], "ketchup");
+    assert_eq!(summary["objects"][0]["material"]["name"], "ketchup");
     // A sidecar naming an object the scene lacks says which, and where.
     std::fs::write(&sidecar, "[objects]\nBal = \"ketchup\"\n").unwrap();
     let result = sssbake(&[

@@ -53,6 +53,10 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
         "--json",
         "--preset",
         "marble",
+        "--method",
+        "octree",
+        "--points-per-disk",
+        "1",
     ]);
     assert!(
         out.status.success(),
@@ -64,13 +68,23 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
     let square = &plan["objects"][0];
     assert_eq!(square["name"], "Square");
     assert!((square["area_mm2"].as_f64().unwrap() - 10_000.0).abs() < 1e-2);
-    assert_eq!(square["unwrap"], true);
+    assert_eq!(square["uvs"]["unwrap"], true);
     assert_eq!(square["topology"], "1 part, 4 open edges");
-    assert!(square["uv_verdict"].as_str().unwrap().contains("no UVs"));
-    // marble's shortest mean free path is 1/(0.0071 + 3.00) mm: N = A/(πℓ²).
+    assert!(
+        square["uvs"]["verdict"]
+            .as_str()
+            .unwrap()
+            .contains("no UVs")
+    );
+    assert_eq!(square["material"]["name"], "marble");
+    assert_eq!(square["material"]["source"], "--preset");
+    // marble's shortest mean free path is 1/(0.0071 + 3.00) mm: N = A/(πℓ²),
+    // fewer than the texels.
     let ell: f64 = 1.0 / 3.0071;
     let expected = (10_000.0 / (std::f64::consts::PI * ell * ell)).ceil();
-    assert_eq!(square["points"].as_f64().unwrap(), expected);
+    assert!(expected < square["texels"].as_f64().unwrap());
+    assert_eq!(square["integrator"]["method"], "octree");
+    assert_eq!(square["integrator"]["points"].as_f64().unwrap(), expected);
     let left_out: Vec<&str> = plan["left_out"]
         .as_array()
         .unwrap()
@@ -87,7 +101,7 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
     let text = sssbake(&["plan", scene.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(
-        text.contains("unwrap: yes, with xatlas") && text.contains("material skin1"),
+        text.contains("unwrap: its UVs are not usable") && text.contains("material `skin1`"),
         "{text}"
     );
     // After the unwrap the square's texels stand for its whole area.
@@ -95,9 +109,12 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
     assert!((texel_area - 10_000.0).abs() < 100.0, "{texel_area}");
     assert!(square["texels"].as_u64().unwrap() > 0);
     // Auto names its integrator and says why.
-    let method = square["integrator"].as_str().unwrap();
+    let auto = sssbake(&["plan", scene.to_str().unwrap(), "--json"]);
+    let auto: Value = serde_json::from_slice(&auto.stdout).unwrap();
+    let integrator = &auto["objects"][0]["integrator"];
+    let method = integrator["method"].as_str().unwrap();
     assert!(["brute", "octree", "texture"].contains(&method), "{method}");
-    assert!(square["integrator_reason"].as_str().unwrap().len() > 20);
+    assert!(integrator["reason"].as_str().unwrap().len() > 20);
 
     let unknown = sssbake(&["plan", scene.to_str().unwrap(), "--object", "Cube"]);
     assert_eq!(unknown.status.code(), Some(1));

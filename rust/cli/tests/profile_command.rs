@@ -239,7 +239,7 @@ fn bad_input_gets_a_clear_error() {
     assert_fails(
         &["profile", "--preset", "skin1", "--model", "cubic"],
         2,
-        &["unknown model `cubic`"],
+        &["invalid value 'cubic'", "possible values", "montecarlo"],
     );
     assert_fails(&["profile"], 2, &["--preset"]);
     let unwritable = dir.join("missing-dir").join("plot.svg");

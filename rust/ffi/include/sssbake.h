@@ -13,7 +13,7 @@
 /**
  * The version of this ABI: hosts refuse a library of another version.
  */
-#define SSSBAKE_ABI_VERSION 1
+#define SSSBAKE_ABI_VERSION 2
 
 /**
  * A sun: `power` is its strength, W/m² on a surface facing it.
@@ -58,6 +58,19 @@
 #define SSSBAKE_MATERIAL_TOML 2
 
 /**
+ * Each object's own material in the scene (a scene read from a file),
+ * else the fallback preset.
+ */
+#define SSSBAKE_MATERIAL_SCENE 3
+
+/**
+ * A sidecar's TOML text in `toml` naming each object's preset or material
+ * file; `name` is the folder those files are relative to (null: the
+ * working folder). Objects it does not name take their scene material.
+ */
+#define SSSBAKE_MATERIAL_SIDECAR 4
+
+/**
  * What a call did.
  */
 typedef enum SssbakeStatus {
@@ -82,6 +95,10 @@ typedef enum SssbakeStatus {
    * A bug in the library (a caught panic); the message says where.
    */
   SSSBAKE_STATUS_INTERNAL = 4,
+  /**
+   * An output file or folder that cannot be written.
+   */
+  SSSBAKE_STATUS_CANNOT_WRITE = 5,
 } SssbakeStatus;
 
 /**
@@ -95,7 +112,8 @@ typedef struct SssbakeResult SssbakeResult;
 typedef struct SssbakeScene SssbakeScene;
 
 /**
- * How a bake runs. [`sssbake_settings_default`] fills the defaults.
+ * How a bake runs. [`sssbake_settings_default`] fills the library's
+ * defaults.
  */
 typedef struct SssbakeSettings {
   /**
@@ -130,6 +148,12 @@ typedef struct SssbakeSettings {
    * Importance: probes per texel.
    */
   uint32_t samples;
+  /**
+   * The maps to make: bit i for output i (0 subsurface, 1 irradiance,
+   * 2 diffuse, 3 thickness, 4 stretch, 5 area). The bake runs only the
+   * stages they need.
+   */
+  uint32_t outputs;
 } SssbakeSettings;
 
 /**
@@ -141,7 +165,8 @@ typedef struct SssbakeMaterial {
    */
   uint32_t kind;
   /**
-   * The preset's name, or the material's name for reports.
+   * The preset's name, the material's name for reports, or the
+   * sidecar's folder.
    */
   const char *name;
   /**
@@ -278,7 +303,7 @@ extern "C" {
 uint32_t sssbake_abi_version(void);
 
 /**
- * The default settings (1024², auto, margin 8, 16 light samples).
+ * The library's defaults for a host bake.
  *
  * # Safety
  * `out` points to writable storage for settings.
@@ -286,7 +311,8 @@ uint32_t sssbake_abi_version(void);
 enum SssbakeStatus sssbake_settings_default(struct SssbakeSettings *out);
 
 /**
- * Bakes `object` of `scene` with `material` and `settings`.
+ * Bakes `object` of `scene` with `material` and `settings`, into the
+ * object's own UVs as they are (a host shows the maps through them).
  *
  * `progress` (may be null) is called with the fraction done; the bake
  * stops with [`SssbakeStatus::Cancelled`] soon after `*cancel` (may be
@@ -323,8 +349,8 @@ void sssbake_result_free(struct SssbakeResult *result);
 uint32_t sssbake_result_resolution(const struct SssbakeResult *result);
 
 /**
- * What the bake did, as JSON (object, material, model, method and why,
- * texels, what is wrong with UVs it baked into anyway or null, seconds).
+ * What the bake did, as JSON: the summary `sssbake bake --json` prints
+ * (README, "The summary"), for this one object.
  * Owned by the result; do not free it.
  *
  * # Safety

@@ -1,22 +1,21 @@
 //! One object's bake: settings, the call with its progress callback and
-//! cancel flag, and the result whose maps the host copies out.
+//! cancel flag, and the result whose maps the host copies out. The library
+//! plans and bakes; this file only converts.
 
 use crate::errors::{Failure, SssbakeStatus, guarded, text};
-use crate::material::{SssbakeMaterial, material_from_host};
+use crate::material::{SssbakeMaterial, assignment_from_host};
 use crate::scene::SssbakeScene;
-use sssbake::control::{Cancelled, Control, watch_while};
-use sssbake::maps::{Output, margin_fill, render};
-use sssbake::pipeline::{BakeError, BakeSettings, Integration, Lighting, Prepared, prepare};
-use sssbake::transport::kernel::Kernel;
-use sssbake::transport::{Method, MethodSettings};
+use sssbake::control::{Control, watch_while};
+use sssbake::transport::integrator::IntegratorSettings;
+use sssbake::{BakeRequest, BakedObject, Method, Output, UvPolicy};
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
-use sssbake_profile::model::{Model, build_profile};
 use std::ffi::{CString, c_char, c_void};
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::time::Duration;
 
-/// How a bake runs. [`sssbake_settings_default`] fills the defaults.
+/// How a bake runs. [`sssbake_settings_default`] fills the library's
+/// defaults.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct SssbakeSettings {
@@ -36,25 +35,43 @@ pub struct SssbakeSettings {
     pub gaussians: u32,
     /// Importance: probes per texel.
     pub samples: u32,
+    /// The maps to make: bit i for output i (0 subsurface, 1 irradiance,
+    /// 2 diffuse, 3 thickness, 4 stretch, 5 area). The bake runs only the
+    /// stages they need.
+    pub outputs: u32,
 }
 
-/// The default settings (1024², auto, margin 8, 16 light samples).
+/// The method of number `code` (the order of [`SssbakeSettings::method`]).
+const METHODS: [Method; 5] = [
+    Method::Auto,
+    Method::Brute,
+    Method::Octree,
+    Method::Texture,
+    Method::Importance,
+];
+
+/// The library's defaults for a host bake.
 ///
 /// # Safety
 /// `out` points to writable storage for settings.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_settings_default(out: *mut SssbakeSettings) -> SssbakeStatus {
     guarded(|| {
-        let methods = MethodSettings::default();
+        let request = BakeRequest::default();
+        let integrators = &request.integrators;
         let settings = SssbakeSettings {
-            resolution: 1024,
-            method: 0,
-            margin: 8,
-            light_samples: 16,
-            seed: methods.seed,
-            octree_epsilon: methods.octree_epsilon,
-            gaussians: methods.gaussians as u32,
-            samples: methods.samples,
+            resolution: request.resolution,
+            method: METHODS
+                .iter()
+                .position(|&m| m == request.method)
+                .unwrap_or(0) as u32,
+            margin: request.margin,
+            light_samples: request.light_samples,
+            seed: integrators.octree.seed,
+            octree_epsilon: integrators.octree.epsilon,
+            gaussians: integrators.texture.gaussians as u32,
+            samples: integrators.importance.samples,
+            outputs: output_mask(&request.outputs),
         };
         // SAFETY: the caller gives writable storage or null.
         let out = unsafe { out.as_mut() }.ok_or_else(|| Failure::argument("out is null"))?;
@@ -63,27 +80,76 @@ pub unsafe extern "C" fn sssbake_settings_default(out: *mut SssbakeSettings) -> 
     })
 }
 
+fn output_mask(outputs: &[Output]) -> u32 {
+    Output::ALL
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| outputs.contains(o))
+        .map(|(i, _)| 1u32 << i)
+        .sum()
+}
+
 /// Called with the fraction done, in [0, 1], from a thread of the library
 /// about five times a second; `user` is the pointer given to the bake.
 pub type SssbakeProgress = Option<unsafe extern "C" fn(user: *mut c_void, fraction: f32)>;
 
 /// A finished bake (opaque): its maps, rendered on request.
 pub struct SssbakeResult {
-    prepared: Prepared,
-    integration: Integration,
-    eta: f64,
-    fill: Vec<(u32, u32)>,
+    object: BakedObject,
     summary: CString,
 }
 
 /// The host's user pointer, handed back to its callback on another thread.
-struct UserData(*mut c_void);
+pub(crate) struct UserData(pub(crate) *mut c_void);
 // SAFETY: the library only passes the pointer back to the host's callback,
 // which the host wrote to be called from another thread.
 unsafe impl Send for UserData {}
 unsafe impl Sync for UserData {}
 
-/// Bakes `object` of `scene` with `material` and `settings`.
+/// The request for a host's `settings`: the host's own UVs, kept as they
+/// are (`keep_uvs`) or unwrapped where unusable.
+pub(crate) fn request_from_host(
+    settings: &SssbakeSettings,
+    keep_uvs: bool,
+) -> Result<BakeRequest, Failure> {
+    let method = *METHODS
+        .get(settings.method as usize)
+        .ok_or_else(|| Failure::argument(format!("method {} is not 0 to 4", settings.method)))?;
+    if settings.outputs >> Output::ALL.len() != 0 {
+        return Err(Failure::argument(format!(
+            "outputs {:#x} names outputs beyond the {} there are",
+            settings.outputs,
+            Output::ALL.len()
+        )));
+    }
+    let mut integrators = IntegratorSettings::default();
+    integrators.octree.epsilon = settings.octree_epsilon;
+    integrators.texture.gaussians = settings.gaussians as usize;
+    integrators.importance.samples = settings.samples;
+    integrators.seed(settings.seed);
+    Ok(BakeRequest {
+        resolution: settings.resolution,
+        method,
+        margin: settings.margin,
+        light_samples: settings.light_samples,
+        integrators,
+        outputs: Output::ALL
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| settings.outputs & (1 << i) != 0)
+            .map(|(_, &o)| o)
+            .collect(),
+        uvs: if keep_uvs {
+            UvPolicy::Keep
+        } else {
+            UvPolicy::Auto
+        },
+        ..BakeRequest::default()
+    })
+}
+
+/// Bakes `object` of `scene` with `material` and `settings`, into the
+/// object's own UVs as they are (a host shows the maps through them).
 ///
 /// `progress` (may be null) is called with the fraction done; the bake
 /// stops with [`SssbakeStatus::Cancelled`] soon after `*cancel` (may be
@@ -126,74 +192,23 @@ pub unsafe extern "C" fn sssbake_bake(
         // SAFETY: forwarded from the caller.
         let object = unsafe { text(object, "object name") }?;
         let scene = &scene.scene;
+        let mut request = request_from_host(settings, true)?;
+        request.objects = vec![object.to_string()];
         // SAFETY: forwarded from the caller.
-        let material = unsafe { material_from_host(material, scene.millimetres_per_unit) }?;
-        let method = method(settings.method)?;
-        if !(1..=16384).contains(&settings.resolution) {
-            return Err(Failure::argument(format!(
-                "resolution {} must be between 1 and 16384",
-                settings.resolution
-            )));
-        }
-        if !(settings.octree_epsilon.is_finite() && settings.octree_epsilon >= 0.0) {
-            return Err(Failure::argument(format!(
-                "octree epsilon {} must be a non-negative number",
-                settings.octree_epsilon
-            )));
-        }
-        let model = Model::default_for(&material);
-        let profile =
-            build_profile(&material, model, 6).map_err(|e| Failure::input(e.to_string()))?;
-        let methods = MethodSettings {
-            octree_epsilon: settings.octree_epsilon,
-            gaussians: settings.gaussians.clamp(1, 16) as usize,
-            samples: settings.samples.max(1),
-            seed: settings.seed,
-            ..MethodSettings::default()
-        };
-        let bake = BakeSettings {
-            resolution: settings.resolution,
-            keep_uvs: true,
-            irradiance: sssbake::irradiance::IrradianceSettings {
-                samples: settings.light_samples.max(1),
-                shadows: true,
-            },
-            eta: material.entry_index(),
-            mean_free_path_mm: material.finest_mean_free_path_mm(),
-            ..BakeSettings::default()
-        };
+        request.materials = unsafe { assignment_from_host(material, scene.millimetres_per_unit) }?;
         let control = Control::new();
         let user = UserData(user);
-        let result = watched(&control, progress, &user, cancel, || {
-            let prepared = prepare(scene, object, Lighting::SceneLights, &bake, &control)?;
-            let kernel = Kernel::new(profile.as_ref(), methods.d_max_epsilon);
-            let integration =
-                prepared.integrate(profile.as_ref(), &kernel, method, &methods, &control)?;
-            Ok::<_, BakeError>((prepared, integration))
-        });
-        let (prepared, integration) = result.map_err(|e| match e {
-            BakeError::Cancelled(Cancelled) => {
-                Failure(SssbakeStatus::Cancelled, "cancelled".into())
-            }
-            other => Failure::input(other.to_string()),
+        let (mut objects, summary) = watched(&control, progress, &user, cancel, || {
+            let plan = sssbake::plan(scene, &request)?;
+            sssbake::bake(scene, &plan, &control)
         })?;
-        let fill = margin_fill(&prepared, settings.margin.min(settings.resolution));
-        let summary = serde_json::json!({
-            "object": object,
-            "material": material.name,
-            "model": profile.model(),
-            "method": integration.choice.method.name(),
-            "reason": integration.choice.reason,
-            "texels": prepared.surfels.len(),
-            "uv_warning": prepared.uv_warning,
-            "seconds": { "prepare": prepared.seconds(), "integrate": integration.seconds },
-        });
+        let object = objects
+            .pop()
+            .ok_or_else(|| Failure::input(format!("no object named `{object}`")))?;
+        let summary = serde_json::to_string(&summary).unwrap_or_default();
         let result = SssbakeResult {
-            prepared,
-            integration,
-            eta: material.entry_index(),
-            fill,
-            summary: CString::new(summary.to_string()).unwrap_or_default(),
+            object,
+            summary: CString::new(summary).unwrap_or_default(),
         };
         // SAFETY: checked non-null; the caller gives writable storage.
         unsafe { *out = Box::into_raw(Box::new(result)) };
@@ -201,20 +216,9 @@ pub unsafe extern "C" fn sssbake_bake(
     })
 }
 
-fn method(code: u32) -> Result<Method, Failure> {
-    Ok(match code {
-        0 => Method::Auto,
-        1 => Method::Brute,
-        2 => Method::Octree,
-        3 => Method::Texture,
-        4 => Method::Importance,
-        other => return Err(Failure::argument(format!("method {other} is not 0 to 4"))),
-    })
-}
-
 /// Runs `work` while a thread reports progress and passes the host's
 /// cancel flag on to `control`.
-fn watched<T>(
+pub(crate) fn watched<T>(
     control: &Control,
     progress: SssbakeProgress,
     user: &UserData,
@@ -252,11 +256,11 @@ pub unsafe extern "C" fn sssbake_result_free(result: *mut SssbakeResult) {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_result_resolution(result: *const SssbakeResult) -> u32 {
     // SAFETY: the caller passes a live result or null.
-    unsafe { result.as_ref() }.map_or(0, |r| r.prepared.surfels.resolution)
+    unsafe { result.as_ref() }.map_or(0, |r| r.object.prepared.surfels.resolution)
 }
 
-/// What the bake did, as JSON (object, material, model, method and why,
-/// texels, what is wrong with UVs it baked into anyway or null, seconds).
+/// What the bake did, as JSON: the summary `sssbake bake --json` prints
+/// (README, "The summary"), for this one object.
 /// Owned by the result; do not free it.
 ///
 /// # Safety
@@ -284,7 +288,7 @@ pub unsafe extern "C" fn sssbake_result_image(
     guarded(|| {
         // SAFETY: forwarded from the caller.
         let (result, image) = unsafe { rendered(result, output) }?;
-        let n = result.prepared.surfels.resolution as usize;
+        let n = result.object.prepared.surfels.resolution as usize;
         if len != 4 * n * n || rgba.is_null() {
             return Err(Failure::argument(format!(
                 "the buffer holds {len} floats; a {n}² RGBA map needs {}",
@@ -293,13 +297,7 @@ pub unsafe extern "C" fn sssbake_result_image(
         }
         // SAFETY: checked non-null; the caller gives `len` writable floats.
         let pixels = unsafe { std::slice::from_raw_parts_mut(rgba, len) };
-        let mut covered = vec![false; n * n];
-        for &t in &result.prepared.surfels.texel {
-            covered[t as usize] = true;
-        }
-        for &(to, _) in &result.fill {
-            covered[to as usize] = true;
-        }
+        let covered = result.object.covered();
         // Image rows run down; texel rows (and the host's) run up with v.
         for y in 0..n {
             let row = &image.texels[(n - 1 - y) * n..(n - y) * n];
@@ -338,7 +336,12 @@ pub unsafe extern "C" fn sssbake_result_write_exr(
             Precision::Float
         };
         let bytes = exr_bytes(&image, precision).map_err(Failure::input)?;
-        write_atomically(path, &bytes).map_err(Failure::input)
+        write_atomically(path, &bytes).map_err(|e| {
+            Failure(
+                SssbakeStatus::CannotWrite,
+                format!("{}: cannot write: {e}", path.display()),
+            )
+        })
     })
 }
 
@@ -357,12 +360,6 @@ unsafe fn rendered<'a>(
     let output = *Output::ALL
         .get(output as usize)
         .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;
-    let image = render(
-        &result.prepared,
-        &result.integration.exitance,
-        result.eta,
-        output,
-        &result.fill,
-    );
+    let image = result.object.render(output)?;
     Ok((result, image))
 }

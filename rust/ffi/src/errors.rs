@@ -20,6 +20,8 @@ pub enum SssbakeStatus {
     Cancelled = 3,
     /// A bug in the library (a caught panic); the message says where.
     Internal = 4,
+    /// An output file or folder that cannot be written.
+    CannotWrite = 5,
 }
 
 /// A failed call: its status and message.
@@ -32,6 +34,18 @@ impl Failure {
 
     pub(crate) fn input(message: impl Into<String>) -> Self {
         Failure(SssbakeStatus::BadInput, message.into())
+    }
+}
+
+impl From<sssbake::Error> for Failure {
+    fn from(error: sssbake::Error) -> Self {
+        let status = match &error {
+            sssbake::Error::Setting { .. } => SssbakeStatus::InvalidArgument,
+            sssbake::Error::Input(_) => SssbakeStatus::BadInput,
+            sssbake::Error::Output { .. } => SssbakeStatus::CannotWrite,
+            sssbake::Error::Cancelled => SssbakeStatus::Cancelled,
+        };
+        Failure(status, error.to_string())
     }
 }
 

@@ -2,9 +2,10 @@
 //! Blender's Principled BSDF subsurface inputs.
 
 use crate::errors::{Failure, text};
-use sssbake_profile::presets;
-use sssbake_profile::{Appearance, Material};
+use sssbake::materials::{MaterialAssignment, Principled, Sidecar, preset};
+use sssbake_profile::Material;
 use std::ffi::c_char;
+use std::path::Path;
 
 /// A preset by `name` (skin1, marble, skin3layer, …).
 pub const SSSBAKE_MATERIAL_PRESET: u32 = 0;
@@ -13,6 +14,13 @@ pub const SSSBAKE_MATERIAL_PRESET: u32 = 0;
 pub const SSSBAKE_MATERIAL_PRINCIPLED: u32 = 1;
 /// A material file's TOML text in `toml` (README, "Materials").
 pub const SSSBAKE_MATERIAL_TOML: u32 = 2;
+/// Each object's own material in the scene (a scene read from a file),
+/// else the fallback preset.
+pub const SSSBAKE_MATERIAL_SCENE: u32 = 3;
+/// A sidecar's TOML text in `toml` naming each object's preset or material
+/// file; `name` is the folder those files are relative to (null: the
+/// working folder). Objects it does not name take their scene material.
+pub const SSSBAKE_MATERIAL_SIDECAR: u32 = 4;
 
 /// A material. Fields a kind does not use are ignored.
 #[repr(C)]
@@ -20,7 +28,8 @@ pub const SSSBAKE_MATERIAL_TOML: u32 = 2;
 pub struct SssbakeMaterial {
     /// One of the `SSSBAKE_MATERIAL_*` kinds.
     pub kind: u32,
-    /// The preset's name, or the material's name for reports.
+    /// The preset's name, the material's name for reports, or the
+    /// sidecar's folder.
     pub name: *const c_char,
     /// TOML text, NUL-terminated.
     pub toml: *const c_char,
@@ -38,57 +47,60 @@ pub struct SssbakeMaterial {
     pub anisotropy: f32,
 }
 
-/// The library's material for a host material in a scene of `mm_per_unit`.
-/// Principled inputs become a colour and a mean free path Radius × Scale
-/// (README, "Materials from the asset").
+/// The library's material assignment for a host material in a scene of
+/// `mm_per_unit`.
 ///
 /// # Safety
 /// The strings are null or NUL-terminated.
-pub(crate) unsafe fn material_from_host(
+pub(crate) unsafe fn assignment_from_host(
     material: &SssbakeMaterial,
     mm_per_unit: f64,
-) -> Result<Material, Failure> {
+) -> Result<MaterialAssignment, Failure> {
+    let name_or = |default: &str| -> Result<String, Failure> {
+        if material.name.is_null() {
+            Ok(default.to_string())
+        } else {
+            // SAFETY: forwarded from the caller.
+            Ok(unsafe { text(material.name, "material name") }?.to_string())
+        }
+    };
+    let everywhere =
+        |material: Material, source: &str| Ok(MaterialAssignment::everywhere(material, source));
     match material.kind {
         SSSBAKE_MATERIAL_PRESET => {
             // SAFETY: forwarded from the caller.
             let name = unsafe { text(material.name, "preset name") }?;
-            presets::named(name).map_err(Failure::input)
+            everywhere(preset(name)?, "preset")
         }
         SSSBAKE_MATERIAL_TOML => {
             // SAFETY: forwarded from the caller.
             let toml = unsafe { text(material.toml, "material TOML") }?;
-            let name = if material.name.is_null() {
-                "material"
-            } else {
-                // SAFETY: forwarded from the caller.
-                unsafe { text(material.name, "material name") }?
-            };
-            Material::from_toml(toml, name, name).map_err(|e| Failure::input(e.to_string()))
+            let name = name_or("material")?;
+            let parsed = Material::from_toml(toml, &name, &name).map_err(sssbake::Error::from)?;
+            everywhere(parsed, "material TOML")
         }
         SSSBAKE_MATERIAL_PRINCIPLED => {
-            let name = if material.name.is_null() {
-                "Principled BSDF".to_string()
-            } else {
-                // SAFETY: forwarded from the caller.
-                unsafe { text(material.name, "material name") }?.to_string()
+            let principled = Principled {
+                name: name_or("Principled BSDF")?,
+                base_colour: material.base_colour,
+                subsurface_weight: material.subsurface_weight,
+                radius: material.radius,
+                scale_mm: f64::from(material.scale) * mm_per_unit,
+                ior: material.ior,
+                anisotropy: material.anisotropy,
             };
-            if material.subsurface_weight.is_nan() || material.subsurface_weight <= 0.0 {
-                return Err(Failure::input(format!(
-                    "material `{name}`: Subsurface Weight is {}; there is no subsurface scattering to bake",
-                    material.subsurface_weight
-                )));
-            }
-            let scale_mm = f64::from(material.scale) * mm_per_unit;
-            let appearance = Appearance {
-                name: name.clone(),
-                colour: material.base_colour.map(f64::from),
-                mean_free_path_mm: material.radius.map(|r| f64::from(r) * scale_mm),
-                ior: f64::from(material.ior),
-                anisotropy: f64::from(material.anisotropy),
-            };
-            appearance
-                .to_material()
-                .map_err(|e| Failure::input(format!("material `{name}`: {e}")))
+            everywhere(principled.to_material()?, "Principled BSDF")
+        }
+        SSSBAKE_MATERIAL_SCENE => Ok(MaterialAssignment::default()),
+        SSSBAKE_MATERIAL_SIDECAR => {
+            // SAFETY: forwarded from the caller.
+            let toml = unsafe { text(material.toml, "sidecar TOML") }?;
+            let folder = name_or(".")?;
+            let sidecar = Sidecar::parse(toml, Path::new("sidecar"), Path::new(&folder))?;
+            Ok(MaterialAssignment {
+                sidecar: Some(sidecar),
+                ..MaterialAssignment::default()
+            })
         }
         other => Err(Failure::argument(format!(
             "material kind {other} is not one of SSSBAKE_MATERIAL_*"

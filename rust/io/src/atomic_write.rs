@@ -1,47 +1,33 @@
-//! Writing a file so that it either appears whole or not at all.
+//! Writing a file so that it either appears whole or not at all: written
+//! under a hidden temporary name beside it, flushed, then renamed.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// The hidden temporary name a file is written under before it is renamed
-/// to `path`: `.<name>.<process id>.partial` in the same folder, so the
-/// rename stays on one file system.
-pub fn temporary_beside(path: &Path) -> Result<PathBuf, String> {
-    let directory = match path.parent() {
+/// A new, empty hidden file `.<name>.<random>.<suffix>` beside `path`, on
+/// the same file system so that renaming it into place is atomic; deleted
+/// when dropped unless it is persisted.
+pub fn hidden_beside(path: &Path, suffix: &str) -> std::io::Result<tempfile::NamedTempFile> {
+    let folder = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let name = path
-        .file_name()
-        .ok_or_else(|| format!("{}: not a file name", path.display()))?;
-    Ok(directory.join(format!(
-        ".{}.{}.partial",
-        name.to_string_lossy(),
-        std::process::id()
-    )))
+    let name = path.file_name().map_or_else(
+        || "output".to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    tempfile::Builder::new()
+        .prefix(&format!(".{name}."))
+        .suffix(&format!(".{suffix}"))
+        .tempfile_in(folder)
 }
 
-/// Writes `bytes` to [`temporary_beside`] `path`, flushed to disk; on any
-/// error the temporary file is removed. Returns the temporary file's path.
-pub fn write_temporary(path: &Path, bytes: &[u8]) -> Result<PathBuf, String> {
-    let temporary = temporary_beside(path)?;
-    let result = (|| {
-        let mut file = std::fs::File::create(&temporary)?;
-        file.write_all(bytes)?;
-        file.sync_all()
-    })();
-    result.map(|()| temporary.clone()).map_err(|e| {
-        let _ = std::fs::remove_file(&temporary);
-        format!("{}: cannot write: {e}", path.display())
-    })
-}
-
-/// Writes `bytes` to a temporary file beside `path`, then renames it into
-/// place; on any error the temporary file is removed and `path` untouched.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let temporary = write_temporary(path, bytes)?;
-    std::fs::rename(&temporary, path).map_err(|e| {
-        let _ = std::fs::remove_file(&temporary);
-        format!("{}: cannot write: {e}", path.display())
-    })
+/// Writes `bytes` to a hidden file beside `path`, flushed to disk, then
+/// renames it into place; on any error the temporary file is removed and
+/// `path` is untouched.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut file = hidden_beside(path, "partial")?;
+    file.write_all(bytes)?;
+    file.as_file().sync_all()?;
+    file.persist(path).map(|_| ()).map_err(|e| e.error)
 }

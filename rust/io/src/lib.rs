@@ -1,16 +1,20 @@
 //! Reading scenes into sssbake's model (glTF and USD) and, later, writing
 //! textures and assets. Scene units become millimetres here, once.
 
+pub mod assets;
 pub mod atomic_write;
+pub mod folder;
 pub mod gltf_reader;
 pub mod gltf_writer;
 pub mod image_reader;
 pub mod image_writer;
 pub mod python;
+pub mod staging;
 pub mod usd_material;
 pub mod usd_reader;
 pub mod usd_writer;
 
+pub use folder::{FolderOptions, bake_to_folder};
 pub use gltf_reader::read_gltf;
 pub use image_reader::read_image;
 pub use usd_reader::read_usd;
@@ -53,5 +57,15 @@ pub fn read_scene(path: &Path, options: &ReadOptions) -> Result<Scene, InputErro
             message: "unknown scene format (expected .gltf, .glb, .usd, .usda, .usdc or .usdz)"
                 .into(),
         }),
+    }
+}
+
+impl From<InputError> for sssbake::Error {
+    fn from(e: InputError) -> Self {
+        sssbake::Error::Input(sssbake::InputError {
+            file: Some(e.file),
+            message: e.message,
+            ..sssbake::InputError::default()
+        })
     }
 }

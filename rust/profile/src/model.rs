@@ -7,11 +7,21 @@ use crate::layered::Layered;
 use crate::material::{Layer, Material, Optics};
 use crate::multipole::{DEFAULT_ACCURACY, Multipole};
 use crate::profile::Profile;
-use std::fmt;
-use std::str::FromStr;
 
 /// The profile models sssbake offers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    strum::Display,
+    strum::EnumString,
+    strum::IntoStaticStr,
+    strum::VariantArray,
+    strum::VariantNames,
+)]
+#[strum(serialize_all = "lowercase")]
 pub enum Model {
     /// Semi-infinite dipole (the top layer, taken as semi-infinite).
     Dipole,
@@ -40,14 +50,7 @@ impl Model {
 
     /// The model's command-line name.
     pub fn name(self) -> &'static str {
-        match self {
-            Model::Dipole => "dipole",
-            Model::Multipole => "multipole",
-            Model::Layered => "layered",
-            Model::Gaussians => "gaussians",
-            Model::Burley => "burley",
-            Model::MonteCarlo => "montecarlo",
-        }
+        self.into()
     }
 
     /// The model a material needs: the dipole for one semi-infinite layer,
@@ -60,25 +63,6 @@ impl Model {
             }
             Optics::Layers(_) => Model::Layered,
         }
-    }
-}
-
-impl fmt::Display for Model {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for Model {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Model::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Model::ALL.iter().map(|m| m.name()).collect();
-                format!("unknown model `{s}` (expected one of {})", names.join(", "))
-            })
     }
 }
 

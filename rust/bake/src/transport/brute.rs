@@ -1,10 +1,15 @@
 //! The reference: the exact discrete sum M(x) = Σ_j P(|x − x_j|) E_j A_j
 //! over every source within d_max, in parallel over targets.
 
+use super::Method;
 use super::disk_kernel::{DiskKernel, Slot};
+use super::integrator::{Integrated, Integrator};
 use super::kernel::{Kernel, Separation};
 use super::sources::{Grid, Sources, Targets};
 use crate::control::{Cancelled, Control, parallel_fill};
+use crate::error::Error;
+use crate::pipeline::Prepared;
+use crate::scattering::Scattering;
 use glam::Vec3;
 
 /// Sub-samples per side of a texel's parallelogram in the near field.
@@ -156,4 +161,29 @@ pub(super) fn area_range(areas: &[f32]) -> (f32, f32) {
     areas.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), &a| {
         (lo.min(a), hi.max(a))
     })
+}
+
+/// The exact discrete sum over every texel within d_max: the reference
+/// every other method is measured against. It has no settings.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BruteIntegrator;
+
+impl Integrator for BruteIntegrator {
+    fn method(&self) -> Method {
+        Method::Brute
+    }
+
+    fn integrate(
+        &self,
+        prepared: &Prepared,
+        scattering: &Scattering,
+        control: &Control,
+    ) -> Result<Integrated, Error> {
+        let sources = prepared.texel_sources();
+        let exitance = integrate(&scattering.kernel, &sources, prepared.targets(), control)?;
+        Ok(Integrated {
+            exitance,
+            sources: sources.len(),
+        })
+    }
 }

@@ -6,12 +6,19 @@
 //! At ε = 0 every node is opened and the sum is exactly `brute`'s over the
 //! same sources.
 
+use super::Method;
 use super::brute::area_range;
 use super::disk_kernel::{DiskKernel, Slot};
+use super::integrator::{Integrated, Integrator};
 use super::kernel::{Kernel, Separation};
 use super::sources::{Sources, Targets};
 use crate::control::{Cancelled, Control, parallel_fill};
+use crate::error::Error;
+use crate::pipeline::Prepared;
+use crate::scattering::Scattering;
+use crate::turk::point_count;
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
 /// Sources per leaf.
 const LEAF: usize = 8;
@@ -242,4 +249,85 @@ pub fn integrate(
         .map(|v| v as f32)
     })?;
     Ok(out)
+}
+
+/// The octree integrator over relaxed Turk points, each carrying the
+/// texels of its Voronoi cell.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OctreeIntegrator {
+    /// Solid angle (sr) below which a node is taken whole; 0 is exact.
+    pub epsilon: f32,
+    /// Turk points per disk of one mean free path.
+    pub points_per_disk: f64,
+    /// Seed of the point placement.
+    pub seed: u64,
+}
+
+impl Default for OctreeIntegrator {
+    fn default() -> Self {
+        OctreeIntegrator {
+            epsilon: 0.05,
+            points_per_disk: 4.0,
+            seed: 1,
+        }
+    }
+}
+
+impl OctreeIntegrator {
+    /// Refuses settings it cannot run with.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.epsilon.is_finite() && self.epsilon >= 0.0) {
+            return Err(Error::field(
+                "octree.epsilon",
+                format!("{} must be a non-negative solid angle", self.epsilon),
+            ));
+        }
+        if !(self.points_per_disk.is_finite() && self.points_per_disk > 0.0) {
+            return Err(Error::field(
+                "octree.points_per_disk",
+                format!("{} must be positive", self.points_per_disk),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Points for a surface of `area_mm2` under a material whose finest
+    /// mean free path is `mean_free_path_mm`: `points_per_disk` per disk
+    /// of it, but never more than the `texels` that carry the light (a
+    /// point finer than a texel adds nothing).
+    pub fn point_count(&self, area_mm2: f64, mean_free_path_mm: f64, texels: usize) -> usize {
+        point_count(area_mm2, mean_free_path_mm, self.points_per_disk).min(texels.max(1))
+    }
+}
+
+impl Integrator for OctreeIntegrator {
+    fn method(&self) -> Method {
+        Method::Octree
+    }
+
+    fn integrate(
+        &self,
+        prepared: &Prepared,
+        scattering: &Scattering,
+        control: &Control,
+    ) -> Result<Integrated, Error> {
+        let count = self.point_count(
+            prepared.mesh.area(),
+            scattering.material.finest_mean_free_path_mm(),
+            prepared.surfels.len(),
+        );
+        let sources = prepared.point_sources(count, self.seed, control)?;
+        let exitance = integrate(
+            &scattering.kernel,
+            &sources,
+            prepared.targets(),
+            self.epsilon,
+            control,
+        )?;
+        Ok(Integrated {
+            exitance,
+            sources: sources.len(),
+        })
+    }
 }

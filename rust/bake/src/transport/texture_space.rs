@@ -11,10 +11,17 @@
 //! cannot cross thin parts (ears, nostrils) to the far face; the 3-D
 //! integrators do that.
 
+use super::Method;
+use super::integrator::{Integrated, Integrator};
 use crate::control::{Cancelled, Control};
+use crate::error::Error;
+use crate::pipeline::Prepared;
+use crate::scattering::Scattering;
 use crate::texels::TexelSurfels;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use sssbake_profile::gaussians::SumOfGaussians;
+use sssbake_profile::gaussians::fit_gaussians;
 
 /// Blurs whose σ is below this many texels are skipped (a Gaussian that
 /// narrow leaves a texel grid unchanged to within its sampling).
@@ -129,4 +136,61 @@ fn blur(
         control.advance(n as u64)
     })?;
     Ok(out)
+}
+
+/// d'Eon & Luebke's texture-space diffusion: the profile fitted by a sum
+/// of Gaussians, each a separable blur of the irradiance texture.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TextureIntegrator {
+    /// Gaussians in the fit, 1 to [`MAX_GAUSSIANS`].
+    pub gaussians: usize,
+}
+
+/// The most Gaussians a fit takes.
+pub const MAX_GAUSSIANS: usize = 16;
+
+impl Default for TextureIntegrator {
+    fn default() -> Self {
+        TextureIntegrator { gaussians: 6 }
+    }
+}
+
+impl TextureIntegrator {
+    /// Refuses settings it cannot run with.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(1..=MAX_GAUSSIANS).contains(&self.gaussians) {
+            return Err(Error::field(
+                "texture.gaussians",
+                format!("{} must be between 1 and {MAX_GAUSSIANS}", self.gaussians),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Integrator for TextureIntegrator {
+    fn method(&self) -> Method {
+        Method::Texture
+    }
+
+    fn integrate(
+        &self,
+        prepared: &Prepared,
+        scattering: &Scattering,
+        control: &Control,
+    ) -> Result<Integrated, Error> {
+        let fit = fit_gaussians(scattering.profile.as_ref(), self.gaussians);
+        let exitance = integrate(
+            &fit.gaussians,
+            &prepared.surfels,
+            &prepared.entering(),
+            prepared.dilation(),
+            control,
+        )?;
+        Ok(Integrated {
+            exitance,
+            sources: 0,
+        })
+    }
 }

@@ -1,0 +1,148 @@
+//! What a caller asks of a bake: one struct with one `Default` and one
+//! `validate`, whichever door it came through (the CLI, the C ABI, a
+//! Python pipeline).
+
+use crate::error::Error;
+use crate::image::Image;
+use crate::maps::Output;
+use crate::materials::MaterialAssignment;
+use crate::pipeline::Lighting;
+use crate::scattering::D_MAX_EPSILON;
+use crate::transport::Method;
+use crate::transport::integrator::IntegratorSettings;
+use serde::{Deserialize, Serialize};
+use sssbake_profile::model::Model;
+
+/// The largest map side, texels.
+pub const MAX_RESOLUTION: u32 = 16384;
+
+/// What to do with an object's own UVs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UvPolicy {
+    /// Keep usable UVs; unwrap missing or unusable ones with xatlas.
+    #[default]
+    Auto,
+    /// Unwrap every object, even where its UVs are usable.
+    Unwrap,
+    /// Bake into the object's UVs as they are, even where they overlap or
+    /// stretch (with a warning); for hosts that show the maps through UVs
+    /// of their own, such as Blender's. An object without UVs is refused.
+    Keep,
+}
+
+/// A bake as asked for.
+#[derive(Clone, Debug)]
+pub struct BakeRequest {
+    /// Objects to bake by name; every object when empty.
+    pub objects: Vec<String>,
+    /// Which material each object bakes with.
+    pub materials: MaterialAssignment,
+    /// The profile model; `None` lets each material choose its own.
+    pub model: Option<Model>,
+    /// Texels per side of each map, 1 to [`MAX_RESOLUTION`].
+    pub resolution: u32,
+    /// Keep, unwrap or trust the objects' UVs.
+    pub uvs: UvPolicy,
+    /// Texels filled beyond each chart's edge (across seams where the edge
+    /// is one), and the padding between the charts of an unwrap.
+    pub margin: u32,
+    /// The maps to make; the plan leaves out every stage they do not need.
+    pub outputs: Vec<Output>,
+    /// The integrator, or `auto` to let the plan choose.
+    pub method: Method,
+    /// Every integrator's settings.
+    pub integrators: IntegratorSettings,
+    /// Share of the reflectance left outside d_max, in (0, 1).
+    pub d_max_epsilon: f64,
+    /// Where the light comes from.
+    pub lighting: Lighting,
+    /// Samples per soft light and for the environment, per texel.
+    pub light_samples: u32,
+    /// RMS slope of a rough boundary (Donner & Jensen 2005 §2.4); `None`
+    /// for a smooth one.
+    pub roughness: Option<f64>,
+    /// A base colour map in the objects' UVs, applied as C^α before
+    /// scattering and C^(1−α) after (Mikkelsen §3.5).
+    pub base_colour: Option<Image>,
+    /// α of the colour split, in [0, 1].
+    pub colour_split: f32,
+}
+
+impl Default for BakeRequest {
+    fn default() -> Self {
+        BakeRequest {
+            objects: Vec::new(),
+            materials: MaterialAssignment::default(),
+            model: None,
+            resolution: 1024,
+            uvs: UvPolicy::Auto,
+            margin: 8,
+            outputs: Output::DEFAULT.to_vec(),
+            method: Method::Auto,
+            integrators: IntegratorSettings::default(),
+            d_max_epsilon: D_MAX_EPSILON,
+            lighting: Lighting::SceneLights,
+            light_samples: 16,
+            roughness: None,
+            base_colour: None,
+            colour_split: 0.5,
+        }
+    }
+}
+
+impl BakeRequest {
+    /// Refuses a request no bake can run, naming the field; sorts and
+    /// deduplicates the outputs.
+    pub fn validate(&mut self) -> Result<(), Error> {
+        if !(1..=MAX_RESOLUTION).contains(&self.resolution) {
+            return Err(Error::field(
+                "resolution",
+                format!("{} must be between 1 and {MAX_RESOLUTION}", self.resolution),
+            ));
+        }
+        if self.margin > self.resolution {
+            return Err(Error::field(
+                "margin",
+                format!(
+                    "{} texels is more than the map's side ({})",
+                    self.margin, self.resolution
+                ),
+            ));
+        }
+        self.outputs.sort();
+        self.outputs.dedup();
+        if self.outputs.is_empty() {
+            return Err(Error::field("outputs", "name at least one map"));
+        }
+        if self.light_samples == 0 {
+            return Err(Error::field("light_samples", "must be at least 1"));
+        }
+        if !(self.d_max_epsilon > 0.0 && self.d_max_epsilon < 1.0) {
+            return Err(Error::field(
+                "d_max_epsilon",
+                format!("{} must be between 0 and 1", self.d_max_epsilon),
+            ));
+        }
+        if let Some(m) = self.roughness.filter(|m| !(m.is_finite() && *m > 0.0)) {
+            return Err(Error::field("roughness", format!("{m} must be positive")));
+        }
+        if !(0.0..=1.0).contains(&self.colour_split) {
+            return Err(Error::field(
+                "colour_split",
+                format!("{} must be between 0 and 1", self.colour_split),
+            ));
+        }
+        self.integrators.validate()
+    }
+
+    /// True when any output needs the light scattered.
+    pub fn scatters(&self) -> bool {
+        self.outputs.iter().any(|o| o.needs_scattering())
+    }
+
+    /// True when any output needs the light entering the surface.
+    pub fn lights(&self) -> bool {
+        self.outputs.iter().any(|o| o.needs_light())
+    }
+}

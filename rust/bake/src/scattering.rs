@@ -1,0 +1,77 @@
+//! A material's profile and the kernel the integrators read it through,
+//! built once and together, so every stage sees the same reach.
+
+use crate::error::Error;
+use crate::transport::kernel::Kernel;
+use sssbake_profile::Material;
+use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::profile::Profile;
+
+/// Share of the reflectance left outside d_max when none is asked for.
+pub const D_MAX_EPSILON: f64 = 1e-3;
+
+/// A material's diffusion profile, ready to integrate.
+pub struct Scattering {
+    /// The material.
+    pub material: Material,
+    /// The model that describes it.
+    pub model: Model,
+    /// Its profile.
+    pub profile: Box<dyn Profile>,
+    /// The profile tabulated for the integrators, cut at d_max.
+    pub kernel: Kernel,
+}
+
+impl std::fmt::Debug for Scattering {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Scattering")
+            .field("material", &self.material.name)
+            .field("model", &self.model)
+            .field("d_max", &self.kernel.d_max)
+            .finish()
+    }
+}
+
+impl Scattering {
+    /// Builds `model` (the material's own when `None`) for `material`,
+    /// fitting `gaussians` terms where the model is a sum of Gaussians, and
+    /// its kernel keeping all but `d_max_epsilon` of the reflectance.
+    pub fn new(
+        material: Material,
+        model: Option<Model>,
+        gaussians: usize,
+        d_max_epsilon: f64,
+    ) -> Result<Self, Error> {
+        let model = model.unwrap_or_else(|| Model::default_for(&material));
+        let profile = build_profile(&material, model, gaussians)?;
+        Ok(Scattering::from_profile(
+            material,
+            model,
+            profile,
+            d_max_epsilon,
+        ))
+    }
+
+    /// A profile built elsewhere (a measured or test profile), with its
+    /// kernel.
+    pub fn from_profile(
+        material: Material,
+        model: Model,
+        profile: Box<dyn Profile>,
+        d_max_epsilon: f64,
+    ) -> Self {
+        let kernel = Kernel::new(profile.as_ref(), d_max_epsilon);
+        Scattering {
+            material,
+            model,
+            profile,
+            kernel,
+        }
+    }
+
+    /// The material's index of refraction where light enters (inside over
+    /// outside).
+    pub fn entry_index(&self) -> f64 {
+        self.material.entry_index()
+    }
+}

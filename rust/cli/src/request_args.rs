@@ -1,0 +1,226 @@
+//! The options `bake`, `plan` and `report` share, turned into the scene
+//! and the library's [`BakeRequest`]. Every default comes from the library.
+
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use sssbake::irradiance::environment::EnvironmentMap;
+use sssbake::materials::{MaterialAssignment, Sidecar, preset};
+use sssbake::request::MAX_RESOLUTION;
+use sssbake::scene::LightKind;
+use sssbake::transport::integrator::IntegratorSettings;
+use sssbake::{BakeRequest, Error, Lighting, Method, Output, Scene, UvPolicy};
+use sssbake_io::{ReadOptions, read_image, read_scene};
+use sssbake_profile::Material;
+use sssbake_profile::model::Model;
+use std::path::{Path, PathBuf};
+use std::sync::LazyLock;
+use strum::VariantNames;
+
+static DEFAULTS: LazyLock<BakeRequest> = LazyLock::new(BakeRequest::default);
+static INTEGRATORS: LazyLock<IntegratorSettings> = LazyLock::new(IntegratorSettings::default);
+
+/// A parser accepting the names `names` and parsing them as `T`.
+pub fn named<T>(names: &'static [&'static str]) -> impl TypedValueParser<Value = T>
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+    T::Err: std::error::Error + Send + Sync + 'static,
+{
+    PossibleValuesParser::new(names).try_map(|name| name.parse::<T>())
+}
+
+/// Options shared by the commands that bake.
+#[derive(clap::Args, Clone, Debug)]
+pub struct RequestArgs {
+    /// The scene: .gltf, .glb, .usd, .usda, .usdc or .usdz.
+    pub input: PathBuf,
+    /// An object to bake (repeat for more) [default: every object].
+    #[arg(long = "object", value_name = "NAME")]
+    pub objects: Vec<String>,
+    /// A material preset for every object the sidecar does not name
+    /// [default: the object's own material in the file, else skin1].
+    #[arg(long, conflicts_with = "material")]
+    pub preset: Option<String>,
+    /// A TOML material file for every object the sidecar does not name.
+    #[arg(long)]
+    pub material: Option<PathBuf>,
+    /// A TOML sidecar mapping objects to presets or material files.
+    #[arg(long, value_name = "FILE")]
+    pub materials: Option<PathBuf>,
+    /// The profile model [default: chosen for the material].
+    #[arg(long, value_parser = named::<Model>(Model::VARIANTS))]
+    pub model: Option<Model>,
+    /// Texels per side of each map (1 to 16384).
+    #[arg(long, default_value_t = DEFAULTS.resolution)]
+    pub resolution: u32,
+    /// The texture-coordinate set to bake into.
+    #[arg(long, default_value_t = 0)]
+    pub uv_set: usize,
+    /// Unwrap every object with xatlas, even where its UVs are usable.
+    #[arg(long, conflicts_with = "keep_uvs")]
+    pub unwrap: bool,
+    /// Bake into the objects' UVs as they are, even where they overlap.
+    #[arg(long)]
+    pub keep_uvs: bool,
+    /// Texels filled beyond each chart's edge, and between the charts of
+    /// an unwrap.
+    #[arg(long, default_value_t = DEFAULTS.margin)]
+    pub margin: u32,
+    /// The maps to make, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULTS.outputs.clone(),
+          value_parser = named::<Output>(Output::VARIANTS))]
+    pub outputs: Vec<Output>,
+    /// The integrator.
+    #[arg(long, default_value_t = DEFAULTS.method, value_parser = named::<Method>(Method::VARIANTS))]
+    pub method: Method,
+    /// Octree: the solid angle (sr) below which a node is taken whole.
+    #[arg(long, default_value_t = INTEGRATORS.octree.epsilon)]
+    pub octree_epsilon: f32,
+    /// Octree: Turk points per disk of one mean free path.
+    #[arg(long, default_value_t = INTEGRATORS.octree.points_per_disk)]
+    pub points_per_disk: f64,
+    /// Texture: Gaussians in the fit (and in a `gaussians` model).
+    #[arg(long, default_value_t = INTEGRATORS.texture.gaussians)]
+    pub gaussians: usize,
+    /// Importance: probes per texel.
+    #[arg(long, default_value_t = INTEGRATORS.importance.samples)]
+    pub samples: u32,
+    /// Millimetres per scene unit, overriding the file's units.
+    #[arg(long)]
+    pub unit_scale: Option<f64>,
+    /// An image (.exr linear, .png sRGB) in the object's UV layout to use
+    /// as the transmitted irradiance instead of the scene's lights.
+    #[arg(long, value_name = "IMAGE")]
+    pub irradiance: Option<PathBuf>,
+    /// An equirectangular image (.exr) for the scene's environment light.
+    #[arg(long, value_name = "IMAGE")]
+    pub environment: Option<PathBuf>,
+    /// A base colour image (.exr linear, .png sRGB) in the object's UVs,
+    /// applied as C^α before scattering and C^(1−α) after.
+    #[arg(long = "base-color", value_name = "IMAGE")]
+    pub base_color: Option<PathBuf>,
+    /// α of the colour split (Mikkelsen §3.5): 0 colours after scattering
+    /// only, 1 before only.
+    #[arg(long, default_value_t = DEFAULTS.colour_split)]
+    pub colour_split: f32,
+    /// Samples per soft light and for the environment, per texel.
+    #[arg(long, default_value_t = DEFAULTS.light_samples)]
+    pub light_samples: u32,
+    /// RMS slope of a rough surface (Donner & Jensen 2005 §2.4) [default: smooth].
+    #[arg(long)]
+    pub roughness: Option<f64>,
+    /// Random seed for sample points and Monte Carlo.
+    #[arg(long, default_value_t = INTEGRATORS.octree.seed)]
+    pub seed: u64,
+    /// Worker threads [default: every core].
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+impl RequestArgs {
+    /// Reads the scene, the materials and the images, and makes the request.
+    pub fn load(&self) -> Result<(Scene, BakeRequest), Error> {
+        if let Some(s) = self.unit_scale.filter(|s| !(s.is_finite() && *s > 0.0)) {
+            return Err(Error::field(
+                "--unit-scale",
+                format!("{s} must be a positive number of millimetres"),
+            ));
+        }
+        if !(1..=MAX_RESOLUTION).contains(&self.resolution) {
+            // Checked again by the library; here before the scene is read.
+            return Err(Error::field(
+                "--resolution",
+                format!("{} must be between 1 and {MAX_RESOLUTION}", self.resolution),
+            ));
+        }
+        if let Some(threads) = self.threads {
+            // Only the first call sets the pool; later ones keep it.
+            let _ = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads.max(1))
+                .build_global();
+        }
+        let mut materials = MaterialAssignment::default();
+        if let Some(name) = &self.preset {
+            materials.every_object = Some(sourced(preset(name)?, "--preset"));
+        }
+        if let Some(path) = &self.material {
+            materials.every_object = Some(sourced(Material::from_file(path)?, "--material"));
+        }
+        if let Some(path) = &self.materials {
+            materials.sidecar = Some(Sidecar::read(path)?);
+        }
+        let options = ReadOptions {
+            uv_set: self.uv_set,
+            unit_scale: self.unit_scale,
+        };
+        let scene = read_scene(&self.input, &options)?;
+        let mut integrators = IntegratorSettings::default();
+        integrators.octree.epsilon = self.octree_epsilon;
+        integrators.octree.points_per_disk = self.points_per_disk;
+        integrators.texture.gaussians = self.gaussians;
+        integrators.importance.samples = self.samples;
+        integrators.seed(self.seed);
+        let base_colour = match &self.base_color {
+            Some(path) => Some(read_image(path)?),
+            None => None,
+        };
+        let request = BakeRequest {
+            objects: self.objects.clone(),
+            materials,
+            model: self.model,
+            resolution: self.resolution,
+            uvs: if self.unwrap {
+                UvPolicy::Unwrap
+            } else if self.keep_uvs {
+                UvPolicy::Keep
+            } else {
+                UvPolicy::Auto
+            },
+            margin: self.margin,
+            outputs: self.outputs.clone(),
+            method: self.method,
+            integrators,
+            lighting: self.lighting(&scene)?,
+            light_samples: self.light_samples,
+            roughness: self.roughness,
+            base_colour,
+            colour_split: self.colour_split,
+            ..BakeRequest::default()
+        };
+        Ok((scene, request))
+    }
+
+    fn lighting(&self, scene: &Scene) -> Result<Lighting, Error> {
+        if let Some(path) = &self.irradiance {
+            return Ok(Lighting::Irradiance(read_image(path)?));
+        }
+        // The environment image: named on the command line, or by the
+        // scene's environment light, relative to the scene file.
+        let named = scene.lights.iter().find_map(|l| match &l.kind {
+            LightKind::Environment { texture: Some(t) } => Some(t.clone()),
+            _ => None,
+        });
+        let path = match (&self.environment, named) {
+            (Some(p), _) => p.clone(),
+            (None, Some(t)) => relative_to(&self.input, &t),
+            (None, None) => return Ok(Lighting::SceneLights),
+        };
+        let image = read_image(&path)?;
+        let environment = EnvironmentMap::new(image.width, image.height, image.texels)
+            .map_err(|e| Error::input(e).in_file(path.display().to_string()))?;
+        Ok(Lighting::SceneLightsWith { environment })
+    }
+}
+
+fn sourced(material: Material, flag: &str) -> sssbake::materials::Sourced {
+    sssbake::materials::Sourced {
+        material,
+        source: flag.to_string(),
+    }
+}
+
+fn relative_to(scene: &Path, file: &str) -> PathBuf {
+    let path = Path::new(file);
+    if path.is_absolute() {
+        return path.to_path_buf();
+    }
+    scene.parent().unwrap_or(Path::new(".")).join(path)
+}

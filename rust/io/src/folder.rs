@@ -1,0 +1,148 @@
+//! A bake written into a folder: every planned map of every object as a
+//! linear EXR (and an sRGB PNG preview for colour maps), and the input's
+//! glTF copy or USD layer, all staged and renamed into place together.
+
+use crate::assets::{AssetRecord, asset_files};
+use crate::image_writer::{Precision, exr_bytes, png_bytes};
+use crate::staging::Staging;
+use sssbake::control::Control;
+use sssbake::{Error, Plan, Scene, Summary, bake_each};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// How a bake is written.
+#[derive(Clone, Debug)]
+pub struct FolderOptions {
+    /// The folder (made if missing; never the input's own).
+    pub out: PathBuf,
+    /// Replace files already there.
+    pub force: bool,
+    /// EXR sample precision.
+    pub precision: Precision,
+    /// Exposure of the PNG previews, stops (the EXRs stay as baked).
+    pub exposure: f32,
+    /// The texture-coordinate set the scene was read with.
+    pub uv_set: usize,
+}
+
+impl Default for FolderOptions {
+    fn default() -> Self {
+        FolderOptions {
+            out: PathBuf::new(),
+            force: false,
+            precision: Precision::Float,
+            exposure: 0.0,
+            uv_set: 0,
+        }
+    }
+}
+
+/// Bakes `plan` of `scene` (read from `input`) into `options.out`; the
+/// summary lists the files written.
+pub fn bake_to_folder(
+    input: &Path,
+    scene: &Scene,
+    plan: &Plan,
+    options: &FolderOptions,
+    control: &Control,
+) -> Result<Summary, Error> {
+    if !options.exposure.is_finite() {
+        return Err(Error::field("exposure", "must be a number of stops"));
+    }
+    refuse_input_folder(input, &options.out)?;
+    let maps = map_paths(plan, &options.out);
+    refuse_existing(maps.iter().map(|(_, _, p)| p.as_path()), options.force)?;
+    let mut staging = Staging::new(&options.out)?;
+    let mut summary = bake_each(scene, plan, control, |object| {
+        for (_, output, path) in maps.iter().filter(|(n, _, _)| n == object.name()) {
+            let mut image = object.render(*output)?;
+            let png = path.extension().is_some_and(|e| e == "png");
+            let bytes = if png {
+                let scale = options.exposure.exp2();
+                for texel in &mut image.texels {
+                    *texel = texel.map(|v| v * scale);
+                }
+                png_bytes(&image)
+            } else {
+                exr_bytes(&image, options.precision)
+            }
+            .map_err(|e| Error::output(path.display(), e))?;
+            staging.stage(path, &bytes)?;
+        }
+        Ok(())
+    })?;
+    let start = Instant::now();
+    let written: Vec<PathBuf> = staging.files().map(Path::to_path_buf).collect();
+    let record = AssetRecord {
+        input,
+        out: &options.out,
+        uv_set: options.uv_set,
+        objects: &scene.objects,
+        summary: &summary,
+        maps: &written,
+    };
+    let mut notes = Vec::new();
+    let assets = asset_files(&record, &mut notes)?;
+    refuse_existing(assets.iter().map(|(p, _)| p.as_path()), options.force)?;
+    for (path, bytes) in &assets {
+        staging.stage(path, bytes)?;
+    }
+    summary.files = staging.files().map(|p| p.display().to_string()).collect();
+    staging.commit()?;
+    summary.left_out.extend(notes);
+    summary.write_seconds = start.elapsed().as_secs_f64();
+    Ok(summary)
+}
+
+/// (object, output, path) of every map `plan` makes in `out`: an EXR per
+/// output and a PNG per colour output.
+pub fn map_paths(plan: &Plan, out: &Path) -> Vec<(String, sssbake::Output, PathBuf)> {
+    let mut paths = Vec::new();
+    for object in &plan.objects {
+        for &output in &plan.outputs {
+            let stem = format!("{}_{}", object.file_stem, output.name());
+            paths.push((object.name.clone(), output, out.join(format!("{stem}.exr"))));
+            if output.is_colour() {
+                paths.push((object.name.clone(), output, out.join(format!("{stem}.png"))));
+            }
+        }
+    }
+    paths
+}
+
+fn refuse_existing<'a>(
+    mut paths: impl Iterator<Item = &'a Path>,
+    force: bool,
+) -> Result<(), Error> {
+    match paths.find(|p| p.exists()) {
+        Some(existing) if !force => Err(Error::output(
+            existing.display(),
+            "exists (use --force to replace it)",
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Refuses an output folder that is the input's own: a bake never writes
+/// beside the asset it reads.
+fn refuse_input_folder(input: &Path, out: &Path) -> Result<(), Error> {
+    let folder = input
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let same = match (folder.canonicalize(), out.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same {
+        return Err(Error::field(
+            "out",
+            format!(
+                "{} is the folder of the input {}; write the bake to another folder",
+                out.display(),
+                input.display()
+            ),
+        ));
+    }
+    Ok(())
+}
