@@ -12,7 +12,9 @@
 //! The PNG's rows run top to bottom with glTF's v running down, so the
 //! same image serves glTF and USD without a flip.
 
+use gltf::Glb;
 use serde_json::{Value, json};
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 /// One baked object to show in the copy.
@@ -69,11 +71,7 @@ pub fn gltf_copy(input: &Path, baked: &[Baked]) -> Result<Vec<OutputFile>, Strin
     }
     show_bake(&mut document, baked)?;
     let text = serde_json::to_vec_pretty(&document).map_err(|e| e.to_string())?;
-    let main = if glb {
-        join_glb(text, binary.as_deref())
-    } else {
-        text
-    };
+    let main = if glb { join_glb(text, binary)? } else { text };
     files.push((name, main));
     Ok(files)
 }
@@ -108,7 +106,7 @@ fn copied_references(document: &mut Value, folder: &Path) -> Result<Vec<OutputFi
                     n += 1;
                     target = PathBuf::from(format!("external{n}_{name}"));
                 }
-                item["uri"] = json!(target.to_string_lossy().replace('\\', "/"));
+                item["uri"] = json!(uri_of(&target.to_string_lossy()));
             }
             if !files.iter().any(|(f, _)| *f == target) {
                 files.push((target, bytes));
@@ -198,7 +196,7 @@ fn add_geometry(document: &mut Value, baked: &[Baked], file: &str) -> Option<Vec
     push(
         document,
         "buffers",
-        json!({ "uri": file, "byteLength": bytes.len() }),
+        json!({ "uri": uri_of(file), "byteLength": bytes.len() }),
     );
     Some(bytes)
 }
@@ -213,7 +211,7 @@ fn show_bake(document: &mut Value, baked: &[Baked]) -> Result<(), String> {
         let image = push(
             document,
             "images",
-            json!({ "uri": b.image, "name": b.image }),
+            json!({ "uri": uri_of(&b.image), "name": b.image }),
         );
         let texture = push(document, "textures", json!({ "source": image }));
         let material = push(
@@ -273,76 +271,45 @@ fn push(document: &mut Value, key: &str, item: Value) -> usize {
 
 /// The JSON and binary chunks of a GLB.
 fn split_glb(bytes: &[u8]) -> Result<(Value, Option<Vec<u8>>), String> {
-    let word = |at: usize| -> Result<u32, String> {
-        bytes
-            .get(at..at + 4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .ok_or_else(|| "the GLB is cut short".to_string())
-    };
-    let json_length = word(12)? as usize;
-    let json_bytes = bytes
-        .get(20..20 + json_length)
-        .ok_or("the GLB's JSON chunk is cut short")?;
+    // gltf 1.4 subtracts the 12-byte header from the declared total length
+    // without checking it first, which overflows on a length below 12.
+    let declared = bytes
+        .get(8..12)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    if declared.is_some_and(|length| length < 12) {
+        return Err("not a valid GLB: its length is shorter than its header".into());
+    }
+    let glb = Glb::from_slice(bytes).map_err(|e| format!("not a valid GLB: {e}"))?;
     let document: Value =
-        serde_json::from_slice(json_bytes).map_err(|e| format!("the GLB's JSON: {e}"))?;
-    let binary_start = 20 + json_length;
-    let binary = if bytes.len() >= binary_start + 8 {
-        let length = word(binary_start)? as usize;
-        Some(
-            bytes
-                .get(binary_start + 8..binary_start + 8 + length)
-                .ok_or("the GLB's binary chunk is cut short")?
-                .to_vec(),
-        )
-    } else {
-        None
-    };
-    Ok((document, binary))
+        serde_json::from_slice(&glb.json).map_err(|e| format!("the GLB's JSON: {e}"))?;
+    Ok((document, glb.bin.map(Cow::into_owned)))
 }
 
-/// A GLB of `json` (padded with spaces) and `binary` (padded with zeros).
-fn join_glb(mut json: Vec<u8>, binary: Option<&[u8]>) -> Vec<u8> {
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
+/// A GLB of `json` and `binary`; the gltf crate pads the JSON chunk with
+/// spaces and the binary chunk with zeros to the 4-byte boundaries the
+/// format requires, and writes the total length itself.
+fn join_glb(json: Vec<u8>, binary: Option<Vec<u8>>) -> Result<Vec<u8>, String> {
+    Glb {
+        header: gltf::binary::Header {
+            magic: *b"glTF",
+            version: 2,
+            length: 0,
+        },
+        json: Cow::Owned(json),
+        bin: binary.map(Cow::Owned),
     }
-    let mut binary = binary.map(<[u8]>::to_vec);
-    if let Some(b) = &mut binary {
-        while !b.len().is_multiple_of(4) {
-            b.push(0);
-        }
-    }
-    let total = 12 + 8 + json.len() + binary.as_ref().map_or(0, |b| 8 + b.len());
-    let mut out = Vec::with_capacity(total);
-    out.extend(b"glTF");
-    out.extend(2u32.to_le_bytes());
-    out.extend((total as u32).to_le_bytes());
-    out.extend((json.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(&json);
-    if let Some(b) = binary {
-        out.extend((b.len() as u32).to_le_bytes());
-        out.extend(b"BIN\0");
-        out.extend(&b);
-    }
-    out
+    .to_vec()
+    .map_err(|e| format!("cannot write the GLB: {e}"))
 }
 
-/// `%20`-style escapes decoded, as glTF URIs may carry them.
+/// `%20`-style escapes decoded, as glTF URIs may carry them; a URI whose
+/// escapes do not spell UTF-8 is taken as it is written.
 fn percent_decode(uri: &str) -> String {
-    let bytes = uri.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%'
-            && i + 2 < bytes.len()
-            && let Ok(v) = u8::from_str_radix(&uri[i + 1..i + 3], 16)
-        {
-            out.push(v);
-            i += 3;
-            continue;
-        }
-        out.push(bytes[i]);
-        i += 1;
-    }
-    String::from_utf8_lossy(&out).into_owned()
+    urlencoding::decode(uri).map_or_else(|_| uri.to_string(), Cow::into_owned)
+}
+
+/// A file name as a URI path segment (spaces, `%` and non-ASCII escaped),
+/// for the URIs the copy writes.
+fn uri_of(file_name: &str) -> String {
+    urlencoding::encode(file_name).into_owned()
 }

@@ -9,27 +9,70 @@
 //! - OpenPBR without subsurface: its base_color; UsdPreviewSurface: its
 //!   diffuseColor. Both with `ior`, and no scattering distance of their own.
 
+use serde::Deserialize;
+use serde::de::IgnoredAny;
 use serde_json::Value;
 use sssbake::MaterialHint;
 use sssbake::scene::Subsurface;
+use std::collections::HashMap;
 
 const OPEN_PBR: &str = "ND_open_pbr_surface_surfaceshader";
 
+/// A mesh's bound material as `usd/read_stage.py` reports it (its
+/// `material` entry; `null` when nothing is bound).
+#[derive(Deserialize)]
+pub(crate) struct ShaderJson {
+    /// The Material prim's name.
+    name: String,
+    /// The surface shader's `info:id` (the MaterialX context's first, then
+    /// the universal one); empty when the material has no surface.
+    #[serde(default)]
+    shader: String,
+    /// The authored values of the shader's unconnected inputs, by base name.
+    #[serde(default)]
+    inputs: HashMap<String, InputJson>,
+    /// The base names of the inputs a connection (a texture) drives.
+    #[serde(default)]
+    connected: Vec<String>,
+}
+
+/// One input's value: a number (the script writes scalars and booleans as
+/// floats) or three numbers (a colour or vector). Other shapes, such as
+/// a token the script spelt out as a list of characters, belong to inputs
+/// the bake does not read; they are kept out rather than refused, so an
+/// unusual shader never stops a scene from loading.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum InputJson {
+    Number(f64),
+    Triple([f64; 3]),
+    Other(IgnoredAny),
+}
+
 /// The hint for one mesh's `material` entry, and notes on inputs that a
-/// texture drives (their authored defaults are used).
+/// texture drives (their authored defaults are used); `None` for an entry
+/// that is `null`, is not a material as `usd/read_stage.py` writes one,
+/// or has a shader the bake does not translate.
 pub fn usd_material(value: &Value, mm_per_unit: f64) -> Option<(MaterialHint, Vec<String>)> {
-    let name = value["name"].as_str()?.to_string();
-    let shader = value["shader"].as_str().unwrap_or("");
-    let inputs = &value["inputs"];
-    let number = |key: &str, default: f64| inputs[key].as_f64().unwrap_or(default);
-    let colour = |key: &str, default: [f64; 3]| {
-        inputs[key]
-            .as_array()
-            .filter(|c| c.len() == 3)
-            .map_or(default, |c| {
-                [0, 1, 2].map(|i| c[i].as_f64().unwrap_or(default[i]))
-            })
+    let shader = ShaderJson::deserialize(value).ok()?;
+    material_hint(&shader, mm_per_unit)
+}
+
+/// The hint for one bound material, as [`usd_material`] describes.
+pub(crate) fn material_hint(
+    material: &ShaderJson,
+    mm_per_unit: f64,
+) -> Option<(MaterialHint, Vec<String>)> {
+    let name = material.name.clone();
+    let number = |key: &str, default: f64| match material.inputs.get(key) {
+        Some(InputJson::Number(x)) => *x,
+        _ => default,
     };
+    let colour = |key: &str, default: [f64; 3]| match material.inputs.get(key) {
+        Some(InputJson::Triple(c)) => *c,
+        _ => default,
+    };
+    let shader = material.shader.as_str();
     let (base, ior, subsurface) = if shader == OPEN_PBR {
         let base = colour("base_color", [0.8; 3]);
         let weight = number("subsurface_weight", 0.0);
@@ -50,13 +93,11 @@ pub fn usd_material(value: &Value, mm_per_unit: f64) -> Option<(MaterialHint, Ve
     } else {
         return None;
     };
-    let notes = value["connected"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .filter_map(|n| n.as_str())
+    let notes = material
+        .connected
+        .iter()
         .filter(|n| {
-            ["base_color", "diffuseColor", "ior", "specular_ior"].contains(n)
+            ["base_color", "diffuseColor", "ior", "specular_ior"].contains(&n.as_str())
                 || n.starts_with("subsurface")
         })
         .map(|n| format!("material `{name}`: `{n}` is driven by a texture; its default is used"))

@@ -4,13 +4,109 @@
 //! `python3`), and hands meshes and lights over as JSON. Units come from
 //! the stage's metersPerUnit.
 
+use crate::usd_material::{ShaderJson, material_hint};
 use crate::{InputError, ReadOptions};
 use glam::{Vec2, Vec3};
+use serde::Deserialize;
 use serde_json::Value;
+use serde_path_to_error::Segment;
 use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
 use std::path::Path;
 
 const READ_STAGE: &str = include_str!("../../../usd/read_stage.py");
+
+/// What `usd/read_stage.py` prints: the reader's JSON contract. Keys the
+/// script prints for people reading its output and the bake does not use
+/// (`up_axis`, a mesh's `faces` and `subsets`) are ignored, as is any key
+/// a newer script adds.
+#[derive(Deserialize)]
+struct StageJson {
+    /// The stage's metersPerUnit; absent, `null` or not positive, USD's
+    /// default of 0.01.
+    meters_per_unit: Option<f64>,
+    /// Every visible UsdGeomMesh.
+    #[serde(default)]
+    meshes: Vec<MeshJson>,
+    /// Every visible UsdLux light.
+    #[serde(default)]
+    lights: Vec<LightJson>,
+}
+
+/// One UsdGeomMesh, in world space and stage units.
+#[derive(Deserialize)]
+struct MeshJson {
+    /// The object's name: the mesh prim's, or its parent Xform's when that
+    /// holds only this mesh (as exporters such as Blender's write objects)
+    /// [default: `mesh`].
+    #[serde(default = "mesh_name")]
+    name: String,
+    /// The mesh prim's path.
+    path: Option<String>,
+    /// The points, transformed to world space.
+    points: Vec<[f32; 3]>,
+    /// For each face corner in face order, the point it uses
+    /// (faceVertexIndices).
+    #[serde(default)]
+    corner_vertices: Vec<u32>,
+    /// The faces fan-triangulated, as face-corner indices, counter-clockwise
+    /// (already reversed for a mirroring transform or left-handed mesh).
+    #[serde(default)]
+    triangles: Vec<[u32; 3]>,
+    /// The chosen st primvar per face corner; `null` when the mesh has none.
+    uvs: Option<Vec<[f32; 2]>>,
+    /// World-space unit normals per face corner; `null` when none are
+    /// authored.
+    normals: Option<Vec<[f32; 3]>>,
+    /// The bound material's surface shader; `null` when nothing is bound.
+    material: Option<ShaderJson>,
+}
+
+fn mesh_name() -> String {
+    "mesh".into()
+}
+
+/// One UsdLux light with its world transform; sizes in stage units,
+/// angles in degrees. Only the size of the light's own kind is present.
+#[derive(Deserialize)]
+struct LightJson {
+    /// The prim's name [default: `light`].
+    #[serde(default = "light_name")]
+    name: String,
+    /// The prim's type name (`SphereLight`, `DistantLight`, …).
+    #[serde(rename = "type")]
+    kind: Option<String>,
+    /// inputs:intensity.
+    intensity: f32,
+    /// inputs:exposure, in stops.
+    exposure: f32,
+    /// inputs:color, linear [default: white].
+    color: Option<[f32; 3]>,
+    /// The light's origin in world space [default: the world origin].
+    position: Option<[f32; 3]>,
+    /// The light's −z axis in world space [default: −z].
+    direction: Option<[f32; 3]>,
+    /// The light's x axis in world space [default: x].
+    tangent: Option<[f32; 3]>,
+    /// inputs:normalize: the power does not depend on the size.
+    #[serde(default)]
+    normalize: bool,
+    /// How much the world transform scales the light's x axis [default: 1].
+    scale: Option<f32>,
+    /// A SphereLight's or DiskLight's inputs:radius.
+    radius: Option<f32>,
+    /// A RectLight's inputs:width.
+    width: Option<f32>,
+    /// A RectLight's inputs:height.
+    height: Option<f32>,
+    /// A DistantLight's inputs:angle, degrees.
+    angle: Option<f32>,
+    /// A DomeLight's resolved inputs:texture:file; empty when it has none.
+    texture: Option<String>,
+}
+
+fn light_name() -> String {
+    "light".into()
+}
 
 /// Reads a USD stage.
 pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<Scene, InputError> {
@@ -30,14 +126,95 @@ pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<Scene, InputError>
     let stdout =
         crate::python::run_script(READ_STAGE, [path.as_os_str(), uv_set.as_ref()], "read it")
             .map_err(error)?;
-    let value: Value = serde_json::from_slice(&stdout)
-        .map_err(|e| error(format!("the USD reader's output is not JSON: {e}")))?;
-    scene_from_json(&value, &file, options)
+    // Straight into the contract's structs; the output is parsed a second
+    // time, as plain JSON, only to name the object an error is in.
+    let mut json = serde_json::Deserializer::from_slice(&stdout);
+    let stage = stage_json(&mut json, || serde_json::from_slice(&stdout).ok())
+        .and_then(|stage| json.end().map(|()| stage).map_err(not_json))
+        .map_err(error)?;
+    scene_from_stage(stage, &file, options)
 }
 
-/// Builds the scene from the reader's JSON (see `usd/read_stage.py`).
+/// Builds the scene from the reader's JSON: the shape `usd/read_stage.py`
+/// prints, spelt out field by field on this module's `StageJson`, `MeshJson`
+/// and `LightJson` (and `usd_material`'s `ShaderJson`). A field of the wrong
+/// type is an error naming the object or light and the field's path.
 pub fn scene_from_json(
     value: &Value,
+    file: &str,
+    options: &ReadOptions,
+) -> Result<Scene, InputError> {
+    let stage = stage_json(value, || Some(value.clone())).map_err(|message| InputError {
+        file: file.to_string(),
+        message,
+    })?;
+    scene_from_stage(stage, file, options)
+}
+
+fn not_json(error: serde_json::Error) -> String {
+    format!("the USD reader's output is not JSON: {error}")
+}
+
+/// The reader's output as its contract, or what does not fit it and where.
+/// `value` gives the output as plain JSON, to look up names with.
+fn stage_json<'de, D>(
+    deserializer: D,
+    value: impl FnOnce() -> Option<Value>,
+) -> Result<StageJson, String>
+where
+    D: serde::Deserializer<'de, Error = serde_json::Error>,
+{
+    serde_path_to_error::deserialize(deserializer).map_err(|e| {
+        if e.inner().is_syntax() || e.inner().is_eof() {
+            return not_json(e.into_inner());
+        }
+        misfit(&e, value().as_ref())
+    })
+}
+
+/// A field that does not fit the contract, said the way the rest of the
+/// reader speaks: "object `Head`: points[2]: invalid length 2, …" for a
+/// mesh's or light's field, the bare path for the stage's own.
+fn misfit(error: &serde_path_to_error::Error<serde_json::Error>, value: Option<&Value>) -> String {
+    let segments: Vec<&Segment> = error.path().iter().collect();
+    let (who, rest) = match segments[..] {
+        [Segment::Map { key }, Segment::Seq { index }, ref rest @ ..]
+            if key == "meshes" || key == "lights" =>
+        {
+            let kind = if key == "meshes" { "object" } else { "light" };
+            let name = value
+                .and_then(|v| v[key.as_str()][*index]["name"].as_str())
+                .map_or_else(|| format!("at {key}[{index}]"), |n| format!("`{n}`"));
+            (Some(format!("{kind} {name}")), rest)
+        }
+        ref all => (None, all),
+    };
+    let mut field = String::new();
+    for segment in rest {
+        if !field.is_empty() && !matches!(segment, Segment::Seq { .. }) {
+            field.push('.');
+        }
+        field.push_str(&segment.to_string());
+    }
+    // The path says where; the column in the script's one-line output adds
+    // nothing a reader can use.
+    let inner = error.inner();
+    let mut what = inner.to_string();
+    let position = format!(" at line {} column {}", inner.line(), inner.column());
+    if let Some(stripped) = what.strip_suffix(&position) {
+        what.truncate(stripped.len());
+    }
+    let parts: Vec<String> = [who, (!field.is_empty()).then_some(field)]
+        .into_iter()
+        .flatten()
+        .chain([what])
+        .collect();
+    parts.join(": ")
+}
+
+/// Builds the scene from the reader's output read into its contract.
+fn scene_from_stage(
+    stage: StageJson,
     file: &str,
     options: &ReadOptions,
 ) -> Result<Scene, InputError> {
@@ -45,26 +222,17 @@ pub fn scene_from_json(
         file: file.to_string(),
         message,
     };
-    let meters_per_unit = value["meters_per_unit"]
-        .as_f64()
-        .filter(|m| *m > 0.0)
-        .unwrap_or(0.01);
+    let meters_per_unit = stage.meters_per_unit.filter(|m| *m > 0.0).unwrap_or(0.01);
     let scale = options.unit_scale.unwrap_or(meters_per_unit * 1000.0);
     let mut scene = Scene {
         source: file.to_string(),
         millimetres_per_unit: scale,
         ..Default::default()
     };
-    for mesh in value["meshes"].as_array().into_iter().flatten() {
-        let name = mesh["name"].as_str().unwrap_or("mesh").to_string();
-        let points =
-            vec3s(&mesh["points"]).map_err(|m| error(format!("object `{name}`: points {m}")))?;
-        let corners: Vec<u32> = mesh["corner_vertices"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .map(|v| v.as_u64().unwrap_or(u64::MAX) as u32)
-            .collect();
+    for mesh in stage.meshes {
+        let name = mesh.name;
+        let points: Vec<Vec3> = mesh.points.into_iter().map(Vec3::from).collect();
+        let corners = mesh.corner_vertices;
         if let Some(bad) = corners.iter().find(|&&c| c as usize >= points.len()) {
             return Err(error(format!(
                 "object `{name}`: a face refers to point {bad}, but there are {} points",
@@ -76,24 +244,13 @@ pub fn scene_from_json(
             .iter()
             .map(|&c| points[c as usize] * scale as f32)
             .collect();
-        let triangles: Vec<[u32; 3]> = mesh["triangles"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .map(|t| [0, 1, 2].map(|k| t[k].as_u64().unwrap_or(u64::MAX) as u32))
-            .collect();
-        let uvs = mesh["uvs"].as_array().map(|a| {
-            a.iter()
-                .map(|uv| Vec2::new(num(&uv[0]), num(&uv[1])))
-                .collect::<Vec<_>>()
-        });
-        let normals = match &mesh["normals"] {
-            Value::Array(_) => Some(
-                vec3s(&mesh["normals"])
-                    .map_err(|m| error(format!("object `{name}`: normals {m}")))?,
-            ),
-            _ => None,
-        };
+        let triangles = mesh.triangles;
+        let uvs: Option<Vec<Vec2>> = mesh
+            .uvs
+            .map(|uvs| uvs.into_iter().map(Vec2::from).collect());
+        let normals: Option<Vec<Vec3>> = mesh
+            .normals
+            .map(|normals| normals.into_iter().map(Vec3::from).collect());
         if triangles.is_empty() {
             scene
                 .notes
@@ -113,8 +270,11 @@ pub fn scene_from_json(
                 "object `{name}`: has no st primvar; it will be unwrapped"
             ));
         }
-        let material =
-            crate::usd_material::usd_material(&mesh["material"], scale).map(|(hint, notes)| {
+        let material = mesh
+            .material
+            .as_ref()
+            .and_then(|m| material_hint(m, scale))
+            .map(|(hint, notes)| {
                 scene.notes.extend(notes);
                 hint
             });
@@ -124,87 +284,64 @@ pub fn scene_from_json(
             material,
             node: None,
             local_to_world: glam::Mat4::IDENTITY,
-            prim: mesh["path"].as_str().map(String::from),
+            prim: mesh.path,
         });
     }
-    for light in value["lights"].as_array().into_iter().flatten() {
-        let Some((kind, normalizing_area_m2)) = usd_light_kind(light, scale) else {
+    for light in stage.lights {
+        let Some((kind, normalizing_area_m2)) = usd_light_kind(&light, scale) else {
             scene.notes.push(format!(
                 "light `{}`: a {} is not a kind sssbake bakes; left out",
-                light["name"].as_str().unwrap_or("light"),
-                light["type"].as_str().unwrap_or("light of no type")
+                light.name,
+                light.kind.as_deref().unwrap_or("light of no type")
             ));
             continue;
         };
-        let exposure = num(&light["exposure"]);
-        let mut intensity = num(&light["intensity"]) * exposure.exp2();
-        if light["normalize"].as_bool() == Some(true) && normalizing_area_m2 > 0.0 {
+        let mut intensity = light.intensity * light.exposure.exp2();
+        if light.normalize && normalizing_area_m2 > 0.0 {
             intensity /= normalizing_area_m2;
         } else if let LightKind::Point { radius_mm } | LightKind::Spot { radius_mm, .. } = kind {
             // A sphere of radiance L shines π r² L watts per steradian.
             let r_m = radius_mm * 1e-3;
             intensity *= std::f32::consts::PI * r_m * r_m;
         }
-        let color = light["color"]
-            .as_array()
-            .map_or([1.0; 3], |c| [0, 1, 2].map(|k| num(&c[k])));
-        let direction = vec3(&light["direction"]).unwrap_or(Vec3::NEG_Z);
+        let direction = light.direction.map_or(Vec3::NEG_Z, Vec3::from);
         scene.lights.push(Light {
-            name: light["name"].as_str().unwrap_or("light").to_string(),
+            name: light.name,
             kind,
-            color,
+            color: light.color.unwrap_or([1.0; 3]),
             intensity,
-            position: vec3(&light["position"]).unwrap_or(Vec3::ZERO) * scale as f32,
+            position: light.position.map_or(Vec3::ZERO, Vec3::from) * scale as f32,
             direction: direction.normalize_or(Vec3::NEG_Z),
-            tangent: vec3(&light["tangent"]).map_or(Vec3::X, |t| t.normalize_or(Vec3::X)),
+            tangent: light
+                .tangent
+                .map_or(Vec3::X, |t| Vec3::from(t).normalize_or(Vec3::X)),
         });
     }
     scene.objects.sort_by(|a, b| a.mesh.name.cmp(&b.mesh.name));
     Ok(scene)
 }
 
-fn num(v: &Value) -> f32 {
-    v.as_f64().unwrap_or(f64::NAN) as f32
-}
-
-fn vec3(v: &Value) -> Option<Vec3> {
-    let a = v.as_array().filter(|a| a.len() == 3)?;
-    Some(Vec3::new(num(&a[0]), num(&a[1]), num(&a[2])))
-}
-
-fn vec3s(v: &Value) -> Result<Vec<Vec3>, String> {
-    v.as_array()
-        .ok_or_else(|| "are missing".to_string())?
-        .iter()
-        .map(|p| vec3(p).ok_or_else(|| "have an entry that is not three numbers".to_string()))
-        .collect()
-}
-
 /// A UsdLux light's kind with its size in mm, and the area (m²) its
 /// `normalize` divides by; `None` for kinds not baked.
-fn usd_light_kind(light: &Value, scale: f64) -> Option<(LightKind, f32)> {
+fn usd_light_kind(light: &LightJson, scale: f64) -> Option<(LightKind, f32)> {
     // The light's own transform scales its size; absent, it is 1.
-    let own = num(&light["scale"]);
-    let scale = scale as f32
-        * if own.is_finite() && own > 0.0 {
-            own
-        } else {
-            1.0
-        };
-    let size = |key: &str| (num(&light[key]) * scale).max(0.0);
-    let radius_mm = size("radius");
+    let own = light.scale.filter(|s| s.is_finite() && *s > 0.0);
+    let scale = scale as f32 * own.unwrap_or(1.0);
+    // A size the script did not give (another kind's) is zero.
+    let size = |value: Option<f32>| (value.unwrap_or(0.0) * scale).max(0.0);
+    let radius_mm = size(light.radius);
     let disk_m2 = std::f32::consts::PI * (radius_mm * 1e-3).powi(2);
-    Some(match light["type"].as_str().unwrap_or("") {
+    Some(match light.kind.as_deref().unwrap_or("") {
         "DistantLight" => (
             LightKind::Directional {
-                angle: num(&light["angle"]).to_radians().max(0.0),
+                angle: light.angle.unwrap_or(0.0).to_radians().max(0.0),
             },
             0.0,
         ),
         "SphereLight" => (LightKind::Point { radius_mm }, 4.0 * disk_m2),
         "DiskLight" => (LightKind::Disk { radius_mm }, disk_m2),
         "RectLight" => {
-            let (width_mm, height_mm) = (size("width"), size("height"));
+            let (width_mm, height_mm) = (size(light.width), size(light.height));
             (
                 LightKind::Rectangle {
                     width_mm,
@@ -215,10 +352,7 @@ fn usd_light_kind(light: &Value, scale: f64) -> Option<(LightKind, f32)> {
         }
         "DomeLight" => (
             LightKind::Environment {
-                texture: light["texture"]
-                    .as_str()
-                    .filter(|t| !t.is_empty())
-                    .map(String::from),
+                texture: light.texture.clone().filter(|t| !t.is_empty()),
             },
             0.0,
         ),

@@ -115,3 +115,57 @@ fn unknown_shaders_give_no_material() {
     let scene = scene_from_json(&stage, "card.usda", &ReadOptions::default()).unwrap();
     assert!(scene.objects[0].material.is_none());
 }
+
+fn refused(stage: &serde_json::Value) -> String {
+    scene_from_json(stage, "card.usda", &ReadOptions::default())
+        .unwrap_err()
+        .to_string()
+}
+
+#[test]
+fn a_wrong_typed_field_is_named_with_its_object_and_path() {
+    let mut stage = quad(vec![0, 1, 2, 3]);
+    stage["meshes"][0]["triangles"][1] = json!([0, 2, "3"]);
+    assert_eq!(
+        refused(&stage),
+        "card.usda: object `Card`: triangles[1][2]: invalid type: string \"3\", expected u32"
+    );
+
+    let mut stage = quad(vec![0, 1, 2, 3]);
+    stage["meshes"][0]["points"][2] = json!([10, 10]);
+    assert_eq!(
+        refused(&stage),
+        "card.usda: object `Card`: points[2]: invalid length 2, expected an array of length 3"
+    );
+
+    let mut stage = quad(vec![0, 1, 2, 3]);
+    stage["lights"][0]["intensity"] = json!("bright");
+    assert_eq!(
+        refused(&stage),
+        "card.usda: light `Key`: intensity: invalid type: string \"bright\", expected f32"
+    );
+
+    let mut stage = quad(vec![0, 1, 2, 3]);
+    stage["meshes"][0]["material"] = json!({"name": "Wax", "shader": 3});
+    assert_eq!(
+        refused(&stage),
+        "card.usda: object `Card`: material.shader: invalid type: integer `3`, expected a string"
+    );
+
+    let mut stage = quad(vec![0, 1, 2, 3]);
+    stage["meters_per_unit"] = json!("cm");
+    assert_eq!(
+        refused(&stage),
+        "card.usda: meters_per_unit: invalid type: string \"cm\", expected f64"
+    );
+}
+
+#[test]
+fn a_missing_field_is_named_with_its_object() {
+    let mut stage = quad(vec![0, 1, 2, 3]);
+    stage["meshes"][0].as_object_mut().unwrap().remove("points");
+    assert_eq!(
+        refused(&stage),
+        "card.usda: object `Card`: missing field `points`"
+    );
+}

@@ -5,6 +5,8 @@
 use crate::Rgb;
 use crate::gaussians::SumOfGaussians;
 use crate::medium::Medium;
+use serde::Deserialize;
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use std::fmt;
 use std::path::Path;
 
@@ -101,7 +103,9 @@ impl Material {
         Self::from_toml(&text, &source, &default_name)
     }
 
-    /// Parses and validates TOML text; `source` names it in errors.
+    /// Parses and validates TOML text; `source` names it in errors, with the
+    /// field's path (`layers[1].ior`). A key outside the layout below is an
+    /// error, so a misspelt one is caught rather than left at its default.
     ///
     /// ```toml
     /// name = "two-layer skin"        # optional
@@ -118,47 +122,43 @@ impl Material {
             field: field.to_string(),
             message,
         };
-        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-            error("", format!("not valid TOML: {}", e.message().trim()))
+        let document = toml::Deserializer::parse(text)
+            .map_err(|e| error("", format!("not valid TOML: {}", e.message().trim())))?;
+        let file: MaterialFile = serde_path_to_error::deserialize(document).map_err(|e| {
+            // The path prints as `layers[0].ior`, the form the validation
+            // below uses; an error at the root (which prints as `.`) has none.
+            let field = match e.path().iter().next() {
+                Some(_) => e.path().to_string(),
+                None => String::new(),
+            };
+            error(&field, e.inner().message().trim().to_string())
         })?;
-        for key in table.keys() {
-            if key != "name" && key != "layers" {
-                return Err(error(
-                    key,
-                    "unknown field (expected `name` or `layers`)".into(),
-                ));
-            }
-        }
-        let name = match table.get("name") {
-            None => default_name.to_string(),
-            Some(toml::Value::String(s)) => s.clone(),
-            Some(_) => return Err(error("name", "must be a string".into())),
-        };
-        let layers = match table.get("layers") {
-            None => {
-                return Err(error(
-                    "layers",
-                    "missing: a material needs at least one [[layers]] table".into(),
-                ));
-            }
-            Some(toml::Value::Array(items)) => items,
-            Some(_) => {
-                return Err(error(
-                    "layers",
-                    "must be an array of tables ([[layers]])".into(),
-                ));
-            }
+        let Some(LayerList(layers)) = file.layers else {
+            return Err(error(
+                "layers",
+                "missing: a material needs at least one [[layers]] table".into(),
+            ));
         };
         let mut parsed = Vec::with_capacity(layers.len());
-        for (i, item) in layers.iter().enumerate() {
-            let prefix = format!("layers[{i}]");
-            let toml::Value::Table(fields) = item else {
-                return Err(error(&prefix, "must be a table".into()));
+        for (i, layer) in layers.into_iter().enumerate() {
+            let missing = |name: &str| {
+                error(
+                    &format!("layers[{i}].{name}"),
+                    "missing (1/mm, a number or [r, g, b])".into(),
+                )
             };
-            parsed.push(parse_layer(fields, &prefix).map_err(|(f, m)| error(&f, m))?);
+            let sigma_a = layer.sigma_a.ok_or_else(|| missing("sigma_a"))?;
+            let sigma_s = layer.sigma_s.ok_or_else(|| missing("sigma_s"))?;
+            parsed.push(Layer {
+                sigma_a: sigma_a.0,
+                sigma_s: sigma_s.0,
+                g: layer.g.map_or(0.0, |n| n.0),
+                ior: layer.ior.map_or(1.3, |n| n.0),
+                thickness_mm: layer.thickness_mm.map(|n| n.0),
+            });
         }
         let material = Material {
-            name,
+            name: file.name.unwrap_or_else(|| default_name.to_string()),
             optics: Optics::Layers(parsed),
         };
         material.validate(source)?;
@@ -265,58 +265,128 @@ impl Material {
     }
 }
 
-fn parse_layer(fields: &toml::Table, prefix: &str) -> Result<Layer, (String, String)> {
-    let at = |name: &str| format!("{prefix}.{name}");
-    const KNOWN: [&str; 5] = ["sigma_a", "sigma_s", "g", "ior", "thickness_mm"];
-    if let Some(key) = fields.keys().find(|k| !KNOWN.contains(&k.as_str())) {
-        return Err((
-            at(key),
-            format!("unknown field (expected one of {})", KNOWN.join(", ")),
-        ));
-    }
-    let rgb = |name: &str| -> Result<Rgb, (String, String)> {
-        match fields.get(name) {
-            None => Err((at(name), "missing (1/mm, a number or [r, g, b])".into())),
-            Some(value) => {
-                if let Some(x) = number(value) {
-                    return Ok([x; 3]);
+/// A material file as written (the layout [`Material::from_toml`]
+/// documents). Keys outside it are refused, so a misspelt one is an error
+/// that names it rather than a silent default.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFile {
+    /// Name for reports; absent, the file's stem.
+    name: Option<String>,
+    /// The `[[layers]]` tables, top down; absent is an error said after
+    /// parsing, with what a material needs.
+    layers: Option<LayerList>,
+}
+
+/// One `[[layers]]` table. The coefficients are optional here only so that
+/// a missing one is reported with its full path (serde would name the
+/// table, not the key); the physical checks follow in
+/// [`Material::validate`].
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table of sigma_a, sigma_s, g, ior and thickness_mm"
+)]
+struct LayerFile {
+    /// σa, 1/mm.
+    sigma_a: Option<Coefficient>,
+    /// σs, 1/mm.
+    sigma_s: Option<Coefficient>,
+    /// Henyey–Greenstein g [default: 0].
+    g: Option<Number>,
+    /// Refractive index [default: 1.3].
+    ior: Option<Number>,
+    /// Thickness in mm [default: semi-infinite].
+    thickness_mm: Option<Number>,
+}
+
+/// The `layers` array, with an expectation that tells the writer of
+/// `layers = 3` to use `[[layers]]` (serde's own says only "a sequence").
+struct LayerList(Vec<LayerFile>);
+
+impl<'de> Deserialize<'de> for LayerList {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Tables;
+        impl<'de> Visitor<'de> for Tables {
+            type Value = LayerList;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an array of tables ([[layers]])")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<LayerList, A::Error> {
+                let mut layers = Vec::with_capacity(seq.size_hint().unwrap_or(0));
+                while let Some(layer) = seq.next_element()? {
+                    layers.push(layer);
                 }
-                match value {
-                    toml::Value::Array(items) if items.len() == 3 => {
-                        let xs: Option<Vec<f64>> = items.iter().map(number).collect();
-                        xs.map(|v| [v[0], v[1], v[2]])
-                            .ok_or_else(|| (at(name), "every entry must be a number".into()))
-                    }
-                    toml::Value::Array(items) => Err((
-                        at(name),
-                        format!("needs 3 entries [r, g, b], got {}", items.len()),
-                    )),
-                    _ => Err((at(name), "must be a number or [r, g, b]".into())),
+                Ok(LayerList(layers))
+            }
+        }
+        deserializer.deserialize_seq(Tables)
+    }
+}
+
+/// A coefficient per channel, written as one number for all three or as
+/// `[r, g, b]`. Deserialized by hand rather than as an untagged enum so a
+/// wrong value says what was expected instead of "did not match any
+/// variant".
+struct Coefficient(Rgb);
+
+impl<'de> Deserialize<'de> for Coefficient {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Channels;
+        impl<'de> Visitor<'de> for Channels {
+            type Value = Coefficient;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or [r, g, b] (1/mm)")
+            }
+            fn visit_f64<E: de::Error>(self, x: f64) -> Result<Coefficient, E> {
+                Ok(Coefficient([x; 3]))
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Coefficient, E> {
+                Ok(Coefficient([x as f64; 3]))
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Coefficient, E> {
+                Ok(Coefficient([x as f64; 3]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Coefficient, A::Error> {
+                let mut channels = Vec::with_capacity(3);
+                while let Some(Number(x)) = seq.next_element()? {
+                    channels.push(x);
+                }
+                match channels[..] {
+                    [r, g, b] => Ok(Coefficient([r, g, b])),
+                    _ => Err(de::Error::custom(format!(
+                        "needs 3 entries [r, g, b], got {}",
+                        channels.len()
+                    ))),
                 }
             }
         }
-    };
-    let scalar = |name: &str, default: Option<f64>| -> Result<Option<f64>, (String, String)> {
-        match fields.get(name) {
-            None => Ok(default),
-            Some(v) => number(v)
-                .map(Some)
-                .ok_or_else(|| (at(name), "must be a number".into())),
-        }
-    };
-    Ok(Layer {
-        sigma_a: rgb("sigma_a")?,
-        sigma_s: rgb("sigma_s")?,
-        g: scalar("g", Some(0.0))?.unwrap_or(0.0),
-        ior: scalar("ior", Some(1.3))?.unwrap_or(1.3),
-        thickness_mm: scalar("thickness_mm", None)?,
-    })
+        deserializer.deserialize_any(Channels)
+    }
 }
 
-fn number(value: &toml::Value) -> Option<f64> {
-    match value {
-        toml::Value::Float(x) => Some(*x),
-        toml::Value::Integer(i) => Some(*i as f64),
-        _ => None,
+/// A number, integer or float (TOML tells them apart; a coefficient does
+/// not), with "a number" as what a wrong value should have been.
+struct Number(f64);
+
+impl<'de> Deserialize<'de> for Number {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Any;
+        impl Visitor<'_> for Any {
+            type Value = Number;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number")
+            }
+            fn visit_f64<E: de::Error>(self, x: f64) -> Result<Number, E> {
+                Ok(Number(x))
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Number, E> {
+                Ok(Number(x as f64))
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Number, E> {
+                Ok(Number(x as f64))
+            }
+        }
+        deserializer.deserialize_any(Any)
     }
 }

@@ -132,3 +132,50 @@ fn a_missing_file_is_named() {
         "{error}"
     );
 }
+
+/// The whole message, so the file, the field path (`layers[0].x`, as the
+/// validation errors write it) and the offending key are all checked.
+fn assert_message(text: &str, expected: &str) {
+    let error = load(text).expect_err("the material should be rejected");
+    assert_eq!(error, expected);
+}
+
+#[test]
+fn an_unknown_key_at_the_top_is_named() {
+    assert_message(
+        "sigma_z = 1\n[[layers]]\nsigma_a = 0.1\nsigma_s = 1\n",
+        "skin.toml: sigma_z: unknown field `sigma_z`, expected `name` or `layers`",
+    );
+}
+
+#[test]
+fn an_unknown_key_in_a_layer_is_named_with_its_layer() {
+    assert_message(
+        "[[layers]]\nsigma_a = 0.1\nsigma_s = 20\nthickness_mm = 0.1\n\
+         [[layers]]\nsigma_a = 0.1\nsigma_s = 1\nthikness_mm = 0.2\n",
+        "skin.toml: layers[1].thikness_mm: unknown field `thikness_mm`, \
+         expected one of `sigma_a`, `sigma_s`, `g`, `ior`, `thickness_mm`",
+    );
+}
+
+#[test]
+fn a_wrong_type_is_named_with_what_was_expected() {
+    assert_message(
+        "[[layers]]\nsigma_a = \"red\"\nsigma_s = 1\n",
+        "skin.toml: layers[0].sigma_a: invalid type: string \"red\", \
+         expected a number or [r, g, b] (1/mm)",
+    );
+    assert_message(
+        "[[layers]]\nsigma_a = [0.1, \"x\", 1]\nsigma_s = 1\n",
+        "skin.toml: layers[0].sigma_a[1]: invalid type: string \"x\", expected a number",
+    );
+    assert_message(
+        "[[layers]]\nsigma_a = 0.1\nsigma_s = 1\nior = true\n",
+        "skin.toml: layers[0].ior: invalid type: boolean `true`, expected a number",
+    );
+    assert_message(
+        "layers = [1]\n",
+        "skin.toml: layers[0]: invalid type: integer `1`, \
+         expected a table of sigma_a, sigma_s, g, ior and thickness_mm",
+    );
+}
