@@ -4,8 +4,8 @@
 //! reported). Run: `cargo bench -p sssbake`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use sssbake::turk::{place_points, relax};
-use sssbake::unwrap::unwrap;
+use sssbake::surface::turk::{place_points, relax};
+use sssbake::surface::unwrap::unwrap;
 use sssbake::{Mesh, rasterize};
 use std::hint::black_box;
 use std::time::Duration;

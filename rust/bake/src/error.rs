@@ -138,8 +138,8 @@ impl From<crate::mesh::MeshError> for Error {
     }
 }
 
-impl From<crate::unwrap::UnwrapError> for Error {
-    fn from(e: crate::unwrap::UnwrapError) -> Self {
+impl From<crate::surface::unwrap::UnwrapError> for Error {
+    fn from(e: crate::surface::unwrap::UnwrapError) -> Self {
         Error::Input(InputError {
             object: Some(e.object),
             message: format!("cannot unwrap: {}", e.reason),

@@ -7,7 +7,6 @@
 
 pub mod bake;
 pub mod control;
-pub mod dilation;
 pub mod error;
 pub mod fast_hash;
 pub mod image;
@@ -17,17 +16,12 @@ pub mod materials;
 pub mod mesh;
 pub mod pipeline;
 pub mod plan;
-pub mod raster;
 pub mod rays;
 pub mod request;
 pub mod scattering;
 pub mod scene;
-pub mod texels;
-pub mod topology;
+pub mod surface;
 pub mod transport;
-pub mod turk;
-pub mod unwrap;
-pub mod uv_analysis;
 
 pub use bake::{BakedObject, Summary, bake, bake_each};
 pub use error::{Error, InputError};
@@ -37,6 +31,6 @@ pub use pipeline::Lighting;
 pub use plan::{Plan, plan};
 pub use request::{BakeRequest, UvPolicy};
 pub use scene::{Light, LightKind, MaterialHint, Scene, SceneObject};
-pub use texels::{TexelSurfels, rasterize};
+pub use surface::texels::{TexelSurfels, rasterize};
+pub use surface::uv_analysis::{UvReport, analyse_uvs};
 pub use transport::Method;
-pub use uv_analysis::{UvReport, analyse_uvs};

@@ -10,11 +10,11 @@
 //! | `stretch` | surface length of one texel along u (red) and v (green), mm |
 //! | `area` | surface area the texel stands for, mm² |
 
-use crate::dilation::seam_aware_offsets;
 use crate::image::Image;
 use crate::irradiance::entry::{Boundary, EntryTransmittance};
 use crate::pipeline::Prepared;
 use crate::rays::RayScene;
+use crate::surface::dilation::seam_aware_offsets;
 use serde::{Deserialize, Serialize};
 
 /// A map sssbake can write.

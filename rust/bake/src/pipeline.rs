@@ -3,7 +3,6 @@
 //! texel), and the integration of the exitance by any [`Integrator`].
 
 use crate::control::Control;
-use crate::dilation::seam_aware_offsets;
 use crate::error::{Error, InputError};
 use crate::image::Image;
 use crate::irradiance::emitters::Emitter;
@@ -15,12 +14,13 @@ use crate::rays::RayScene;
 use crate::request::{BakeRequest, UvPolicy};
 use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
-use crate::texels::{TexelSurfels, rasterize, uv_jacobian};
+use crate::surface::dilation::seam_aware_offsets;
+use crate::surface::texels::{TexelSurfels, rasterize, uv_jacobian};
+use crate::surface::turk::{place_points, relax};
+use crate::surface::uv_analysis::analyse_uvs;
 use crate::transport::integrator::Integrator;
 use crate::transport::sources::{Sources, Targets};
 use crate::transport::texture_space;
-use crate::turk::{place_points, relax};
-use crate::uv_analysis::analyse_uvs;
 use glam::{Vec2, Vec3};
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
@@ -117,7 +117,7 @@ impl Layout {
             )));
         }
         let (mesh, source_vertex) = if unwrap {
-            crate::unwrap::unwrap_with_sources(original, resolution, request.margin)
+            crate::surface::unwrap::unwrap_with_sources(original, resolution, request.margin)
                 .map_err(|e| Error::from(e).in_file(scene.source.clone()))?
         } else {
             (original.clone(), Vec::new())

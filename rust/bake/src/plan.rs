@@ -9,7 +9,7 @@ use crate::pipeline::{Layout, Lighting};
 use crate::request::BakeRequest;
 use crate::scattering::Scattering;
 use crate::scene::Scene;
-use crate::topology::{TopologyReport, topology_report};
+use crate::surface::topology::{TopologyReport, topology_report};
 use crate::transport::Method;
 use crate::transport::choice::{Choice, choose};
 use serde::Serialize;

@@ -2,7 +2,9 @@
 
 mod shapes;
 use shapes::*;
-use sssbake::turk::{nearest_neighbour_spread, place_points, point_count, points_at, relax};
+use sssbake::surface::turk::{
+    nearest_neighbour_spread, place_points, point_count, points_at, relax,
+};
 use std::collections::HashSet;
 
 #[test]

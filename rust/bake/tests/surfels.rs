@@ -3,8 +3,8 @@
 mod shapes;
 use glam::{Vec2, Vec3};
 use shapes::*;
-use sssbake::dilation::dilation_offsets;
-use sssbake::texels::EMPTY;
+use sssbake::surface::dilation::dilation_offsets;
+use sssbake::surface::texels::EMPTY;
 use sssbake::{Mesh, MeshError, analyse_uvs, rasterize};
 
 #[test]
@@ -182,7 +182,7 @@ fn bad_meshes_are_refused_with_their_name() {
 
 #[test]
 fn topology_counts_parts_and_open_edges() {
-    use sssbake::topology::topology_report;
+    use sssbake::surface::topology::topology_report;
     // The cube's faces are separate UV islands with split vertices, yet
     // welded by position it is one closed part.
     let cube = topology_report(&cube(10.0));
@@ -200,7 +200,7 @@ fn topology_counts_parts_and_open_edges() {
 
 #[test]
 fn seam_aware_dilation_continues_the_surface_across_seams() {
-    use sssbake::dilation::seam_aware_offsets;
+    use sssbake::surface::dilation::seam_aware_offsets;
     let mesh = cube(10.0);
     let uvs = mesh.uvs.clone().unwrap();
     let n = 128;

@@ -2,7 +2,7 @@
 
 mod shapes;
 use shapes::*;
-use sssbake::unwrap::unwrap;
+use sssbake::surface::unwrap::unwrap;
 use sssbake::{analyse_uvs, rasterize};
 
 #[test]

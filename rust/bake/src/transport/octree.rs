@@ -16,7 +16,7 @@ use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
 use crate::pipeline::Prepared;
 use crate::scattering::Scattering;
-use crate::turk::point_count;
+use crate::surface::turk::point_count;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 

@@ -17,7 +17,7 @@ use crate::control::{Cancelled, Control};
 use crate::error::Error;
 use crate::pipeline::Prepared;
 use crate::scattering::Scattering;
-use crate::texels::TexelSurfels;
+use crate::surface::texels::TexelSurfels;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sssbake_profile::gaussians::SumOfGaussians;

@@ -5,7 +5,7 @@
 
 use crate::fast_hash::FastHash;
 use crate::mesh::Mesh;
-use crate::topology::{NONE, neighbours};
+use crate::surface::topology::{NONE, neighbours};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use sssbake_profile::rng::Rng;

@@ -2,7 +2,7 @@
 //! normal and area it stands for (Mikkelsen §3.3, eq. 43–44).
 
 use crate::mesh::Mesh;
-use crate::raster::{
+use crate::surface::raster::{
     EdgeFunctions, TexelTriangle, barycentric, contains, coverage_with, edge_functions,
     signed_area2, texel_bounds,
 };

@@ -2,9 +2,9 @@
 //! texel, so that filtering and mip-mapping never read empty texels.
 
 use crate::mesh::Mesh;
-use crate::raster::barycentric;
-use crate::texels::{EMPTY, TexelSurfels};
-use crate::topology::{NONE, neighbours, welded_vertices};
+use crate::surface::raster::barycentric;
+use crate::surface::texels::{EMPTY, TexelSurfels};
+use crate::surface::topology::{NONE, neighbours, welded_vertices};
 use glam::{DVec2, Vec2};
 use std::collections::VecDeque;
 

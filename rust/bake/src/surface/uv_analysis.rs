@@ -2,8 +2,8 @@
 //! overlapping, flipped, zero-area or extremely stretched triangles.
 
 use crate::mesh::Mesh;
-use crate::raster::{barycentric, signed_area2, texel_bounds};
-use crate::texels::uv_jacobian;
+use crate::surface::raster::{barycentric, signed_area2, texel_bounds};
+use crate::surface::texels::uv_jacobian;
 use glam::{DVec2, Vec2};
 
 /// Above this ratio of a triangle's largest to smallest stretch, or of its
