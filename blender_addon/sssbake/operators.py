@@ -182,10 +182,7 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
             if job.error.status == native.CANCELLED:
                 self.report({"WARNING"}, "sssbake: cancelled; nothing was changed")
             else:
-                hint = (
-                    "; tick Unwrap or choose another UV map" if "UVs are not usable" in str(job.error) else ""
-                )
-                self.report({level}, f"sssbake: {job.error}{hint}")
+                self.report({level}, f"sssbake: {job.error}")
             return {"CANCELLED"}
         try:
             made, warnings = job.finish()

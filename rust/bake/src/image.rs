@@ -17,13 +17,17 @@ pub struct Image {
 
 impl Image {
     /// Checks the size; non-finite and negative texels become zero.
-    pub fn new(width: usize, height: usize, texels: Vec<[f32; 3]>) -> Result<Self, String> {
+    pub fn new(
+        width: usize,
+        height: usize,
+        texels: Vec<[f32; 3]>,
+    ) -> Result<Self, crate::Error> {
         if width == 0 || height == 0 || texels.len() != width * height {
-            return Err(format!(
+            return Err(crate::Error::input(format!(
                 "an image of {width}×{height} needs {} texels, has {}",
                 width * height,
                 texels.len()
-            ));
+            )));
         }
         let texels = texels
             .into_iter()

@@ -205,7 +205,7 @@ impl RequestArgs {
         };
         let image = read_image(&path)?;
         let environment = EnvironmentMap::new(image.width, image.height, image.texels)
-            .map_err(|e| Error::input(e).in_file(path.display().to_string()))?;
+            .map_err(|e| e.in_file(path.display().to_string()))?;
         Ok(Lighting::SceneLightsWith { environment })
     }
 }

@@ -23,7 +23,7 @@ pub fn read_image(path: &Path) -> Result<Image, InputError> {
             return Err(error("is neither an .exr nor a .png image".to_string()));
         }
     };
-    Image::new(width, height, texels).map_err(error)
+    Image::new(width, height, texels).map_err(|e| error(e.to_string()))
 }
 
 fn read_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
