@@ -150,7 +150,25 @@ def read_light(prim, cache):
         "tangent": list(world.TransformDir(Gf.Vec3d(1, 0, 0)).GetNormalized()),
         "normalize": bool(light.GetNormalizeAttr().Get()),
         "scale": world.TransformDir(Gf.Vec3d(1, 0, 0)).GetLength(),
+        "color_temperature": (
+            float(light.GetColorTemperatureAttr().Get() or 6500.0)
+            if light.GetEnableColorTemperatureAttr().Get()
+            else None
+        ),
         **shape_of(prim, kind),
+        **shaping_of(prim),
+    }
+
+
+def shaping_of(prim):
+    """The ShapingAPI cone (half-angle in degrees, softness), when one is authored."""
+    cone = prim.GetAttribute("inputs:shaping:cone:angle")
+    if not (cone and cone.HasAuthoredValue()):
+        return {}
+    softness = prim.GetAttribute("inputs:shaping:cone:softness")
+    return {
+        "cone_angle": float(cone.Get()),
+        "cone_softness": float(softness.Get() or 0.0) if softness and softness.HasAuthoredValue() else 0.0,
     }
 
 
@@ -165,7 +183,10 @@ def shape_of(prim, kind):
     if kind == "DistantLight":
         return {"angle": float(value("inputs:angle", 0.53))}
     if kind == "SphereLight":
-        return {"radius": float(value("inputs:radius", 0.5))}
+        return {
+            "radius": float(value("inputs:radius", 0.5)),
+            "treat_as_point": bool(value("treatAsPoint", False)),
+        }
     if kind == "DiskLight":
         return {"radius": float(value("inputs:radius", 0.5))}
     if kind == "RectLight":
@@ -202,6 +223,7 @@ def main():
     json.dump(
         {
             "meters_per_unit": UsdGeom.GetStageMetersPerUnit(stage),
+            "documentation": stage.GetRootLayer().documentation,
             "up_axis": str(UsdGeom.GetStageUpAxis(stage)),
             "meshes": meshes,
             "lights": lights,

@@ -17,11 +17,7 @@ pub struct Image {
 
 impl Image {
     /// Checks the size; non-finite and negative texels become zero.
-    pub fn new(
-        width: usize,
-        height: usize,
-        texels: Vec<[f32; 3]>,
-    ) -> Result<Self, crate::Error> {
+    pub fn new(width: usize, height: usize, texels: Vec<[f32; 3]>) -> Result<Self, crate::Error> {
         if width == 0 || height == 0 || texels.len() != width * height {
             return Err(crate::Error::input(format!(
                 "an image of {width}×{height} needs {} texels, has {}",

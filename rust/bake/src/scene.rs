@@ -201,6 +201,18 @@ pub enum LightKind {
     },
 }
 
+/// The inner and outer cone (radians from the axis) of a spot of
+/// `half_angle` (radians) whose edge fades over `blend` of the cone, as
+/// Cycles fades Blender's spots: full light inside the inner cone, a smooth
+/// step in cos θ over the last `blend` × (1 − cos half_angle).
+pub fn spot_cone(half_angle: f32, blend: f32) -> (f32, f32) {
+    let outer = half_angle.clamp(0.0, std::f32::consts::PI);
+    let inner = (outer.cos() + blend.clamp(0.0, 1.0) * (1.0 - outer.cos()))
+        .clamp(-1.0, 1.0)
+        .acos();
+    (inner, outer)
+}
+
 impl LightKind {
     /// The kind's name in reports.
     pub fn name(&self) -> &'static str {

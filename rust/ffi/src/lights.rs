@@ -3,6 +3,7 @@
 
 use crate::errors::Failure;
 use glam::Vec3;
+use sssbake::scene::spot_cone;
 use sssbake::{Light, LightKind};
 use std::f32::consts::PI;
 
@@ -83,12 +84,7 @@ pub(crate) fn light_from_host(light: &SssbakeLight, mm_per_unit: f64) -> Result<
         ),
         SSSBAKE_LIGHT_POINT => (LightKind::Point { radius_mm: size }, point, "point"),
         SSSBAKE_LIGHT_SPOT => {
-            // Cycles fades over the last `blend` of the cone's cosine range.
-            let outer = (0.5 * light.spot_size).clamp(0.0, PI);
-            let blend = light.spot_blend.clamp(0.0, 1.0);
-            let inner = (outer.cos() + blend * (1.0 - outer.cos()))
-                .clamp(-1.0, 1.0)
-                .acos();
+            let (inner, outer) = spot_cone(0.5 * light.spot_size, light.spot_blend);
             let kind = LightKind::Spot {
                 radius_mm: size,
                 inner_cone: inner,

@@ -10,6 +10,7 @@ pub mod image_reader;
 pub mod image_writer;
 pub mod python;
 pub mod staging;
+mod usd_lights;
 pub mod usd_material;
 pub mod usd_reader;
 pub mod usd_writer;

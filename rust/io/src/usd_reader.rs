@@ -4,13 +4,14 @@
 //! `python3`), and hands meshes and lights over as JSON. Units come from
 //! the stage's metersPerUnit.
 
+use crate::usd_lights::{Writer, usd_light};
 use crate::usd_material::{ShaderJson, material_hint};
 use crate::{InputError, ReadOptions};
 use glam::{Vec2, Vec3};
 use serde::Deserialize;
 use serde_json::Value;
 use serde_path_to_error::Segment;
-use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
+use sssbake::{Mesh, Scene, SceneObject};
 use std::path::Path;
 
 const READ_STAGE: &str = include_str!("../../../usd/read_stage.py");
@@ -30,6 +31,9 @@ struct StageJson {
     /// Every visible UsdLux light.
     #[serde(default)]
     lights: Vec<LightJson>,
+    /// The root layer's documentation string (Blender writes
+    /// `Blender vX.Y.Z`).
+    documentation: Option<String>,
 }
 
 /// One UsdGeomMesh, in world space and stage units.
@@ -68,40 +72,48 @@ fn mesh_name() -> String {
 /// One UsdLux light with its world transform; sizes in stage units,
 /// angles in degrees. Only the size of the light's own kind is present.
 #[derive(Deserialize)]
-struct LightJson {
+pub(crate) struct LightJson {
     /// The prim's name [default: `light`].
     #[serde(default = "light_name")]
-    name: String,
+    pub(crate) name: String,
     /// The prim's type name (`SphereLight`, `DistantLight`, …).
     #[serde(rename = "type")]
-    kind: Option<String>,
+    pub(crate) kind: Option<String>,
     /// inputs:intensity.
-    intensity: f32,
+    pub(crate) intensity: f32,
     /// inputs:exposure, in stops.
-    exposure: f32,
+    pub(crate) exposure: f32,
     /// inputs:color, linear [default: white].
-    color: Option<[f32; 3]>,
+    pub(crate) color: Option<[f32; 3]>,
     /// The light's origin in world space [default: the world origin].
-    position: Option<[f32; 3]>,
+    pub(crate) position: Option<[f32; 3]>,
     /// The light's −z axis in world space [default: −z].
-    direction: Option<[f32; 3]>,
+    pub(crate) direction: Option<[f32; 3]>,
     /// The light's x axis in world space [default: x].
-    tangent: Option<[f32; 3]>,
+    pub(crate) tangent: Option<[f32; 3]>,
     /// inputs:normalize: the power does not depend on the size.
     #[serde(default)]
-    normalize: bool,
+    pub(crate) normalize: bool,
     /// How much the world transform scales the light's x axis [default: 1].
-    scale: Option<f32>,
+    pub(crate) scale: Option<f32>,
     /// A SphereLight's or DiskLight's inputs:radius.
-    radius: Option<f32>,
+    pub(crate) radius: Option<f32>,
     /// A RectLight's inputs:width.
-    width: Option<f32>,
+    pub(crate) width: Option<f32>,
     /// A RectLight's inputs:height.
-    height: Option<f32>,
+    pub(crate) height: Option<f32>,
     /// A DistantLight's inputs:angle, degrees.
-    angle: Option<f32>,
+    pub(crate) angle: Option<f32>,
     /// A DomeLight's resolved inputs:texture:file; empty when it has none.
-    texture: Option<String>,
+    pub(crate) texture: Option<String>,
+    /// A SphereLight's treatAsPoint.
+    pub(crate) treat_as_point: Option<bool>,
+    /// The ShapingAPI cone's half-angle, degrees, when one is authored.
+    pub(crate) cone_angle: Option<f32>,
+    /// The ShapingAPI cone's softness, in [0, 1].
+    pub(crate) cone_softness: Option<f32>,
+    /// inputs:colorTemperature, kelvin, when enableColorTemperature is on.
+    pub(crate) color_temperature: Option<f32>,
 }
 
 fn light_name() -> String {
@@ -287,75 +299,12 @@ fn scene_from_stage(
             prim: mesh.path,
         });
     }
-    for light in stage.lights {
-        let Some((kind, normalizing_area_m2)) = usd_light_kind(&light, scale) else {
-            scene.notes.push(format!(
-                "light `{}`: a {} is not a kind sssbake bakes; left out",
-                light.name,
-                light.kind.as_deref().unwrap_or("light of no type")
-            ));
-            continue;
-        };
-        let mut intensity = light.intensity * light.exposure.exp2();
-        if light.normalize && normalizing_area_m2 > 0.0 {
-            intensity /= normalizing_area_m2;
-        } else if let LightKind::Point { radius_mm } | LightKind::Spot { radius_mm, .. } = kind {
-            // A sphere of radiance L shines π r² L watts per steradian.
-            let r_m = radius_mm * 1e-3;
-            intensity *= std::f32::consts::PI * r_m * r_m;
+    let writer = Writer::of(stage.documentation.as_deref());
+    for light in &stage.lights {
+        if let Some(light) = usd_light(light, scale, writer, &mut scene.notes) {
+            scene.lights.push(light);
         }
-        let direction = light.direction.map_or(Vec3::NEG_Z, Vec3::from);
-        scene.lights.push(Light {
-            name: light.name,
-            kind,
-            color: light.color.unwrap_or([1.0; 3]),
-            intensity,
-            position: light.position.map_or(Vec3::ZERO, Vec3::from) * scale as f32,
-            direction: direction.normalize_or(Vec3::NEG_Z),
-            tangent: light
-                .tangent
-                .map_or(Vec3::X, |t| Vec3::from(t).normalize_or(Vec3::X)),
-        });
     }
     scene.objects.sort_by(|a, b| a.mesh.name.cmp(&b.mesh.name));
     Ok(scene)
-}
-
-/// A UsdLux light's kind with its size in mm, and the area (m²) its
-/// `normalize` divides by; `None` for kinds not baked.
-fn usd_light_kind(light: &LightJson, scale: f64) -> Option<(LightKind, f32)> {
-    // The light's own transform scales its size; absent, it is 1.
-    let own = light.scale.filter(|s| s.is_finite() && *s > 0.0);
-    let scale = scale as f32 * own.unwrap_or(1.0);
-    // A size the script did not give (another kind's) is zero.
-    let size = |value: Option<f32>| (value.unwrap_or(0.0) * scale).max(0.0);
-    let radius_mm = size(light.radius);
-    let disk_m2 = std::f32::consts::PI * (radius_mm * 1e-3).powi(2);
-    Some(match light.kind.as_deref().unwrap_or("") {
-        "DistantLight" => (
-            LightKind::Directional {
-                angle: light.angle.unwrap_or(0.0).to_radians().max(0.0),
-            },
-            0.0,
-        ),
-        "SphereLight" => (LightKind::Point { radius_mm }, 4.0 * disk_m2),
-        "DiskLight" => (LightKind::Disk { radius_mm }, disk_m2),
-        "RectLight" => {
-            let (width_mm, height_mm) = (size(light.width), size(light.height));
-            (
-                LightKind::Rectangle {
-                    width_mm,
-                    height_mm,
-                },
-                width_mm * height_mm * 1e-6,
-            )
-        }
-        "DomeLight" => (
-            LightKind::Environment {
-                texture: light.texture.clone().filter(|t| !t.is_empty()),
-            },
-            0.0,
-        ),
-        _ => return None,
-    })
 }

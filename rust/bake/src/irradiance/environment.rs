@@ -24,11 +24,7 @@ pub struct EnvironmentMap {
 impl EnvironmentMap {
     /// A map from `width` × `height` linear RGB texels, rows top to bottom.
     /// Negative and non-finite texels count as black.
-    pub fn new(
-        width: usize,
-        height: usize,
-        radiance: Vec<[f32; 3]>,
-    ) -> Result<Self, crate::Error> {
+    pub fn new(width: usize, height: usize, radiance: Vec<[f32; 3]>) -> Result<Self, crate::Error> {
         if width == 0 || height == 0 || radiance.len() != width * height {
             return Err(crate::Error::input(format!(
                 "an environment image of {width}×{height} needs {} texels, has {}",
