@@ -5,10 +5,10 @@
 //! USD's t does (readers of glTF, whose v runs down, flip it); texel (x, y)
 //! covers [x/N, (x+1)/N] × [y/N, (y+1)/N], with y growing with v.
 //!
-//! A bake is two calls. [`plan`] turns a [`Scene`] and a [`BakeRequest`]
+//! A bake is two calls. [`plan()`] turns a [`Scene`] and a [`BakeRequest`]
 //! into a [`Plan`]: each object's material and profile, its layout (kept or
 //! unwrapped UVs, texels), the stages its outputs need and the integrator,
-//! each with the reason. [`bake`] (or [`bake_each`], which hands over one
+//! each with the reason. [`bake()`] (or [`bake_each`], which hands over one
 //! object at a time) runs that plan and returns [`BakedObject`]s, which
 //! render any requested [`Output`] as an [`image::Image`], and a
 //! [`Summary`]. Writing files is `sssbake_io::bake_to_folder`'s job; this

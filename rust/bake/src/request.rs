@@ -33,7 +33,7 @@ pub enum UvPolicy {
 
 /// A bake as asked for.
 ///
-/// Start from [`BakeRequest::default`] and change what differs; [`crate::plan`]
+/// Start from [`BakeRequest::default`] and change what differs; [`crate::plan()`]
 /// validates it, so a door never restates a default or a check.
 ///
 /// ```
