@@ -32,6 +32,18 @@ pub enum UvPolicy {
 }
 
 /// A bake as asked for.
+///
+/// Start from [`BakeRequest::default`] and change what differs; [`crate::plan()`]
+/// validates it, so a door never restates a default or a check.
+///
+/// ```
+/// let mut request = sssbake::BakeRequest { resolution: 0, ..Default::default() };
+/// let error = request.validate().unwrap_err();
+/// assert!(error.to_string().contains("resolution"), "{error}");
+///
+/// request.resolution = 256;
+/// assert!(request.validate().is_ok());
+/// ```
 #[derive(Clone, Debug)]
 pub struct BakeRequest {
     /// Objects to bake by name; every object when empty.

@@ -13,6 +13,22 @@
 //! - [`SumOfGaussians`]: a fit of any profile, or d'Eon's measured skin.
 //! - [`Burley`]: Christensen–Burley normalized diffusion, as Blender's Cycles uses it.
 //! - [`monte_carlo`]: photon transport through the stack, the ground truth.
+//!
+//! # Example
+//!
+//! A preset's profile, built by the model the material calls for:
+//!
+//! ```
+//! use sssbake_profile::{Model, Profile, build_profile, presets};
+//!
+//! let skin = presets::named("skin1").expect("skin1 is a preset");
+//! let model = Model::default_for(&skin); // one semi-infinite layer: the dipole
+//! let profile = build_profile(&skin, model, 6).expect("the dipole describes skin1");
+//! let total = profile.total_reflectance(); // ∫ 2πr R(r) dr per channel
+//! println!("{model}: total diffuse reflectance {total:?}, R(1 mm) = {:?} /mm²",
+//!     profile.reflectance(1.0));
+//! assert!(total.iter().all(|&t| t > 0.0 && t < 1.0));
+//! ```
 
 pub mod appearance;
 pub mod burley;

@@ -1,6 +1,6 @@
 //! The irradiance transmitted into the surface at texels and sample
 //! points: every light, shadowed by the whole scene, times the entry
-//! Fresnel transmittance (DESIGN.md: the `irradiance` output).
+//! Fresnel transmittance (docs/physics.md: the `irradiance` output).
 
 pub mod emitters;
 pub mod entry;
