@@ -30,6 +30,32 @@ def run(binary: pathlib.Path, *args: str, env: dict | None = None) -> subprocess
     )
 
 
+def exr(path):
+    """An RGB EXR map as a float array, rows top to bottom."""
+    import OpenEXR
+
+    return OpenEXR.File(str(path)).parts[0].channels["RGB"].pixels
+
+
+def bake_summary(binary: pathlib.Path, scene: pathlib.Path, out: pathlib.Path, *args: str) -> dict:
+    """Bakes `scene` into `out` with `args` (USD read by this Python) and returns the summary."""
+    import json
+    import sys
+
+    result = run(
+        binary,
+        "bake",
+        str(scene),
+        "--out",
+        str(out),
+        "--json",
+        *args,
+        env={"SSSBAKE_PYTHON": sys.executable},
+    )
+    assert result.returncode == 0, result.stderr
+    return json.loads(result.stdout)
+
+
 def usd_validation_errors(stage) -> list[str]:
     """usd-core's validators' messages for `stage`, less one kind: usd-core is built
     without MaterialX, so its shader registry does not know MaterialX node ids (`ND_…`,

@@ -6,15 +6,10 @@ import subprocess
 import sys
 
 import numpy as np
-import OpenEXR
 import pytest
-from conftest import ROOT, run, usd_validation_errors
+from conftest import ROOT, exr, run, usd_validation_errors
 
 MARBLE = ROOT / "examples" / "marble"
-
-
-def exr(path):
-    return OpenEXR.File(str(path)).parts[0].channels["RGB"].pixels
 
 
 def bake(sssbake, scene, out, *extra, python=False):

@@ -6,15 +6,10 @@ import pathlib
 import subprocess
 
 import numpy as np
-import OpenEXR
 import pytest
-from conftest import ROOT, run
+from conftest import ROOT, exr, run
 
 EXAMPLES = {"head": "Head", "marble": "Ball", "ear": "Ear"}
-
-
-def exr(path):
-    return OpenEXR.File(str(path)).parts[0].channels["RGB"].pixels
 
 
 @pytest.fixture(scope="module")

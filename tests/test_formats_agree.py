@@ -2,35 +2,14 @@
 give the same light. (They differ by the index of refraction, which the examples' glTF
 files do not carry, and by the sun's angular size, which glTF cannot carry.)"""
 
-import json
-import sys
-
 import numpy as np
-import OpenEXR
 import pytest
-from conftest import ROOT, run
+from conftest import ROOT, bake_summary, exr
 
 
 def irradiance(sssbake, scene, out):
-    result = run(
-        sssbake,
-        "bake",
-        str(scene),
-        "--out",
-        str(out),
-        "--resolution",
-        "48",
-        "--outputs",
-        "irradiance",
-        "--json",
-        env={"SSSBAKE_PYTHON": sys.executable},
-    )
-    assert result.returncode == 0, result.stderr
-    summary = json.loads(result.stdout)
-    return {
-        o["name"]: OpenEXR.File(str(out / f"{o['file_stem']}_irradiance.exr")).parts[0].channels["RGB"].pixels
-        for o in summary["objects"]
-    }
+    summary = bake_summary(sssbake, scene, out, "--resolution", "48", "--outputs", "irradiance")
+    return {o["name"]: exr(out / f"{o['file_stem']}_irradiance.exr") for o in summary["objects"]}
 
 
 @pytest.mark.parametrize("name", ["head", "marble", "ear"])
