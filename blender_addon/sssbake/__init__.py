@@ -15,6 +15,10 @@ CLASSES = (
 
 
 def register():
+    # The preset list is the library's when it loads; read here rather than at import.
+    presets = properties.preset_items()
+    for cls in (properties.SSSBAKE_PG_settings, operators.SSSBAKE_OT_bake):
+        cls.__annotations__ = properties.bake_properties(presets)
     for cls in CLASSES:
         bpy.utils.register_class(cls)
     bpy.types.Scene.sssbake = bpy.props.PointerProperty(type=properties.SSSBAKE_PG_settings)

@@ -6,12 +6,11 @@ import os
 import pathlib
 import sys
 
-ABI_VERSION = 2
+ABI_VERSION = 3
 
 LIGHT_SUN, LIGHT_POINT, LIGHT_SPOT, LIGHT_RECTANGLE, LIGHT_DISK = range(5)
 MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML, MATERIAL_SCENE, MATERIAL_SIDECAR = range(5)
-OUTPUTS = ("subsurface", "irradiance", "diffuse", "thickness", "stretch", "area")
-METHODS = ("auto", "brute", "octree", "texture", "importance")
+NAMES_OUTPUTS, NAMES_METHODS, NAMES_PRESETS = range(3)
 STATUS = {1: "invalid argument", 2: "bad input", 3: "cancelled", 4: "internal error", 5: "cannot write"}
 INVALID_ARGUMENT, BAD_INPUT, CANCELLED, INTERNAL, CANNOT_WRITE = range(1, 6)
 
@@ -163,8 +162,55 @@ def library():
         ctypes.c_uint32,
     ]
     lib.sssbake_result_write_exr.restype = status
+    lib.sssbake_names.argtypes = [ctypes.c_uint32, ctypes.POINTER(ctypes.c_void_p)]
+    lib.sssbake_names.restype = status
+    lib.sssbake_string_free.argtypes = [ctypes.c_void_p]
+    lib.sssbake_string_free.restype = None
+    _names.clear()
     _library = lib
     return lib
+
+
+_names = {}
+
+
+def names(kind):
+    """The library's name table of `kind` (NAMES_*), parsed from its JSON; read once."""
+    if kind not in _names:
+        import json
+
+        text = ctypes.c_void_p()
+        check(library().sssbake_names(kind, ctypes.byref(text)))
+        try:
+            _names[kind] = json.loads(ctypes.string_at(text).decode("utf-8"))
+        finally:
+            library().sssbake_string_free(text)
+    return _names[kind]
+
+
+def outputs():
+    """The outputs' names in the order of their numbers (bit i of Settings.outputs)."""
+    return tuple(names(NAMES_OUTPUTS))
+
+
+def methods():
+    """The methods' names in the order of Settings.method."""
+    return tuple(names(NAMES_METHODS))
+
+
+def presets():
+    """The presets as (name, description) pairs."""
+    return tuple((p["name"], p["description"]) for p in names(NAMES_PRESETS))
+
+
+def __getattr__(name):
+    # OUTPUTS and METHODS are read from the library when first used, not at import, so
+    # the add-on imports (and reports a missing library) without it.
+    if name == "OUTPUTS":
+        return outputs()
+    if name == "METHODS":
+        return methods()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def check(status):
@@ -248,14 +294,16 @@ class Result:
 
         n = self.resolution
         pixels = np.empty(4 * n * n, dtype=np.float32)
-        check(library().sssbake_result_image(self.handle, OUTPUTS.index(output), floats(pixels), pixels.size))
+        check(
+            library().sssbake_result_image(self.handle, outputs().index(output), floats(pixels), pixels.size)
+        )
         return pixels
 
     def write_exr(self, output, path):
         """Writes the map as a linear 32-bit OpenEXR file, whole or not at all."""
         check(
             library().sssbake_result_write_exr(
-                self.handle, OUTPUTS.index(output), str(path).encode("utf-8"), 0
+                self.handle, outputs().index(output), str(path).encode("utf-8"), 0
             )
         )
 

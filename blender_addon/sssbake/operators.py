@@ -61,7 +61,7 @@ class Job:
             raise
         native_settings = native.default_settings()
         native_settings.resolution = settings.resolution
-        native_settings.method = ("AUTO", "BRUTE", "OCTREE", "TEXTURE", "IMPORTANCE").index(settings.method)
+        native_settings.method = native.METHODS.index(settings.method.lower())
         native_settings.margin = settings.margin
         native_settings.light_samples = QUALITY_SAMPLES[settings.quality]
         native_settings.outputs = sum(

@@ -2,6 +2,10 @@
 
 import bpy
 
+from . import native
+
+# The presets offered when the library cannot be loaded, so the panel still registers
+# and the bake reports the missing library; with the library, its own list is used.
 PRESETS = [
     ("skin1", "Skin 1", "Jensen et al. 2001, measured skin"),
     ("skin2", "Skin 2", "Jensen et al. 2001, measured skin"),
@@ -50,11 +54,20 @@ DESTINATIONS = [
 ]
 
 
-def bake_properties():
-    """The settings as property definitions, shared by the panel and the operator."""
+def preset_items():
+    """The library's presets as enum items, or PRESETS when it cannot be loaded."""
+    try:
+        return [(name, name, description) for name, description in native.presets()]
+    except native.NativeError:
+        return PRESETS
+
+
+def bake_properties(presets=PRESETS):
+    """The settings as property definitions, shared by the panel and the operator;
+    `presets` are the preset enum's items (register() passes the library's)."""
     return {
         "material_source": bpy.props.EnumProperty(name="Material", items=SOURCES, default="PRINCIPLED"),
-        "preset": bpy.props.EnumProperty(name="Preset", items=PRESETS, default="skin1"),
+        "preset": bpy.props.EnumProperty(name="Preset", items=presets, default="skin1"),
         "layers_file": bpy.props.StringProperty(name="Layers", subtype="FILE_PATH", default=""),
         "resolution": bpy.props.IntProperty(
             name="Resolution", default=1024, min=1, soft_min=64, soft_max=8192

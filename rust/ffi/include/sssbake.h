@@ -13,7 +13,35 @@
 /**
  * The version of this ABI: hosts refuse a library of another version.
  */
-#define SSSBAKE_ABI_VERSION 2
+#define SSSBAKE_ABI_VERSION 3
+
+/**
+ * [`sssbake_bake_to_folder`] flag: replace files already in the folder.
+ */
+#define SSSBAKE_FOLDER_FORCE 1
+
+/**
+ * [`sssbake_bake_to_folder`] flag: write EXRs as 16-bit half floats
+ * instead of 32-bit.
+ */
+#define SSSBAKE_FOLDER_HALF 2
+
+/**
+ * [`sssbake_names`] kind: the outputs, in the order of their numbers
+ * (bit i of [`SssbakeSettings::outputs`] is output i).
+ */
+#define SSSBAKE_NAMES_OUTPUTS 0
+
+/**
+ * [`sssbake_names`] kind: the methods, in the order of
+ * [`SssbakeSettings::method`].
+ */
+#define SSSBAKE_NAMES_METHODS 1
+
+/**
+ * [`sssbake_names`] kind: the presets, each `{"name", "description"}`.
+ */
+#define SSSBAKE_NAMES_PRESETS 2
 
 /**
  * A sun: `power` is its strength, W/m² on a surface facing it.
@@ -107,7 +135,8 @@ typedef enum SssbakeStatus {
 typedef struct SssbakeResult SssbakeResult;
 
 /**
- * A scene under construction (opaque).
+ * A scene (opaque): built up by the host, or read from a file by
+ * [`sssbake_scene_read`](crate::sssbake_scene_read).
  */
 typedef struct SssbakeScene SssbakeScene;
 
@@ -393,6 +422,72 @@ enum SssbakeStatus sssbake_result_write_exr(const struct SssbakeResult *result,
 const char *sssbake_last_error(void);
 
 /**
+ * Reads the scene in the glTF or USD file at `path` (UTF-8), taking its
+ * UVs from texture-coordinate set `uv_set` and its units from
+ * `unit_scale_mm` millimetres per unit (0: the file's own units). The
+ * scene keeps the path: [`sssbake_bake_to_folder`] writes the file's
+ * glTF copy or USD layer. On success `*out` holds the scene, freed by
+ * [`sssbake_scene_free`](crate::sssbake_scene_free); errors name the file.
+ *
+ * # Safety
+ * `path` is NUL-terminated; `out` points to writable storage for a pointer.
+ */
+enum SssbakeStatus sssbake_scene_read(const char *path,
+                                      uint32_t uv_set,
+                                      double unit_scale_mm,
+                                      struct SssbakeScene **out);
+
+/**
+ * Bakes every object of `scene` (read by [`sssbake_scene_read`]; a host's
+ * scene is refused) into the folder `out_dir` (UTF-8; made if missing,
+ * never the file's own), as `sssbake bake` does: each planned map as a
+ * linear OpenEXR file (and an sRGB PNG preview of each colour map), and
+ * the file's glTF copy or USD layer, all renamed into place together or
+ * none. Objects whose UVs are missing or unusable are unwrapped.
+ *
+ * `flags` is a sum of `SSSBAKE_FOLDER_*`. `material`, `settings`,
+ * `progress`, `user` and `cancel` are as for
+ * [`sssbake_bake`](crate::sssbake_bake). On success `*summary_out` holds
+ * the summary as JSON (README, "The summary"), freed by
+ * [`sssbake_string_free`].
+ *
+ * # Safety
+ * `scene` is live; `material` and `settings` point to valid values;
+ * `out_dir` is NUL-terminated; `cancel` is null or stays readable (and is
+ * only written atomically) until the call returns; `summary_out` is
+ * writable.
+ */
+enum SssbakeStatus sssbake_bake_to_folder(const struct SssbakeScene *scene,
+                                          const struct SssbakeMaterial *material,
+                                          const struct SssbakeSettings *settings,
+                                          const char *out_dir,
+                                          uint32_t flags,
+                                          SssbakeProgress progress,
+                                          void *user,
+                                          const int32_t *cancel,
+                                          char **summary_out);
+
+/**
+ * Frees a string the library handed out (null is allowed).
+ *
+ * # Safety
+ * `string` came from [`sssbake_bake_to_folder`] or [`sssbake_names`] and is
+ * not used again.
+ */
+void sssbake_string_free(char *string);
+
+/**
+ * The library's names of one `kind` (`SSSBAKE_NAMES_*`) as a JSON array:
+ * the outputs' and methods' names in the order of their numbers, or the
+ * presets as `{"name", "description"}` objects. On success `*out` holds
+ * the text, freed by [`sssbake_string_free`].
+ *
+ * # Safety
+ * `out` points to writable storage for a pointer.
+ */
+enum SssbakeStatus sssbake_names(uint32_t kind, char **out);
+
+/**
  * Makes an empty scene whose units are `millimetres_per_unit` mm.
  *
  * # Safety
@@ -404,7 +499,8 @@ enum SssbakeStatus sssbake_scene_new(double millimetres_per_unit, struct Sssbake
  * Frees a scene (null is allowed).
  *
  * # Safety
- * `scene` came from [`sssbake_scene_new`] and is not used again.
+ * `scene` came from [`sssbake_scene_new`] or
+ * [`sssbake_scene_read`](crate::sssbake_scene_read) and is not used again.
  */
 void sssbake_scene_free(struct SssbakeScene *scene);
 

@@ -42,7 +42,7 @@ pub struct SssbakeSettings {
 }
 
 /// The method of number `code` (the order of [`SssbakeSettings::method`]).
-const METHODS: [Method; 5] = [
+pub(crate) const METHODS: [Method; 5] = [
     Method::Auto,
     Method::Brute,
     Method::Octree,

@@ -11,18 +11,20 @@
 
 mod bake;
 mod errors;
+mod folder;
 mod lights;
 mod material;
 mod scene;
 
 pub use bake::*;
 pub use errors::*;
+pub use folder::*;
 pub use lights::*;
 pub use material::*;
 pub use scene::*;
 
 /// The version of this ABI: hosts refuse a library of another version.
-pub const SSSBAKE_ABI_VERSION: u32 = 2;
+pub const SSSBAKE_ABI_VERSION: u32 = 3;
 
 /// The version of this ABI ([`SSSBAKE_ABI_VERSION`]).
 #[unsafe(no_mangle)]

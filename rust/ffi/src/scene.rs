@@ -7,9 +7,21 @@ use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
 use std::collections::HashMap;
 use std::ffi::c_char;
 
-/// A scene under construction (opaque).
+/// A scene (opaque): built up by the host, or read from a file by
+/// [`sssbake_scene_read`](crate::sssbake_scene_read).
 pub struct SssbakeScene {
     pub(crate) scene: Scene,
+    /// The file it was read from, kept so a bake into a folder can write
+    /// the file's glTF copy or USD layer; `None` for a host's scene.
+    pub(crate) file: Option<SceneFile>,
+}
+
+/// Where a scene read from a file came from.
+pub(crate) struct SceneFile {
+    /// The glTF or USD file.
+    pub(crate) path: std::path::PathBuf,
+    /// The texture-coordinate set it was read with.
+    pub(crate) uv_set: usize,
 }
 
 /// One mesh: `vertex_count` vertices with positions (x, y, z in scene
@@ -58,6 +70,7 @@ pub unsafe extern "C" fn sssbake_scene_new(
                 millimetres_per_unit,
                 ..Scene::default()
             },
+            file: None,
         };
         // SAFETY: checked non-null; the caller gives writable storage.
         unsafe { *out = Box::into_raw(Box::new(scene)) };
@@ -68,11 +81,12 @@ pub unsafe extern "C" fn sssbake_scene_new(
 /// Frees a scene (null is allowed).
 ///
 /// # Safety
-/// `scene` came from [`sssbake_scene_new`] and is not used again.
+/// `scene` came from [`sssbake_scene_new`] or
+/// [`sssbake_scene_read`](crate::sssbake_scene_read) and is not used again.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_scene_free(scene: *mut SssbakeScene) {
     if !scene.is_null() {
-        // SAFETY: made by Box::into_raw in sssbake_scene_new, freed once.
+        // SAFETY: made by Box::into_raw when the scene was made, freed once.
         drop(unsafe { Box::from_raw(scene) });
     }
 }
@@ -94,6 +108,14 @@ pub unsafe extern "C" fn sssbake_scene_add_mesh(
         let (Some(scene), Some(mesh)) = (scene, mesh) else {
             return Err(Failure::argument("scene or mesh is null"));
         };
+        if let Some(file) = &scene.file {
+            // The glTF copy or USD layer a folder bake writes follows the
+            // file's objects; a mesh the file lacks would have no place there.
+            return Err(Failure::argument(format!(
+                "the scene was read from {}; meshes are added to a host's scene",
+                file.path.display()
+            )));
+        }
         // SAFETY: the caller's arrays hold the stated lengths.
         let object = unsafe { object_from_host(mesh, scene.scene.millimetres_per_unit) }?;
         if scene
