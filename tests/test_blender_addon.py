@@ -297,3 +297,14 @@ def test_baking_again_updates_the_images_in_place(addon, tmp_path):
     assert np.allclose(
         pixels("Head_subsurface")[..., :3][covered], 2 * first[..., :3][covered], rtol=1e-4, atol=1e-6
     )
+
+
+def test_the_panels_defaults_are_the_librarys(addon):
+    import bpy
+
+    library = addon.native.default_settings()
+    panel = bpy.context.scene.sssbake
+    assert (panel.resolution, panel.margin) == (library.resolution, library.margin)
+    chosen = {i for i, name in enumerate(addon.native.OUTPUTS) if name.upper() in panel.outputs}
+    assert chosen == {i for i in range(len(addon.native.OUTPUTS)) if library.outputs & (1 << i)}
+    assert addon.properties.QUALITY_SAMPLES[panel.quality] == library.light_samples

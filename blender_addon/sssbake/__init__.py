@@ -15,10 +15,11 @@ CLASSES = (
 
 
 def register():
-    # The preset list is the library's when it loads; read here rather than at import.
-    presets = properties.preset_items()
+    # The preset list and the defaults are the library's when it loads; read here
+    # rather than at import.
+    presets, defaults = properties.preset_items(), properties.library_defaults()
     for cls in (properties.SSSBAKE_PG_settings, operators.SSSBAKE_OT_bake):
-        cls.__annotations__ = properties.bake_properties(presets)
+        cls.__annotations__ = properties.bake_properties(presets, defaults)
     for cls in CLASSES:
         bpy.utils.register_class(cls)
     bpy.types.Scene.sssbake = bpy.props.PointerProperty(type=properties.SSSBAKE_PG_settings)

@@ -62,23 +62,50 @@ def preset_items():
         return PRESETS
 
 
-def bake_properties(presets=PRESETS):
+# The defaults when the library cannot be loaded; with the library, its own are used
+# (sssbake_settings_default), so each default is defined once, in the library.
+FALLBACK_DEFAULTS = {
+    "resolution": 1024,
+    "margin": 8,
+    "outputs": {"SUBSURFACE", "IRRADIANCE", "DIFFUSE"},
+    "quality": "GOOD",
+}
+
+
+def library_defaults():
+    """The library's defaults for the settings the panel shows, or FALLBACK_DEFAULTS."""
+    try:
+        settings = native.default_settings()
+        outputs = {name.upper() for i, name in enumerate(native.OUTPUTS) if settings.outputs & (1 << i)}
+    except native.NativeError:
+        return FALLBACK_DEFAULTS
+    quality = next((q for q, samples in QUALITY_SAMPLES.items() if samples == settings.light_samples), "GOOD")
+    return {
+        "resolution": settings.resolution,
+        "margin": settings.margin,
+        "outputs": outputs,
+        "quality": quality,
+    }
+
+
+def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
     """The settings as property definitions, shared by the panel and the operator;
-    `presets` are the preset enum's items (register() passes the library's)."""
+    `presets` are the preset enum's items and `defaults` the library's defaults
+    (register() passes both from the library)."""
     return {
         "material_source": bpy.props.EnumProperty(name="Material", items=SOURCES, default="PRINCIPLED"),
         "preset": bpy.props.EnumProperty(name="Preset", items=presets, default="skin1"),
         "layers_file": bpy.props.StringProperty(name="Layers", subtype="FILE_PATH", default=""),
         "resolution": bpy.props.IntProperty(
-            name="Resolution", default=1024, min=1, soft_min=64, soft_max=8192
+            name="Resolution", default=defaults["resolution"], min=1, soft_min=64, soft_max=8192
         ),
         "method": bpy.props.EnumProperty(name="Method", items=METHODS, default="AUTO"),
-        "quality": bpy.props.EnumProperty(name="Quality", items=QUALITIES, default="GOOD"),
+        "quality": bpy.props.EnumProperty(name="Quality", items=QUALITIES, default=defaults["quality"]),
         "outputs": bpy.props.EnumProperty(
             name="Outputs",
             items=OUTPUTS,
             options={"ENUM_FLAG"},
-            default={"SUBSURFACE", "IRRADIANCE", "DIFFUSE"},
+            default=defaults["outputs"],
         ),
         "uv_map": bpy.props.StringProperty(name="UV Map", description="Empty: the active UV map", default=""),
         "unwrap": bpy.props.BoolProperty(
@@ -91,7 +118,7 @@ def bake_properties(presets=PRESETS):
             description="Add an Image Texture and Emission feeding a new active Material Output; the original nodes stay",
             default=False,
         ),
-        "margin": bpy.props.IntProperty(name="Margin", default=8, min=0, max=64),
+        "margin": bpy.props.IntProperty(name="Margin", default=defaults["margin"], min=0, max=64),
     }
 
 
