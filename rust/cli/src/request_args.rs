@@ -2,16 +2,14 @@
 //! and the library's [`BakeRequest`]. Every default comes from the library.
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
-use sssbake::irradiance::environment::EnvironmentMap;
 use sssbake::materials::{MaterialAssignment, Sidecar, preset};
 use sssbake::request::MAX_RESOLUTION;
-use sssbake::scene::LightKind;
 use sssbake::transport::integrator::IntegratorSettings;
-use sssbake::{BakeRequest, Error, Lighting, Method, Output, Scene, UvPolicy};
-use sssbake_io::{ReadOptions, read_image, read_scene};
+use sssbake::{BakeRequest, Error, Method, Output, Scene, UvPolicy};
+use sssbake_io::{ReadOptions, read_image, read_scene, scene_lighting};
 use sssbake_profile::Material;
 use sssbake_profile::model::Model;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::LazyLock;
 use strum::VariantNames;
 
@@ -178,7 +176,12 @@ impl RequestArgs {
             outputs: self.outputs.clone(),
             method: self.method,
             integrators,
-            lighting: self.lighting(&scene)?,
+            lighting: scene_lighting(
+                &scene,
+                &self.input,
+                self.irradiance.as_deref(),
+                self.environment.as_deref(),
+            )?,
             light_samples: self.light_samples,
             roughness: self.roughness,
             base_colour,
@@ -187,27 +190,6 @@ impl RequestArgs {
         };
         Ok((scene, request))
     }
-
-    fn lighting(&self, scene: &Scene) -> Result<Lighting, Error> {
-        if let Some(path) = &self.irradiance {
-            return Ok(Lighting::Irradiance(read_image(path)?));
-        }
-        // The environment image: named on the command line, or by the
-        // scene's environment light, relative to the scene file.
-        let named = scene.lights.iter().find_map(|l| match &l.kind {
-            LightKind::Environment { texture: Some(t) } => Some(t.clone()),
-            _ => None,
-        });
-        let path = match (&self.environment, named) {
-            (Some(p), _) => p.clone(),
-            (None, Some(t)) => relative_to(&self.input, &t),
-            (None, None) => return Ok(Lighting::SceneLights),
-        };
-        let image = read_image(&path)?;
-        let environment = EnvironmentMap::new(image.width, image.height, image.texels)
-            .map_err(|e| e.in_file(path.display().to_string()))?;
-        Ok(Lighting::SceneLightsWith { environment })
-    }
 }
 
 fn sourced(material: Material, flag: &str) -> sssbake::materials::Sourced {
@@ -215,12 +197,4 @@ fn sourced(material: Material, flag: &str) -> sssbake::materials::Sourced {
         material,
         source: flag.to_string(),
     }
-}
-
-fn relative_to(scene: &Path, file: &str) -> PathBuf {
-    let path = Path::new(file);
-    if path.is_absolute() {
-        return path.to_path_buf();
-    }
-    scene.parent().unwrap_or(Path::new(".")).join(path)
 }

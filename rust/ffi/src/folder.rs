@@ -8,10 +8,10 @@ use crate::bake::{
 use crate::errors::{Failure, SssbakeStatus, guarded, text};
 use crate::material::{SssbakeMaterial, assignment_from_host};
 use crate::scene::{SceneFile, SssbakeScene};
+use sssbake::Output;
 use sssbake::control::Control;
-use sssbake::{LightKind, Output};
 use sssbake_io::image_writer::Precision;
-use sssbake_io::{FolderOptions, ReadOptions, bake_to_folder, read_scene};
+use sssbake_io::{FolderOptions, ReadOptions, bake_to_folder, read_scene, scene_lighting};
 use std::ffi::{CString, c_char, c_void};
 use std::path::Path;
 use std::sync::atomic::AtomicI32;
@@ -139,7 +139,6 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
                  or read the scene with sssbake_scene_read",
             ));
         };
-        refuse_environment_image(&scene.scene, &file.path)?;
         if flags & !(SSSBAKE_FOLDER_FORCE | SSSBAKE_FOLDER_HALF) != 0 {
             return Err(Failure::argument(format!(
                 "flags {flags:#x} has bits that are not SSSBAKE_FOLDER_*"
@@ -150,6 +149,7 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
         let scene_file = &file.path;
         let scene = &scene.scene;
         let mut request = request_from_host(settings, false)?;
+        request.lighting = scene_lighting(scene, scene_file, None, None)?;
         // SAFETY: forwarded from the caller.
         request.materials = unsafe { assignment_from_host(material, scene.millimetres_per_unit) }?;
         let options = FolderOptions {
@@ -174,24 +174,6 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
         unsafe { *summary_out = owned_string(json) };
         Ok(())
     })
-}
-
-/// The environment image a file's scene names is read by `sssbake bake`,
-/// not through this ABI; baking without it would light the object with a
-/// uniform sky instead, so such a scene is refused rather than baked wrong.
-fn refuse_environment_image(scene: &sssbake::Scene, path: &Path) -> Result<(), Failure> {
-    let named = scene.lights.iter().find_map(|l| match &l.kind {
-        LightKind::Environment { texture: Some(t) } => Some(t),
-        _ => None,
-    });
-    match named {
-        Some(image) => Err(Failure::input(format!(
-            "{}: the environment light names the image {image}, which this ABI does not read; \
-             bake the file with `sssbake bake`",
-            path.display()
-        ))),
-        None => Ok(()),
-    }
 }
 
 /// A string for the caller, freed by [`sssbake_string_free`].

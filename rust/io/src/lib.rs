@@ -8,6 +8,7 @@ pub mod gltf_reader;
 pub mod gltf_writer;
 pub mod image_reader;
 pub mod image_writer;
+pub mod lighting;
 pub mod python;
 pub mod staging;
 mod usd_lights;
@@ -18,6 +19,7 @@ pub mod usd_writer;
 pub use folder::{FolderOptions, bake_to_folder};
 pub use gltf_reader::read_gltf;
 pub use image_reader::read_image;
+pub use lighting::scene_lighting;
 pub use usd_reader::read_usd;
 
 use sssbake::Scene;
