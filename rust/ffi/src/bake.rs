@@ -171,24 +171,11 @@ pub unsafe extern "C" fn sssbake_bake(
     out: *mut *mut SssbakeResult,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: the caller passes valid pointers or null; an i32 the host
-        // writes atomically reads as an AtomicI32 (same size and alignment).
-        let (scene, material, settings, cancel) = unsafe {
-            (
-                scene.as_ref(),
-                material.as_ref(),
-                settings.as_ref(),
-                cancel.cast::<AtomicI32>().as_ref(),
-            )
-        };
-        let (Some(scene), Some(material), Some(settings)) = (scene, material, settings) else {
-            return Err(Failure::argument("scene, material or settings is null"));
-        };
-        if out.is_null() {
-            return Err(Failure::argument("out is null"));
-        }
-        // SAFETY: checked non-null; the caller gives writable storage.
-        unsafe { *out = std::ptr::null_mut() };
+        // SAFETY: forwarded from the caller.
+        let (scene, material, settings, cancel) =
+            unsafe { bake_arguments(scene, material, settings, cancel) }?;
+        // SAFETY: forwarded from the caller.
+        unsafe { clear(out, "out") }?;
         // SAFETY: forwarded from the caller.
         let object = unsafe { text(object, "object name") }?;
         let scene = &scene.scene;
@@ -214,6 +201,55 @@ pub unsafe extern "C" fn sssbake_bake(
         unsafe { *out = Box::into_raw(Box::new(result)) };
         Ok(())
     })
+}
+
+/// The arguments every bake call takes, checked for null.
+///
+/// # Safety
+/// Each pointer is null or points to a valid value that outlives the call;
+/// an i32 the host writes atomically reads as an AtomicI32 (same size and
+/// alignment).
+pub(crate) unsafe fn bake_arguments<'a>(
+    scene: *const SssbakeScene,
+    material: *const SssbakeMaterial,
+    settings: *const SssbakeSettings,
+    cancel: *const i32,
+) -> Result<
+    (
+        &'a SssbakeScene,
+        &'a SssbakeMaterial,
+        &'a SssbakeSettings,
+        Option<&'a AtomicI32>,
+    ),
+    Failure,
+> {
+    // SAFETY: as the caller promises.
+    let (scene, material, settings, cancel) = unsafe {
+        (
+            scene.as_ref(),
+            material.as_ref(),
+            settings.as_ref(),
+            cancel.cast::<AtomicI32>().as_ref(),
+        )
+    };
+    match (scene, material, settings) {
+        (Some(scene), Some(material), Some(settings)) => Ok((scene, material, settings, cancel)),
+        _ => Err(Failure::argument("scene, material or settings is null")),
+    }
+}
+
+/// Clears the caller's result slot `out` (named `what` in errors), so a
+/// failure leaves it null.
+///
+/// # Safety
+/// `out` is null or writable.
+pub(crate) unsafe fn clear<T>(out: *mut *mut T, what: &str) -> Result<(), Failure> {
+    if out.is_null() {
+        return Err(Failure::argument(format!("{what} is null")));
+    }
+    // SAFETY: checked non-null; the caller gives writable storage.
+    unsafe { *out = std::ptr::null_mut() };
+    Ok(())
 }
 
 /// Runs `work` while a thread reports progress and passes the host's

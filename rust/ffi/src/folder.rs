@@ -3,7 +3,8 @@
 //! library's name tables, so a host does not restate them.
 
 use crate::bake::{
-    METHODS, SssbakeProgress, SssbakeSettings, UserData, request_from_host, watched,
+    METHODS, SssbakeProgress, SssbakeSettings, UserData, bake_arguments, clear, request_from_host,
+    watched,
 };
 use crate::errors::{Failure, SssbakeStatus, guarded, text};
 use crate::material::{SssbakeMaterial, assignment_from_host};
@@ -14,7 +15,6 @@ use sssbake_io::image_writer::Precision;
 use sssbake_io::{FolderOptions, ReadOptions, bake_to_folder, read_scene, scene_lighting};
 use std::ffi::{CString, c_char, c_void};
 use std::path::Path;
-use std::sync::atomic::AtomicI32;
 
 /// [`sssbake_bake_to_folder`] flag: replace files already in the folder.
 pub const SSSBAKE_FOLDER_FORCE: u32 = 1;
@@ -115,24 +115,11 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
     summary_out: *mut *mut c_char,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: the caller passes valid pointers or null; an i32 the host
-        // writes atomically reads as an AtomicI32 (same size and alignment).
-        let (scene, material, settings, cancel) = unsafe {
-            (
-                scene.as_ref(),
-                material.as_ref(),
-                settings.as_ref(),
-                cancel.cast::<AtomicI32>().as_ref(),
-            )
-        };
-        let (Some(scene), Some(material), Some(settings)) = (scene, material, settings) else {
-            return Err(Failure::argument("scene, material or settings is null"));
-        };
-        if summary_out.is_null() {
-            return Err(Failure::argument("summary_out is null"));
-        }
-        // SAFETY: checked non-null; the caller gives writable storage.
-        unsafe { *summary_out = std::ptr::null_mut() };
+        // SAFETY: forwarded from the caller.
+        let (scene, material, settings, cancel) =
+            unsafe { bake_arguments(scene, material, settings, cancel) }?;
+        // SAFETY: forwarded from the caller.
+        unsafe { clear(summary_out, "summary_out") }?;
         let Some(file) = &scene.file else {
             return Err(Failure::argument(
                 "a host's scene has no file to bake beside: bake it with sssbake_bake, \
