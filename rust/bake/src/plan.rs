@@ -146,21 +146,7 @@ pub struct IntegratorPlan {
 pub fn plan(scene: &Scene, request: &BakeRequest) -> Result<Plan, Error> {
     let mut request = request.clone();
     request.validate()?;
-    let selected: Vec<usize> = if request.objects.is_empty() {
-        (0..scene.objects.len()).collect()
-    } else {
-        scene
-            .select(&request.objects)
-            .map_err(Error::input)?
-            .iter()
-            .filter_map(|o| {
-                scene
-                    .objects
-                    .iter()
-                    .position(|s| s.mesh.name == o.mesh.name)
-            })
-            .collect()
-    };
+    let selected = scene.select(&request.objects)?;
     if selected.is_empty() {
         return Err(Error::Input(InputError {
             file: Some(scene.source.clone()),

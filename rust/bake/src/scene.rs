@@ -228,26 +228,26 @@ impl LightKind {
 }
 
 impl Scene {
-    /// The objects named `names` (all when empty), or the first name that
-    /// matches nothing.
-    pub fn select<'a>(&'a self, names: &[String]) -> Result<Vec<&'a SceneObject>, String> {
+    /// The indices of the objects named `names` (all when empty), or an
+    /// error naming the first name that matches nothing.
+    pub fn select(&self, names: &[String]) -> Result<Vec<usize>, crate::Error> {
         if names.is_empty() {
-            return Ok(self.objects.iter().collect());
+            return Ok((0..self.objects.len()).collect());
         }
         names
             .iter()
             .map(|name| {
                 self.objects
                     .iter()
-                    .find(|o| &o.mesh.name == name)
+                    .position(|o| &o.mesh.name == name)
                     .ok_or_else(|| {
                         let known: Vec<&str> =
                             self.objects.iter().map(|o| o.mesh.name.as_str()).collect();
-                        format!(
-                            "{}: no object named `{name}` (objects: {})",
-                            self.source,
+                        crate::Error::input(format!(
+                            "no object named `{name}` (objects: {})",
                             known.join(", ")
-                        )
+                        ))
+                        .in_file(self.source.clone())
                     })
             })
             .collect()
