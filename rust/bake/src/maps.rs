@@ -15,6 +15,7 @@ use crate::irradiance::entry::{Boundary, EntryTransmittance};
 use crate::pipeline::Prepared;
 use crate::rays::RayScene;
 use crate::surface::dilation::seam_aware_offsets;
+use crate::surface::texels::TexelSurfels;
 use serde::{Deserialize, Serialize};
 
 /// A map sssbake can write.
@@ -121,10 +122,16 @@ pub fn render(
         Output::Stretch => surfels.stretch.iter().map(|s| [s.x, s.y, 0.0]).collect(),
         Output::Area => surfels.area.iter().map(|&a| [a; 3]).collect(),
     };
+    in_layout(surfels, &values, fill)
+}
+
+/// Per-surfel `values` as an image of the layout, rows top to bottom, with
+/// the empty texels of `fill` filled and the rest black.
+pub fn in_layout(surfels: &TexelSurfels, values: &[[f32; 3]], fill: &[(u32, u32)]) -> Image {
     let n = surfels.resolution as usize;
     let mut grid = vec![[0.0f32; 3]; n * n];
-    for (s, &t) in surfels.texel.iter().enumerate() {
-        grid[t as usize] = values[s];
+    for (&t, &value) in surfels.texel.iter().zip(values) {
+        grid[t as usize] = value;
     }
     for &(to, from) in fill {
         grid[to as usize] = grid[from as usize];

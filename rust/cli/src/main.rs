@@ -6,6 +6,7 @@
 //! line; 3 an output could not be written; 4 cancelled.
 
 mod bake_command;
+mod error_map;
 mod plan_command;
 mod plot;
 mod profile_command;

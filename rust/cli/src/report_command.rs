@@ -2,6 +2,7 @@
 //! run's time and its error against the exact sum, as JSON, CSV and a
 //! log–log plot, and the runs no other run beats on both.
 
+use crate::error_map::error_map;
 use crate::plot::render_png;
 use crate::report_plot::{Series, render};
 use crate::request_args::RequestArgs;
@@ -13,6 +14,7 @@ use sssbake::transport::brute::BruteIntegrator;
 use sssbake::transport::integrator::{Integrator, IntegratorSettings};
 use sssbake::{Error, Method, plan};
 use sssbake_io::atomic_write::write_atomically;
+use sssbake_io::image_writer::png_bytes;
 use std::path::PathBuf;
 
 /// Options of `sssbake report`.
@@ -152,6 +154,16 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
             let integrator: &dyn Integrator = settings.get(method);
             let result = prepared.integrate(scattering, integrator, &control)?;
             let (rmse, max_error) = relative_errors(&result.exitance, &reference.exitance);
+            // The run with the request's own settings gets a map of where it errs.
+            if settings == plan.request.integrators {
+                let map = error_map(&prepared.surfels, &result.exitance, &reference.exitance);
+                let path =
+                    args.out
+                        .join(format!("error_{}_{}.png", object.file_stem, method.name()));
+                let bytes = png_bytes(&map).map_err(|e| Error::output(path.display(), e))?;
+                write_atomically(&path, &bytes)
+                    .map_err(|e| Error::output(path.display(), format!("cannot write: {e}")))?;
+            }
             eprintln!(
                 "{}: {method} {setting}: {:.3} s, RMSE {rmse:.2e}",
                 object.name, result.seconds

@@ -75,6 +75,26 @@ fn a_report_times_every_integrator_against_the_exact_sum() {
     );
     let stdout = String::from_utf8_lossy(&result.stdout);
     assert!(stdout.contains("Pareto front") && stdout.contains("brute"));
+    // Each approximate method's default run maps where it departs from brute:
+    // the layout's texels coloured (never black).
+    let mut maps = Vec::new();
+    for method in ["octree", "texture", "importance"] {
+        let path = out.join(format!("error_Ball_{method}.png"));
+        let map = sssbake_io::read_image(&path).unwrap();
+        assert_eq!((map.width, map.height), (48, 48));
+        let coloured = map
+            .texels
+            .iter()
+            .filter(|t| t.iter().any(|&v| v > 0.0))
+            .count();
+        assert!(coloured > 48 * 48 / 4, "{method}: {coloured}");
+        maps.push(map.texels);
+    }
+    assert_ne!(
+        maps[0], maps[1],
+        "octree and texture err in different places"
+    );
+    assert!(!out.join("error_Ball_brute.png").exists());
 
     // A second run refuses to replace the report, and leaves it as it was.
     let before = std::fs::read(out.join("report.json")).unwrap();
