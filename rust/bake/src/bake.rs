@@ -71,7 +71,8 @@ pub struct Summary {
     pub notes: Vec<String>,
     /// Files written, when a writer wrote them.
     pub files: Vec<String>,
-    /// Seconds spent writing them.
+    /// Seconds a writer spent after the last object: the assets and moving
+    /// every file into place (maps are encoded as each object is done).
     pub write_seconds: f64,
 }
 
@@ -139,16 +140,11 @@ fn bake_object(
     stage: impl Fn(usize, &str),
 ) -> Result<BakedObject, Error> {
     let request = &plan.request;
-    let index = scene
-        .objects
-        .iter()
-        .position(|o| o.mesh.name == object.name)
-        .ok_or_else(|| Error::input(format!("no object named `{}`", object.name)))?;
     let scattering = &object.scattering_profile;
     stage(0, "lighting");
     let prepared = prepare(
         scene,
-        index,
+        object.index,
         object.layout.clone(),
         request,
         scattering.entry_index(),

@@ -66,6 +66,9 @@ impl Stage {
 pub struct ObjectPlan {
     /// Object name.
     pub name: String,
+    /// The object's index among the scene's objects.
+    #[serde(skip)]
+    pub index: usize,
     /// A file-name-safe form of the name, unique among the scene's objects.
     pub file_stem: String,
     /// Triangles with area.
@@ -272,6 +275,7 @@ fn plan_object(
     };
     Ok(ObjectPlan {
         name,
+        index,
         file_stem: file_stem.to_string(),
         triangles: object.mesh.triangles.len(),
         area_mm2: object.mesh.area(),

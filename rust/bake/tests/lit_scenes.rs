@@ -92,14 +92,9 @@ pub fn prepare_with(
     };
     let plan = plan(scene, &request)?;
     let planned = &plan.objects[0];
-    let index = scene
-        .objects
-        .iter()
-        .position(|o| o.mesh.name == object)
-        .unwrap();
     prepare(
         scene,
-        index,
+        planned.index,
         planned.layout.clone(),
         &plan.request,
         planned.scattering_profile.entry_index(),

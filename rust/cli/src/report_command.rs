@@ -116,16 +116,11 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
     let control = Control::new();
     let mut runs = Vec::new();
     let mut objects = Vec::new();
-    for (index, object) in plan.objects.iter().enumerate() {
+    for object in &plan.objects {
         let scattering = &object.scattering_profile;
-        let scene_index = scene
-            .objects
-            .iter()
-            .position(|o| o.mesh.name == object.name)
-            .unwrap_or(index);
         let prepared = prepare(
             &scene,
-            scene_index,
+            object.index,
             object.layout.clone(),
             &plan.request,
             scattering.entry_index(),
