@@ -3,7 +3,8 @@
 //! Exit codes: 0 success; 1 bad input (a scene or image that cannot be
 //! read, an unknown object or preset, an invalid material file, a model
 //! that does not fit the material, a value out of range); 2 bad command
-//! line; 3 an output could not be written; 4 cancelled.
+//! line; 3 an output could not be written; 4 cancelled; 70 an internal
+//! error (a bug: please report it).
 
 mod bake_command;
 mod error_map;
@@ -56,6 +57,37 @@ pub fn print_json(value: &impl serde::Serialize) {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Panics are caught where they can come from bad input (the readers)
+    // and here, and reported as errors; the default hook would print a
+    // backtrace first. RUST_BACKTRACE keeps it for debugging.
+    if std::env::var_os("RUST_BACKTRACE").is_none() {
+        std::panic::set_hook(Box::new(|_| {}));
+    }
+    let result = std::panic::catch_unwind(|| run(cli)).unwrap_or_else(|panic| {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        eprintln!("error: internal error (please report it): {what}");
+        Err(None)
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(None) => ExitCode::from(70),
+        Err(Some(error)) => {
+            eprintln!("error: {error}");
+            ExitCode::from(match error {
+                Error::Input(_) | Error::Setting { .. } => 1,
+                Error::Output { .. } => 3,
+                Error::Cancelled => 4,
+            })
+        }
+    }
+}
+
+/// Runs the command; `Err(Some)` for a failure, as the exit codes say.
+fn run(cli: Cli) -> Result<(), Option<Error>> {
     let result = match cli.command {
         Command::Bake(args) => bake_command::run(&args),
         Command::Profile(args) => profile_command::run(&args),
@@ -68,15 +100,5 @@ fn main() -> ExitCode {
             Ok(())
         }
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::from(match error {
-                Error::Input(_) | Error::Setting { .. } => 1,
-                Error::Output { .. } => 3,
-                Error::Cancelled => 4,
-            })
-        }
-    }
+    result.map_err(Some)
 }

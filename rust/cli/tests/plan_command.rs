@@ -126,3 +126,30 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
     let zero = sssbake(&["plan", scene.to_str().unwrap(), "--resolution", "0"]);
     assert_eq!(zero.status.code(), Some(1));
 }
+
+#[test]
+fn a_gltf_that_panics_its_reader_is_refused_as_bad_input() {
+    let dir = std::env::temp_dir().join(format!("sssbake-plan-panic-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // The primitive names accessor 99 of none: the gltf crate's validation
+    // indexes out of bounds.
+    let path = dir.join("broken.gltf");
+    let text = r#"{"asset":{"version":"2.0"},
+"meshes":[{"primitives":[{"attributes":{"POSITION":99}}]}],
+"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]}"#;
+    std::fs::write(&path, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_sssbake"))
+        .args(["plan", path.to_str().unwrap()])
+        .env_remove("RUST_BACKTRACE")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("broken.gltf") && stderr.contains("not a valid glTF file"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -53,7 +53,7 @@ pub fn read_scene(path: &Path, options: &ReadOptions) -> Result<Scene, InputErro
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("gltf" | "glb") => read_gltf(path, options),
+        Some("gltf" | "glb") => caught(path, "glTF", || read_gltf(path, options)),
         Some("usd" | "usda" | "usdc" | "usdz") => read_usd(path, options),
         _ => Err(InputError {
             file: path.display().to_string(),
@@ -61,6 +61,27 @@ pub fn read_scene(path: &Path, options: &ReadOptions) -> Result<Scene, InputErro
                 .into(),
         }),
     }
+}
+
+/// Runs a reader, turning a panic inside a dependency (the `gltf` crate's
+/// validation indexes its own arrays with a file's numbers) into bad input
+/// naming the file.
+fn caught(
+    path: &Path,
+    format: &str,
+    read: impl FnOnce() -> Result<Scene, InputError>,
+) -> Result<Scene, InputError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(read)).unwrap_or_else(|panic| {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Err(InputError {
+            file: path.display().to_string(),
+            message: format!("not a valid {format} file (its reader failed: {what})"),
+        })
+    })
 }
 
 impl From<InputError> for sssbake::Error {
