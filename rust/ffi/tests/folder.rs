@@ -60,6 +60,30 @@ fn take(string: *mut c_char) -> String {
     text
 }
 
+/// `sssbake_bake_to_folder` of `scene` into `out` with the scene's own
+/// material, no progress and no cancel flag.
+fn bake_into(
+    scene: *mut SssbakeScene,
+    settings: &SssbakeSettings,
+    out: &CString,
+    flags: u32,
+    summary: &mut *mut c_char,
+) -> SssbakeStatus {
+    unsafe {
+        sssbake_bake_to_folder(
+            scene,
+            &scene_material(),
+            settings,
+            out.as_ptr(),
+            flags,
+            None,
+            null_mut(),
+            null(),
+            summary,
+        )
+    }
+}
+
 fn files(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
@@ -82,36 +106,12 @@ fn a_file_baked_into_a_folder_writes_the_librarys_bytes() {
         ..default_settings()
     };
     let mut summary = null_mut();
-    let status = unsafe {
-        sssbake_bake_to_folder(
-            scene,
-            &scene_material(),
-            &settings,
-            out.as_ptr(),
-            0,
-            None,
-            null_mut(),
-            null(),
-            &mut summary,
-        )
-    };
+    let status = bake_into(scene, &settings, &out, 0, &mut summary);
     assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
     let json: serde_json::Value = serde_json::from_str(&take(summary)).unwrap();
     assert_eq!(json["objects"][0]["name"], "Ball", "{json}");
     // A second bake into the same folder is refused unless forced.
-    let status = unsafe {
-        sssbake_bake_to_folder(
-            scene,
-            &scene_material(),
-            &settings,
-            out.as_ptr(),
-            0,
-            None,
-            null_mut(),
-            null(),
-            &mut summary,
-        )
-    };
+    let status = bake_into(scene, &settings, &out, 0, &mut summary);
     assert_eq!(status, SssbakeStatus::CannotWrite);
     assert!(last_error().contains("exists"), "{}", last_error());
     assert!(summary.is_null());
@@ -214,18 +214,8 @@ fn misuse_of_files_and_folders_gets_a_status_and_a_message() {
     let out = scratch("host");
     let out_c = CString::new(out.to_str().unwrap()).unwrap();
     let mut summary = null_mut();
-    let bake = |scene, settings: &SssbakeSettings, flags, summary: &mut *mut c_char| unsafe {
-        sssbake_bake_to_folder(
-            scene,
-            &scene_material(),
-            settings,
-            out_c.as_ptr(),
-            flags,
-            None,
-            null_mut(),
-            null(),
-            summary,
-        )
+    let bake = |scene, settings: &SssbakeSettings, flags, summary: &mut *mut c_char| {
+        bake_into(scene, settings, &out_c, flags, summary)
     };
     let settings = SssbakeSettings {
         resolution: 16,
@@ -295,19 +285,13 @@ fn misuse_of_files_and_folders_gets_a_status_and_a_message() {
     );
     // The input's own folder is refused: a bake never writes beside its asset.
     let beside = CString::new(marble().parent().unwrap().to_str().unwrap()).unwrap();
-    let status = unsafe {
-        sssbake_bake_to_folder(
-            scene,
-            &scene_material(),
-            &settings,
-            beside.as_ptr(),
-            SSSBAKE_FOLDER_FORCE,
-            None,
-            null_mut(),
-            null(),
-            &mut summary,
-        )
-    };
+    let status = bake_into(
+        scene,
+        &settings,
+        &beside,
+        SSSBAKE_FOLDER_FORCE,
+        &mut summary,
+    );
     assert_eq!(status, SssbakeStatus::InvalidArgument, "{}", last_error());
     assert!(
         last_error().contains("is the folder of the input"),
