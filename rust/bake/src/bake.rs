@@ -259,9 +259,11 @@ impl fmt::Display for Summary {
             writeln!(f, "left out {reason}")?;
         }
         if !self.files.is_empty() {
+            // The maps are encoded as each object finishes; write_seconds
+            // covers the assets and the renames after the last one.
             writeln!(
                 f,
-                "wrote {} files in {:.2} s",
+                "wrote {} files (assets and renames {:.2} s)",
                 self.files.len(),
                 self.write_seconds
             )?;
