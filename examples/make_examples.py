@@ -10,12 +10,14 @@ curved shell lit from behind, for light crossing thin parts). Everything is buil
 from Blender's own primitives, so the files are the same on every run.
 
 Blender's exporters leave out the Principled BSDF's subsurface inputs, so each file
-gets them afterwards, translated as README "Materials from the asset" reads them back:
-glTF KHR_materials_volume (attenuation distance = Subsurface Scale, attenuation colour
-= e^(-1/Radius), so the mean free path is Radius × Scale) with
-KHR_materials_volume_scatter's multiscatterColor = Base Color; USD an OpenPBR shader
-in the `mtlx` render context (subsurface_color = Base Color, subsurface_radius = Scale,
-subsurface_radius_scale = Radius) beside Blender's UsdPreviewSurface.
+gets them afterwards, stated by each format's own definition of what Cycles renders
+(README "Materials from Blender"): Cycles' Random Walk uses Radius × Scale / 4π as the
+mean free path. glTF gets KHR_materials_volume (attenuation distance = Scale / 4π,
+attenuation colour = e^(-1/Radius), so the mean free path is Radius × Scale / 4π) and
+KHR_materials_volume_scatter's multiscatterColor = Base Color and KHR_materials_ior (kept
+when Blender writes it, added when it does not); USD an OpenPBR shader in the `mtlx` render context
+(subsurface_color = Base Color, subsurface_radius = Scale / 4π, subsurface_radius_scale
+= Radius, specular_ior = IOR) beside Blender's UsdPreviewSurface.
 """
 
 import json
@@ -37,9 +39,9 @@ def reset():
 SUBSURFACE = {}
 
 
-def translucent_material(name, colour, radius, scale):
-    """A Principled BSDF with subsurface scattering (Blender's own parameters)."""
-    SUBSURFACE[name] = (colour, radius, scale)
+def translucent_material(name, colour, radius, scale, ior=1.4):
+    """A Principled BSDF with Random Walk subsurface scattering (Blender's own parameters)."""
+    SUBSURFACE[name] = (colour, radius, scale, ior)
     material = bpy.data.materials.new(name)
     material.use_nodes = True
     bsdf = material.node_tree.nodes["Principled BSDF"]
@@ -47,6 +49,8 @@ def translucent_material(name, colour, radius, scale):
     bsdf.inputs["Subsurface Weight"].default_value = 1.0
     bsdf.inputs["Subsurface Radius"].default_value = radius
     bsdf.inputs["Subsurface Scale"].default_value = scale
+    bsdf.inputs["IOR"].default_value = ior
+    bsdf.subsurface_method = "RANDOM_WALK"
     bsdf.inputs["Roughness"].default_value = 0.4
     return material
 
@@ -100,21 +104,24 @@ def add_gltf_subsurface(path):
     for material in document.get("materials", []):
         if material["name"] not in SUBSURFACE:
             continue
-        colour, radius, scale = SUBSURFACE[material["name"]]
-        material["extensions"] = {
+        colour, radius, scale, ior = SUBSURFACE[material["name"]]
+        extensions = material.setdefault("extensions", {})
+        # Blender writes KHR_materials_ior only beside transmission; keep it when it does.
+        extensions.setdefault("KHR_materials_ior", {"ior": ior})
+        extensions |= {
             "KHR_materials_diffuse_transmission": {
                 "diffuseTransmissionFactor": 1.0,
                 "diffuseTransmissionColorFactor": list(colour),
             },
             "KHR_materials_volume": {
                 "thicknessFactor": scale,
-                "attenuationDistance": scale,
+                "attenuationDistance": scale / (4 * math.pi),
                 "attenuationColor": [round(math.exp(-1.0 / r), 6) for r in radius],
             },
             "KHR_materials_volume_scatter": {"multiscatterColor": list(colour)},
         }
         used = document.setdefault("extensionsUsed", [])
-        used += [e for e in material["extensions"] if e not in used]
+        used += [e for e in extensions if e not in used]
     path.write_text(json.dumps(document, indent=2) + "\n")
 
 
@@ -123,16 +130,16 @@ def add_usd_subsurface(path):
     for prim in stage.Traverse():
         if not prim.IsA(UsdShade.Material) or prim.GetName() not in SUBSURFACE:
             continue
-        colour, radius, scale = SUBSURFACE[prim.GetName()]
+        colour, radius, scale, ior = SUBSURFACE[prim.GetName()]
         shader = UsdShade.Shader.Define(stage, prim.GetPath().AppendChild("OpenPBR"))
         shader.CreateIdAttr("ND_open_pbr_surface_surfaceshader")
         for name, kind, value in [
             ("base_color", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*colour)),
             ("subsurface_weight", Sdf.ValueTypeNames.Float, 1.0),
             ("subsurface_color", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*colour)),
-            ("subsurface_radius", Sdf.ValueTypeNames.Float, scale),
+            ("subsurface_radius", Sdf.ValueTypeNames.Float, scale / (4 * math.pi)),
             ("subsurface_radius_scale", Sdf.ValueTypeNames.Color3f, Gf.Vec3f(*radius)),
-            ("specular_ior", Sdf.ValueTypeNames.Float, 1.4),
+            ("specular_ior", Sdf.ValueTypeNames.Float, ior),
         ]:
             shader.CreateInput(name, kind).Set(value)
         output = shader.CreateOutput("out", Sdf.ValueTypeNames.Token)

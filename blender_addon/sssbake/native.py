@@ -6,10 +6,13 @@ import os
 import pathlib
 import sys
 
-ABI_VERSION = 3
+ABI_VERSION = 4
 
 LIGHT_SUN, LIGHT_POINT, LIGHT_SPOT, LIGHT_RECTANGLE, LIGHT_DISK = range(5)
 MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML, MATERIAL_SCENE, MATERIAL_SIDECAR = range(5)
+# Blender's subsurface_method enum in the library's numbering (SSSBAKE_SUBSURFACE_*).
+SUBSURFACE_METHODS = {"BURLEY": 0, "RANDOM_WALK": 1, "RANDOM_WALK_SKIN": 2}
+ALBEDO_CYCLES, ALBEDO_PHYSICAL = range(2)
 NAMES_OUTPUTS, NAMES_METHODS, NAMES_PRESETS = range(3)
 STATUS = {1: "invalid argument", 2: "bad input", 3: "cancelled", 4: "internal error", 5: "cannot write"}
 INVALID_ARGUMENT, BAD_INPUT, CANCELLED, INTERNAL, CANNOT_WRITE = range(1, 6)
@@ -65,6 +68,10 @@ class Material(ctypes.Structure):
         ("scale", ctypes.c_float),
         ("ior", ctypes.c_float),
         ("anisotropy", ctypes.c_float),
+        ("subsurface_method", ctypes.c_uint32),
+        ("subsurface_ior", ctypes.c_float),
+        ("specular_ior_level", ctypes.c_float),
+        ("albedo_mapping", ctypes.c_uint32),
     ]
 
 

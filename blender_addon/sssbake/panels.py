@@ -11,6 +11,8 @@ def draw_settings(layout, settings):
         layout.prop(settings, "preset")
     elif settings.material_source == "LAYERS":
         layout.prop(settings, "layers_file")
+    else:
+        layout.prop(settings, "albedo_mapping")
     layout.prop(settings, "resolution")
     layout.prop(settings, "method")
     layout.prop(settings, "quality")

@@ -23,9 +23,17 @@ PRESETS = [
     ("spectralon", "Spectralon", "Jensen et al. 2001"),
 ]
 SOURCES = [
-    ("PRINCIPLED", "From Principled BSDF", "Subsurface Weight, Radius, Scale, IOR and Anisotropy"),
+    ("PRINCIPLED", "From Principled BSDF", "Base Color and the subsurface inputs, read as Cycles reads them"),
     ("PRESET", "Preset", "A measured material"),
     ("LAYERS", "Custom layers", "A TOML file of layers (see the README)"),
+]
+ALBEDO_MAPPINGS = [
+    ("CYCLES", "Like Cycles", "Colour to albedo by Cycles' own fit: the bake looks like Cycles' render"),
+    (
+        "PHYSICAL",
+        "Physical",
+        "Colour to albedo by the dipole: under uniform light the bake shows exactly the colour",
+    ),
 ]
 METHODS = [
     ("AUTO", "Auto", "Let the library choose, and say why"),
@@ -96,6 +104,12 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
         "material_source": bpy.props.EnumProperty(name="Material", items=SOURCES, default="PRINCIPLED"),
         "preset": bpy.props.EnumProperty(name="Preset", items=presets, default="skin1"),
         "layers_file": bpy.props.StringProperty(name="Layers", subtype="FILE_PATH", default=""),
+        "albedo_mapping": bpy.props.EnumProperty(
+            name="Colour to Albedo",
+            description="How a Principled BSDF's Base Color becomes the medium's albedo",
+            items=ALBEDO_MAPPINGS,
+            default="CYCLES",
+        ),
         "resolution": bpy.props.IntProperty(
             name="Resolution", default=defaults["resolution"], min=1, soft_min=64, soft_max=8192
         ),

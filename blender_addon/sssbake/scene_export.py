@@ -152,10 +152,21 @@ def material_struct(settings, obj, keep):
         material.subsurface_weight = inputs["Subsurface Weight"].default_value
         material.radius = native.Vec3(*inputs["Subsurface Radius"].default_value)
         material.scale = inputs["Subsurface Scale"].default_value
-        material.ior = inputs["Subsurface IOR"].default_value if "Subsurface IOR" in inputs else 1.4
-        anisotropy = inputs.get("Subsurface Anisotropy")
-        material.anisotropy = anisotropy.default_value if anisotropy else 0.0
+        material.subsurface_method = native.SUBSURFACE_METHODS.get(node.subsurface_method, 1)
+        material.ior = value_of(inputs, "IOR", 1.5)
+        material.specular_ior_level = value_of(inputs, "Specular IOR Level", 0.5)
+        material.subsurface_ior = value_of(inputs, "Subsurface IOR", 1.4)
+        material.anisotropy = value_of(inputs, "Subsurface Anisotropy", 0.0)
+        material.albedo_mapping = (
+            native.ALBEDO_PHYSICAL if settings.albedo_mapping == "PHYSICAL" else native.ALBEDO_CYCLES
+        )
     return material
+
+
+def value_of(inputs, name, default):
+    """An input's value, or `default` where the node has no such input."""
+    socket = inputs.get(name)
+    return socket.default_value if socket is not None else default
 
 
 def build_scene(context, uv_map):

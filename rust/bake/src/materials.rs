@@ -19,7 +19,8 @@ use crate::error::{Error, InputError};
 use crate::scene::SceneObject;
 use serde::Deserialize;
 use sssbake_profile::Material;
-use sssbake_profile::appearance::{Appearance, channel_mean_free_paths};
+use sssbake_profile::appearance::channel_mean_free_paths;
+pub use sssbake_profile::cycles::{AlbedoMapping, PrincipledSubsurface, SubsurfaceMethod};
 use sssbake_profile::presets;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -218,7 +219,8 @@ impl Sidecar {
     }
 }
 
-/// Blender's Principled BSDF subsurface inputs.
+/// Blender's Principled BSDF subsurface inputs, read as Cycles reads them
+/// ([`PrincipledSubsurface`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Principled {
     /// The material's name, for reports.
@@ -231,15 +233,23 @@ pub struct Principled {
     pub radius: [f32; 3],
     /// Subsurface Scale, mm.
     pub scale_mm: f64,
-    /// Subsurface IOR.
+    /// The node's subsurface method.
+    pub method: SubsurfaceMethod,
+    /// IOR (of the specular layer).
     pub ior: f32,
+    /// Specular IOR Level (0.5: the IOR as it is).
+    pub specular_ior_level: f32,
+    /// Subsurface IOR (Random Walk (Skin) only).
+    pub subsurface_ior: f32,
     /// Subsurface Anisotropy (Henyey–Greenstein g).
     pub anisotropy: f32,
+    /// How the colour becomes an albedo.
+    pub albedo: AlbedoMapping,
 }
 
 impl Principled {
-    /// The material: colour and mean free path Radius × Scale through the
-    /// albedo inversion (README, "Materials from the asset").
+    /// The material Cycles renders for these inputs (README, "Materials
+    /// from Blender").
     pub fn to_material(&self) -> Result<Material, Error> {
         let at = |message: String| {
             Error::Input(InputError {
@@ -254,12 +264,16 @@ impl Principled {
                 self.subsurface_weight
             )));
         }
-        Appearance {
+        PrincipledSubsurface {
             name: self.name.clone(),
             colour: self.base_colour.map(f64::from),
-            mean_free_path_mm: self.radius.map(|r| f64::from(r) * self.scale_mm),
+            radius_mm: self.radius.map(|r| f64::from(r) * self.scale_mm),
+            method: self.method,
             ior: f64::from(self.ior),
+            specular_ior_level: f64::from(self.specular_ior_level),
+            subsurface_ior: f64::from(self.subsurface_ior),
             anisotropy: f64::from(self.anisotropy),
+            albedo: self.albedo,
         }
         .to_material()
         .map_err(|e| at(e.to_string()))

@@ -56,6 +56,7 @@ fn slab(thickness_mm: f64) -> Material {
             ior: 1.3,
             thickness_mm: Some(thickness_mm),
         }]),
+        coat_ior: None,
     }
 }
 

@@ -227,6 +227,7 @@ fn grey(albedo: f64, sigma_t: f64, ior: f64, thickness_mm: Option<f64>) -> Mater
             ior,
             thickness_mm,
         }]),
+        coat_ior: None,
     }
 }
 

@@ -13,7 +13,7 @@
 /**
  * The version of this ABI: hosts refuse a library of another version.
  */
-#define SSSBAKE_ABI_VERSION 3
+#define SSSBAKE_ABI_VERSION 4
 
 /**
  * [`sssbake_bake_to_folder`] flag: replace files already in the folder.
@@ -76,7 +76,7 @@
 
 /**
  * Principled BSDF inputs: base colour, subsurface weight, radius, scale,
- * IOR and anisotropy.
+ * method, IORs and anisotropy, read as Cycles reads them.
  */
 #define SSSBAKE_MATERIAL_PRINCIPLED 1
 
@@ -97,6 +97,32 @@
  * working folder). Objects it does not name take their scene material.
  */
 #define SSSBAKE_MATERIAL_SIDECAR 4
+
+/**
+ * Christensen–Burley: mean free path Radius × Scale / 4π.
+ */
+#define SSSBAKE_SUBSURFACE_BURLEY 0
+
+/**
+ * Random Walk: mean free path Radius × Scale / 4π, index-matched exit.
+ */
+#define SSSBAKE_SUBSURFACE_RANDOM_WALK 1
+
+/**
+ * Random Walk (Skin): Radius × Scale is the diffusion length; light
+ * enters through Subsurface IOR.
+ */
+#define SSSBAKE_SUBSURFACE_RANDOM_WALK_SKIN 2
+
+/**
+ * Cycles' fit from colour to albedo: the bake looks like Cycles' render.
+ */
+#define SSSBAKE_ALBEDO_CYCLES 0
+
+/**
+ * The dipole inverted: the uniform-light reflectance is the colour.
+ */
+#define SSSBAKE_ALBEDO_PHYSICAL 1
 
 /**
  * What a call did.
@@ -219,13 +245,30 @@ typedef struct SssbakeMaterial {
    */
   float scale;
   /**
-   * Subsurface IOR.
+   * IOR: the specular layer's index over the subsurface.
    */
   float ior;
   /**
    * Subsurface Anisotropy (Henyey–Greenstein g).
    */
   float anisotropy;
+  /**
+   * One of the `SSSBAKE_SUBSURFACE_*` methods.
+   */
+  uint32_t subsurface_method;
+  /**
+   * Subsurface IOR (Random Walk (Skin) only).
+   */
+  float subsurface_ior;
+  /**
+   * Specular IOR Level: 0.5 leaves the IOR as it is, 0 removes the
+   * specular layer.
+   */
+  float specular_ior_level;
+  /**
+   * One of the `SSSBAKE_ALBEDO_*` mappings from colour to albedo.
+   */
+  uint32_t albedo_mapping;
 } SssbakeMaterial;
 
 /**

@@ -2,7 +2,9 @@
 //! Blender's Principled BSDF subsurface inputs.
 
 use crate::errors::{Failure, text};
-use sssbake::materials::{MaterialAssignment, Principled, Sidecar, preset};
+use sssbake::materials::{
+    AlbedoMapping, MaterialAssignment, Principled, Sidecar, SubsurfaceMethod, preset,
+};
 use sssbake_profile::Material;
 use std::ffi::c_char;
 use std::path::Path;
@@ -10,7 +12,7 @@ use std::path::Path;
 /// A preset by `name` (skin1, marble, skin3layer, …).
 pub const SSSBAKE_MATERIAL_PRESET: u32 = 0;
 /// Principled BSDF inputs: base colour, subsurface weight, radius, scale,
-/// IOR and anisotropy.
+/// method, IORs and anisotropy, read as Cycles reads them.
 pub const SSSBAKE_MATERIAL_PRINCIPLED: u32 = 1;
 /// A material file's TOML text in `toml` (README, "Materials").
 pub const SSSBAKE_MATERIAL_TOML: u32 = 2;
@@ -41,11 +43,32 @@ pub struct SssbakeMaterial {
     pub radius: [f32; 3],
     /// Subsurface Scale, scene units.
     pub scale: f32,
-    /// Subsurface IOR.
+    /// IOR: the specular layer's index over the subsurface.
     pub ior: f32,
     /// Subsurface Anisotropy (Henyey–Greenstein g).
     pub anisotropy: f32,
+    /// One of the `SSSBAKE_SUBSURFACE_*` methods.
+    pub subsurface_method: u32,
+    /// Subsurface IOR (Random Walk (Skin) only).
+    pub subsurface_ior: f32,
+    /// Specular IOR Level: 0.5 leaves the IOR as it is, 0 removes the
+    /// specular layer.
+    pub specular_ior_level: f32,
+    /// One of the `SSSBAKE_ALBEDO_*` mappings from colour to albedo.
+    pub albedo_mapping: u32,
 }
+
+/// Christensen–Burley: mean free path Radius × Scale / 4π.
+pub const SSSBAKE_SUBSURFACE_BURLEY: u32 = 0;
+/// Random Walk: mean free path Radius × Scale / 4π, index-matched exit.
+pub const SSSBAKE_SUBSURFACE_RANDOM_WALK: u32 = 1;
+/// Random Walk (Skin): Radius × Scale is the diffusion length; light
+/// enters through Subsurface IOR.
+pub const SSSBAKE_SUBSURFACE_RANDOM_WALK_SKIN: u32 = 2;
+/// Cycles' fit from colour to albedo: the bake looks like Cycles' render.
+pub const SSSBAKE_ALBEDO_CYCLES: u32 = 0;
+/// The dipole inverted: the uniform-light reflectance is the colour.
+pub const SSSBAKE_ALBEDO_PHYSICAL: u32 = 1;
 
 /// The library's material assignment for a host material in a scene of
 /// `mm_per_unit`.
@@ -86,8 +109,29 @@ pub(crate) unsafe fn assignment_from_host(
                 subsurface_weight: material.subsurface_weight,
                 radius: material.radius,
                 scale_mm: f64::from(material.scale) * mm_per_unit,
+                method: match material.subsurface_method {
+                    SSSBAKE_SUBSURFACE_BURLEY => SubsurfaceMethod::Burley,
+                    SSSBAKE_SUBSURFACE_RANDOM_WALK => SubsurfaceMethod::RandomWalk,
+                    SSSBAKE_SUBSURFACE_RANDOM_WALK_SKIN => SubsurfaceMethod::RandomWalkSkin,
+                    other => {
+                        return Err(Failure::argument(format!(
+                            "subsurface method {other} is not one of SSSBAKE_SUBSURFACE_*"
+                        )));
+                    }
+                },
                 ior: material.ior,
+                specular_ior_level: material.specular_ior_level,
+                subsurface_ior: material.subsurface_ior,
                 anisotropy: material.anisotropy,
+                albedo: match material.albedo_mapping {
+                    SSSBAKE_ALBEDO_CYCLES => AlbedoMapping::Cycles,
+                    SSSBAKE_ALBEDO_PHYSICAL => AlbedoMapping::Physical,
+                    other => {
+                        return Err(Failure::argument(format!(
+                            "albedo mapping {other} is not one of SSSBAKE_ALBEDO_*"
+                        )));
+                    }
+                },
             };
             everywhere(principled.to_material()?, "Principled BSDF")
         }

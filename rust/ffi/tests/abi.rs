@@ -106,6 +106,10 @@ fn preset(name: &CString) -> SssbakeMaterial {
         scale: 0.0,
         ior: 0.0,
         anisotropy: 0.0,
+        subsurface_method: SSSBAKE_SUBSURFACE_RANDOM_WALK,
+        subsurface_ior: 1.4,
+        specular_ior_level: 0.5,
+        albedo_mapping: SSSBAKE_ALBEDO_CYCLES,
     }
 }
 
@@ -256,6 +260,10 @@ fn principled_inputs_bake_their_colour() {
         scale: 0.5,
         ior: 1.4,
         anisotropy: 0.0,
+        subsurface_method: SSSBAKE_SUBSURFACE_RANDOM_WALK,
+        subsurface_ior: 1.4,
+        specular_ior_level: 0.5,
+        albedo_mapping: SSSBAKE_ALBEDO_CYCLES,
     };
     let mut result = null_mut();
     let status = unsafe {
@@ -298,6 +306,28 @@ fn principled_inputs_bake_their_colour() {
     assert_eq!(status, SssbakeStatus::BadInput);
     assert!(
         last_error().contains("Subsurface Weight is 0"),
+        "{}",
+        last_error()
+    );
+    let unknown = SssbakeMaterial {
+        subsurface_method: 7,
+        ..wax
+    };
+    let status = unsafe {
+        sssbake_bake(
+            scene.0,
+            object.as_ptr(),
+            &unknown,
+            &settings(32, 1),
+            None,
+            null_mut(),
+            null(),
+            &mut result,
+        )
+    };
+    assert_eq!(status, SssbakeStatus::InvalidArgument);
+    assert!(
+        last_error().contains("subsurface method 7"),
         "{}",
         last_error()
     );

@@ -46,6 +46,10 @@ fn scene_material() -> SssbakeMaterial {
         scale: 0.0,
         ior: 0.0,
         anisotropy: 0.0,
+        subsurface_method: SSSBAKE_SUBSURFACE_RANDOM_WALK,
+        subsurface_ior: 1.4,
+        specular_ior_level: 0.5,
+        albedo_mapping: SSSBAKE_ALBEDO_CYCLES,
     }
 }
 

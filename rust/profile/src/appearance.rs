@@ -77,6 +77,7 @@ impl Appearance {
         Ok(Material {
             name: self.name.clone(),
             optics: Optics::Layers(vec![layer]),
+            coat_ior: None,
         })
     }
 }

@@ -32,6 +32,7 @@
 
 pub mod appearance;
 pub mod burley;
+pub mod cycles;
 pub mod dipole;
 pub mod fresnel;
 pub mod gaussians;

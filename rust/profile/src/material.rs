@@ -63,6 +63,10 @@ pub struct Material {
     pub name: String,
     /// The optics.
     pub optics: Optics,
+    /// Index of a smooth dielectric coat over the top layer that light
+    /// crosses on entry (Blender's specular layer over an index-matched
+    /// random walk); `None`: the top layer's own index.
+    pub coat_ior: Option<f64>,
 }
 
 /// A material that could not be read or is not physical; says where.
@@ -109,6 +113,7 @@ impl Material {
     ///
     /// ```toml
     /// name = "two-layer skin"        # optional
+    /// coat_ior = 1.4                 # optional: a coat light enters through
     /// [[layers]]
     /// sigma_a = [0.032, 0.17, 0.48]  # 1/mm, a number or [r, g, b]
     /// sigma_s = 0.74                 # 1/mm
@@ -160,6 +165,7 @@ impl Material {
         let material = Material {
             name: file.name.unwrap_or_else(|| default_name.to_string()),
             optics: Optics::Layers(parsed),
+            coat_ior: file.coat_ior.map(|n| n.0),
         };
         material.validate(source)?;
         Ok(material)
@@ -172,6 +178,12 @@ impl Material {
             field,
             message,
         };
+        if let Some(coat) = self.coat_ior.filter(|n| !(n.is_finite() && *n > 0.0)) {
+            return Err(error(
+                "coat_ior".into(),
+                format!("must be a positive finite index, got {coat}"),
+            ));
+        }
         let Optics::Layers(layers) = &self.optics else {
             return Ok(());
         };
@@ -233,6 +245,9 @@ impl Material {
     /// The index of refraction light enters through: the top layer's (1.3
     /// for a measured Gaussian profile, which carries none).
     pub fn entry_index(&self) -> f64 {
+        if let Some(coat) = self.coat_ior {
+            return coat;
+        }
         match &self.optics {
             Optics::Layers(layers) => layers.first().map_or(1.3, |l| l.ior),
             Optics::Gaussians(_) => 1.3,
@@ -273,6 +288,8 @@ impl Material {
 struct MaterialFile {
     /// Name for reports; absent, the file's stem.
     name: Option<String>,
+    /// Index of a coat over the top layer; absent, none.
+    coat_ior: Option<Number>,
     /// The `[[layers]]` tables, top down; absent is an error said after
     /// parsing, with what a material needs.
     layers: Option<LayerList>,

@@ -96,5 +96,6 @@ pub fn preset(name: &str) -> Option<Material> {
     Some(Material {
         name: name.to_string(),
         optics,
+        coat_ior: None,
     })
 }
