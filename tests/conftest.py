@@ -2,7 +2,9 @@
 
 import os
 import pathlib
+import struct
 import subprocess
+import zlib
 
 import pytest
 
@@ -35,6 +37,60 @@ def exr(path):
     import OpenEXR
 
     return OpenEXR.File(str(path)).parts[0].channels["RGB"].pixels
+
+
+def srgb_to_linear(encoded):
+    """sRGB-encoded values in [0, 1] as linear ones."""
+    import numpy
+
+    encoded = numpy.asarray(encoded, dtype=numpy.float64)
+    return numpy.where(encoded <= 0.04045, encoded / 12.92, ((encoded + 0.055) / 1.055) ** 2.4)
+
+
+def png_rgb(path: pathlib.Path):
+    """An 8-bit RGB, non-interlaced PNG's codes, rows top to bottom (the encoding the
+    writer uses; anything else fails here)."""
+    import numpy
+
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    position, header, compressed = 8, None, b""
+    while position < len(data):
+        (length,) = struct.unpack(">I", data[position : position + 4])
+        kind = data[position + 4 : position + 8]
+        body = data[position + 8 : position + 8 + length]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            compressed += body
+        position += 12 + length
+    width, height, depth, colour, _, _, interlace = header
+    assert (depth, colour, interlace) == (8, 2, 0), header
+    raw = zlib.decompress(compressed)
+    stride = width * 3
+    rows, previous = [], [0] * stride
+    for y in range(height):
+        start = y * (stride + 1)
+        kind, line = raw[start], raw[start + 1 : start + 1 + stride]
+        row = list(line)
+        for x in range(stride) if kind else ():
+            left = row[x - 3] if x >= 3 else 0
+            up = previous[x]
+            if kind == 1:
+                predicted = left
+            elif kind == 2:
+                predicted = up
+            elif kind == 3:
+                predicted = (left + up) // 2
+            else:
+                corner = previous[x - 3] if x >= 3 else 0
+                estimate = left + up - corner
+                pa, pb, pc = abs(estimate - left), abs(estimate - up), abs(estimate - corner)
+                predicted = left if pa <= pb and pa <= pc else (up if pb <= pc else corner)
+            row[x] = (line[x] + predicted) & 255
+        rows.append(row)
+        previous = row
+    return numpy.array(rows, dtype=numpy.int64).reshape(height, width, 3)
 
 
 def bake_summary(binary: pathlib.Path, scene: pathlib.Path, out: pathlib.Path, *args: str) -> dict:

@@ -76,5 +76,5 @@ def test_the_gltf_copy_imports_into_blender_with_the_bake(baked):
     material = ball.active_material
     assert material.name == "Ball (sssbake)"
     images = [n.image for n in material.node_tree.nodes if n.type == "TEX_IMAGE"]
-    assert [pathlib.Path(i.filepath).name for i in images] == ["Ball_diffuse.png"]
+    assert [pathlib.Path(i.filepath).name for i in images] == ["Ball_diffuse_emissive.png"]
     assert tuple(images[0].size) == (128, 128)

@@ -33,9 +33,9 @@ def test_the_layer_binds_the_diffuse_map_to_the_baked_mesh(layer):
     material, _ = UsdShade.MaterialBindingAPI(meshes[0]).ComputeBoundMaterial()
     assert material.GetPrim().GetName() == "Ball"
     assert material.GetPrim().GetAttribute("sssbake:method").Get() == "brute"
-    texture = UsdShade.Shader(material.GetPrim().GetChild("diffuse"))
-    assert texture.GetInput("file").Get().path == "Ball_diffuse.png"
-    assert (layer.parent / "Ball_diffuse.png").exists()
+    texture = UsdShade.Shader(material.GetPrim().GetChild("emission"))
+    assert texture.GetInput("file").Get().path == "Ball_diffuse.exr"
+    assert (layer.parent / "Ball_diffuse.exr").exists()
     # The input stage is only sublayered, never written.
     assert "sssbake" not in (ROOT / "examples" / "marble" / "marble.usda").read_text()
 
@@ -56,5 +56,5 @@ def test_the_layer_imports_into_blender_with_the_bake(layer):
     bpy.ops.wm.usd_import(filepath=str(layer))
     ball = next(o for o in bpy.data.objects if o.type == "MESH")
     images = [n.image for n in ball.active_material.node_tree.nodes if n.type == "TEX_IMAGE"]
-    assert [i.name for i in images] == ["Ball_diffuse.png"]
+    assert [i.name for i in images] == ["Ball_diffuse.exr"]
     assert tuple(images[0].size) == (64, 64)

@@ -1,8 +1,8 @@
 """Reads a USD stage with usd-core and prints what sssbake bakes from it as JSON.
 
-Run as `python read_stage.py STAGE [UV_SET]`. Every UsdGeomMesh becomes an
+Run as `python read_stage.py STAGE UV_PRIMVARS`. Every UsdGeomMesh becomes an
 object with world-space points (in stage units), fan-triangulated faces and,
-per triangle corner, the chosen st primvar and normals expanded from any
+per triangle corner, the first of the comma-separated UV_PRIMVARS it has and normals expanded from any
 interpolation, and the bound material's surface shader: its id and the
 values of its inputs. UsdLux lights come with their world transforms. The stage's
 metersPerUnit and upAxis come along; sssbake converts to millimetres.
@@ -52,7 +52,7 @@ def primvar_corners(primvar, counts, indices):
     return per_corner(values, primvar.GetInterpolation(), counts, indices)
 
 
-def read_mesh(prim, cache, uv_set):
+def read_mesh(prim, cache, uv_primvars):
     mesh = UsdGeom.Mesh(prim)
     points = mesh.GetPointsAttr().Get() or []
     counts = list(mesh.GetFaceVertexCountsAttr().Get() or [])
@@ -64,8 +64,7 @@ def read_mesh(prim, cache, uv_set):
     if mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded:
         mirrored = not mirrored
     api = UsdGeom.PrimvarsAPI(prim)
-    names = [uv_set] if uv_set else ["st", "UVMap", "uv", "st0"]
-    st = next((api.GetPrimvar(n) for n in names if api.HasPrimvar(n)), None)
+    st = next((api.GetPrimvar(n) for n in uv_primvars if api.HasPrimvar(n)), None)
     uvs = primvar_corners(st, counts, indices) if st else None
     normals_primvar = api.GetPrimvar("normals") if api.HasPrimvar("normals") else None
     normals = primvar_corners(normals_primvar, counts, indices) if normals_primvar else None
@@ -202,12 +201,12 @@ def shape_of(prim, kind):
 
 
 def main():
-    if len(sys.argv) < 2:
-        fail("usage: read_stage.py STAGE [UV_SET]")
+    if len(sys.argv) < 3:
+        fail("usage: read_stage.py STAGE UV_PRIMVARS")
     stage = Usd.Stage.Open(sys.argv[1])
     if stage is None:
         fail("cannot open the stage")
-    uv_set = sys.argv[2] if len(sys.argv) > 2 and sys.argv[2] else None
+    uv_primvars = sys.argv[2].split(",")
     cache = UsdGeom.XformCache(Usd.TimeCode.Default())
     meshes, lights = [], []
     for prim in stage.Traverse():
@@ -217,7 +216,7 @@ def main():
         ):
             continue
         if prim.IsA(UsdGeom.Mesh):
-            meshes.append(read_mesh(prim, cache, uv_set))
+            meshes.append(read_mesh(prim, cache, uv_primvars))
         elif prim.HasAPI(UsdLux.LightAPI) or "Light" in prim.GetTypeName():
             lights.append(read_light(prim, cache))
     json.dump(

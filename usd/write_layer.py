@@ -1,12 +1,22 @@
 """Writes the USD layer of a bake with usd-core and prints it (usda) on standard output.
 
 Run as `python write_layer.py REQUEST_FILE`. The request (JSON) names the input
-stage, the path from the new layer's folder to it, and per baked object its mesh prim,
-its maps and, for an object that was unwrapped, its UVs per face corner (written as
-`primvars:sssbake_st`, which its material reads instead of `st`). The layer sublayers the input and overrides only what the bake adds: one
-material per object (UsdPreviewSurface whose diffuse colour is a UsdUVTexture reading
-the `diffuse` map through the `st` primvar), bound to the object's mesh, with
-`sssbake:` attributes recording how it was baked. The input is never written.
+stage, the path from the new layer's folder to it, the primvars texture coordinates
+are read from (the first a mesh has), and per baked object its mesh prim, its maps
+and, for an object that was unwrapped, its UVs per face corner. The layer sublayers
+the input and overrides only what the bake adds. Each baked mesh gets a variant set
+`sssbakeLook` with the variants `original` (the asset as it was) and `baked`
+(selected). In `baked` the mesh carries a collection-based binding, stronger than
+descendants, to a material that shows the look's linear EXR as emission: a
+UsdPreviewSurface with `emissiveColor` from a UsdUVTexture (`sourceColorSpace` raw)
+reading the mesh's UVs, `diffuseColor` black and the specular workflow with a black
+`specularColor`, so nothing lights it again. A variant is weaker than the input's own
+(local) direct binding, which a sublayer keeps local; a collection binding authored
+on the prim itself is resolved before its direct binding, so it wins, and the
+`original` variant, authoring nothing, leaves the asset's binding as it was. An
+unwrapped object's UVs (`primvars:sssbake_st`, face varying) are authored in `baked`
+too. The material carries `sssbake:` attributes recording how it was baked. The
+input is never written.
 """
 
 import json
@@ -23,26 +33,33 @@ try:
 except ImportError:
     fail("this Python has no usd-core (pip install usd-core), which writing USD needs")
 
+LOOK = "sssbakeLook"
+BLACK = Gf.Vec3f(0.0, 0.0, 0.0)
 
-def material_for(stage, root, baked, settings):
+
+def material_for(stage, root, baked, settings, varname):
     name = Tf.MakeValidIdentifier(baked["object"])
     path = root.AppendPath(f"SssbakeMaterials/{name}")
     material = UsdShade.Material.Define(stage, path)
     reader = UsdShade.Shader.Define(stage, path.AppendChild("st"))
     reader.CreateIdAttr("UsdPrimvarReader_float2")
-    varname = "sssbake_st" if baked.get("st") else "st"
     reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set(varname)
-    texture = UsdShade.Shader.Define(stage, path.AppendChild("diffuse"))
+    reader.CreateOutput("result", Sdf.ValueTypeNames.Float2)
+    texture = UsdShade.Shader.Define(stage, path.AppendChild("emission"))
     texture.CreateIdAttr("UsdUVTexture")
-    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(baked["diffuse"])
-    texture.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("sRGB")
+    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(baked["emission"])
+    # The EXR holds linear values: read as they are.
+    texture.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("raw")
     texture.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(reader.ConnectableAPI(), "result")
     texture.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
     surface = UsdShade.Shader.Define(stage, path.AppendChild("surface"))
     surface.CreateIdAttr("UsdPreviewSurface")
-    surface.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
+    surface.CreateInput("emissiveColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
         texture.ConnectableAPI(), "rgb"
     )
+    surface.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(BLACK)
+    surface.CreateInput("useSpecularWorkflow", Sdf.ValueTypeNames.Int).Set(1)
+    surface.CreateInput("specularColor", Sdf.ValueTypeNames.Color3f).Set(BLACK)
     surface.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(1.0)
     material.CreateSurfaceOutput().ConnectToSource(surface.ConnectableAPI(), "surface")
     prim = material.GetPrim()
@@ -52,6 +69,40 @@ def material_for(stage, root, baked, settings):
             value if isinstance(value, list) else str(value)
         )
     return material
+
+
+def uv_primvar(mesh, baked, candidates):
+    """The primvar the bake's UVs are in: the unwrap's, or the first candidate the mesh has."""
+    if baked.get("st"):
+        return "sssbake_st"
+    api = UsdGeom.PrimvarsAPI(mesh)
+    return next((n for n in candidates if api.HasPrimvar(n)), candidates[0])
+
+
+def add_look(stage, mesh, material, baked):
+    """The variant set on `mesh` whose selected `baked` variant binds `material`."""
+    override = stage.OverridePrim(mesh.GetPath())
+    looks = override.GetVariantSets().AddVariantSet(LOOK)
+    for variant in ("original", "baked"):
+        looks.AddVariant(variant)
+    looks.SetVariantSelection("baked")
+    # The schemas are applied outside the variant: an input with an explicit (not
+    # prepended) apiSchemas list, as a flattened or exported stage has, is a stronger
+    # opinion than a variant and would drop them; a prepend in this layer adds to it.
+    # Applied with nothing authored, they change nothing in `original`.
+    Usd.CollectionAPI.Apply(override, LOOK)
+    UsdShade.MaterialBindingAPI.Apply(override)
+    with looks.GetVariantEditContext():
+        collection = Usd.CollectionAPI(override, LOOK)
+        collection.CreateIncludesRel().AddTarget(mesh.GetPath())
+        binding = UsdShade.MaterialBindingAPI(override)
+        binding.Bind(collection, material, LOOK, UsdShade.Tokens.strongerThanDescendants)
+        if baked.get("st"):
+            # An unwrapped object's UVs, one per face corner, beside its own.
+            primvar = UsdGeom.PrimvarsAPI(override).CreatePrimvar(
+                "sssbake_st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.faceVarying
+            )
+            primvar.Set([Gf.Vec2f(*uv) for uv in baked["st"]])
 
 
 def main():
@@ -78,16 +129,9 @@ def main():
         mesh = stage.GetPrimAtPath(baked["prim"])
         if not mesh:
             fail(f"object `{baked['object']}`: no prim at {baked['prim']}")
-        material = material_for(stage, root, baked, request["settings"])
-        override = stage.OverridePrim(mesh.GetPath())
-        binding = UsdShade.MaterialBindingAPI.Apply(override)
-        binding.Bind(material)
-        if baked.get("st"):
-            # An unwrapped object's UVs, one per face corner, beside its own.
-            primvar = UsdGeom.PrimvarsAPI(override).CreatePrimvar(
-                "sssbake_st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.faceVarying
-            )
-            primvar.Set([Gf.Vec2f(*uv) for uv in baked["st"]])
+        varname = uv_primvar(mesh, baked, request["uv_primvars"])
+        material = material_for(stage, root, baked, request["settings"], varname)
+        add_look(stage, mesh, material, baked)
     layer.subLayerPaths.clear()
     layer.subLayerPaths.append(request["input_from_layer"])
     sys.stdout.write(layer.ExportToString())

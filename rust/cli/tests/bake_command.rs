@@ -78,6 +78,7 @@ fn a_bake_writes_every_map_and_its_numbers_are_the_librarys() {
             "Ball_area.exr",
             "Ball_diffuse.exr",
             "Ball_diffuse.png",
+            "Ball_diffuse_emissive.png",
             "Ball_irradiance.exr",
             "Ball_irradiance.png",
             "Ball_stretch.exr",
@@ -88,9 +89,28 @@ fn a_bake_writes_every_map_and_its_numbers_are_the_librarys() {
             "marble.gltf",
         ]
     );
-    // The glTF copy shows the diffuse map on the ball; the input is untouched.
-    let copy = std::fs::read_to_string(out.join("marble.gltf")).unwrap();
-    assert!(copy.contains("Ball_diffuse.png") && copy.contains("KHR_materials_unlit"));
+    // The glTF copy shows the diffuse map on the ball as emission, through
+    // its own encoding; the input is untouched.
+    let copy: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("marble.gltf")).unwrap()).unwrap();
+    let material = copy["materials"].as_array().unwrap().last().unwrap();
+    let texture =
+        &copy["textures"][material["emissiveTexture"]["index"].as_u64().unwrap() as usize];
+    let image = &copy["images"][texture["source"].as_u64().unwrap() as usize];
+    assert_eq!(image["uri"], "Ball_diffuse_emissive.png");
+    let strength = material["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"]
+        .as_f64()
+        .unwrap();
+    let diffuse = sssbake_io::read_image(&out.join("Ball_diffuse.exr")).unwrap();
+    let max = diffuse
+        .texels
+        .iter()
+        .flatten()
+        .fold(0.0f32, |a, &b| a.max(b));
+    assert!(
+        (strength as f32 - max).abs() <= 1e-6 * max,
+        "{strength} against {max}"
+    );
     assert!(!std::fs::read_to_string(&scene).unwrap().contains("sssbake"));
     let read = |name: &str| sssbake_io::read_image(&out.join(name)).unwrap();
     let (subsurface, irradiance, area, thickness) = (
@@ -348,6 +368,10 @@ fn the_gltf_copy_brings_files_from_outside_the_inputs_folder_and_names_stay_apar
     let files = files_in(&out);
     for stem in ["Ball_", "Ball_-2"] {
         assert!(files.contains(&format!("{stem}_diffuse.png")), "{files:?}");
+        assert!(
+            files.contains(&format!("{stem}_diffuse_emissive.png")),
+            "{files:?}"
+        );
     }
     // Each object's material shows its own map.
     let images: Vec<&str> = copy["images"]
@@ -356,7 +380,10 @@ fn the_gltf_copy_brings_files_from_outside_the_inputs_folder_and_names_stay_apar
         .iter()
         .filter_map(|i| i["uri"].as_str())
         .collect();
-    assert!(images.contains(&"Ball__diffuse.png") && images.contains(&"Ball_-2_diffuse.png"));
+    assert!(
+        images.contains(&"Ball__diffuse_emissive.png")
+            && images.contains(&"Ball_-2_diffuse_emissive.png")
+    );
 }
 
 #[test]

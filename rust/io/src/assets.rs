@@ -1,15 +1,19 @@
 //! The assets a bake writes beside its maps: for a glTF input a copy, for
-//! a USD input a layer over it, each showing every baked object's
-//! `diffuse` map. Objects that were unwrapped take their new UVs along: a
-//! new mesh on their glTF node, a `primvars:sssbake_st` on their USD mesh.
+//! a USD input a layer over it, each showing every baked object's look
+//! (`crate::look`) as emission. Objects that were unwrapped take their new
+//! UVs along: a new mesh on their glTF node, a `primvars:sssbake_st` on
+//! their USD mesh.
 
+use crate::folder::map_file_name;
 use crate::gltf_writer::{Baked, Geometry, gltf_copy};
+use crate::look::{Emissive, LOOK, emissive_png_name};
+use crate::usd_reader::uv_primvars;
 use crate::usd_writer::{UsdBaked, usd_layer};
 use glam::{Mat3, Vec3};
 use serde_json::json;
 use sssbake::bake::ObjectSummary;
 use sssbake::pipeline::Layout;
-use sssbake::{Error, Output, SceneObject, Summary};
+use sssbake::{Error, SceneObject, Summary};
 use std::path::{Path, PathBuf};
 
 /// What the asset writers need to know about a finished bake.
@@ -26,54 +30,94 @@ pub struct AssetRecord<'a> {
     pub summary: &'a Summary,
     /// Every map written, by final path.
     pub maps: &'a [PathBuf],
+    /// The look's emissive encoding per object name (for a glTF input).
+    pub emissive: &'a [(String, Emissive)],
 }
 
 /// A file to write: its final path and its bytes.
 pub type AssetFile = (PathBuf, Vec<u8>);
 
+/// The asset an input gets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AssetKind {
+    /// A copy of the glTF (.gltf or .glb).
+    Gltf,
+    /// A layer over the USD stage.
+    Usd,
+}
+
+impl AssetKind {
+    /// The asset for the input file `input`, by its extension; none for
+    /// other kinds.
+    pub fn of(input: &Path) -> Option<AssetKind> {
+        let extension = input
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        match extension.as_str() {
+            "gltf" | "glb" => Some(AssetKind::Gltf),
+            "usd" | "usda" | "usdc" | "usdz" => Some(AssetKind::Usd),
+            _ => None,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            AssetKind::Gltf => "the glTF copy",
+            AssetKind::Usd => "the USD layer",
+        }
+    }
+}
+
 /// The assets for `record`'s input kind (none for other kinds); `notes`
 /// gains what could not be shown and why.
 pub fn asset_files(record: &AssetRecord, notes: &mut Vec<String>) -> Result<Vec<AssetFile>, Error> {
-    let extension = record
-        .input
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    let kind = match extension.as_str() {
-        "gltf" | "glb" => "the glTF copy",
-        "usd" | "usda" | "usdc" | "usdz" => "the USD layer",
-        _ => return Ok(Vec::new()),
+    let Some(kind) = AssetKind::of(record.input) else {
+        return Ok(Vec::new());
     };
-    if !record.summary.outputs.contains(&Output::Diffuse) {
+    if !record.summary.outputs.contains(&LOOK) {
         notes.push(format!(
-            "{kind}: it shows the diffuse map, which was not asked for"
+            "{}: it shows the {LOOK} map, which was not asked for",
+            kind.name()
         ));
         return Ok(Vec::new());
     }
     let input_error = |e: String| Error::input(e).in_file(record.input.display().to_string());
-    if kind == "the glTF copy" {
-        let files = gltf_copy(record.input, &gltf_objects(record)).map_err(input_error)?;
-        Ok(files
-            .into_iter()
-            .map(|(path, bytes)| (record.out.join(path), bytes))
-            .collect())
-    } else {
-        let baked = usd_objects(record, notes);
-        let settings = json!({
-            "resolution": record.summary.resolution.to_string(),
-            "version": env!("CARGO_PKG_VERSION"),
-        });
-        let bytes = usd_layer(record.input, record.out, &baked, settings).map_err(input_error)?;
-        let stem = record
-            .input
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        Ok(vec![(
-            record.out.join(format!("{stem}_sssbake.usda")),
-            bytes,
-        )])
+    match kind {
+        AssetKind::Gltf => {
+            let (baked, textures) = gltf_objects(record);
+            let copy = gltf_copy(record.input, &baked).map_err(input_error)?;
+            Ok(textures
+                .into_iter()
+                .chain(copy)
+                .map(|(path, bytes)| (record.out.join(path), bytes))
+                .collect())
+        }
+        AssetKind::Usd => {
+            let baked = usd_objects(record, notes);
+            let settings = json!({
+                "resolution": record.summary.resolution.to_string(),
+                "version": crate::VERSION,
+            });
+            let bytes = usd_layer(
+                record.input,
+                record.out,
+                &baked,
+                settings,
+                &uv_primvars(record.uv_set),
+            )
+            .map_err(input_error)?;
+            let stem = record
+                .input
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            Ok(vec![(
+                record.out.join(format!("{stem}_sssbake.usda")),
+                bytes,
+            )])
+        }
     }
 }
 
@@ -95,18 +139,29 @@ fn new_layout(summary: &ObjectSummary) -> Option<&Layout> {
     Some(summary.plan.layout.as_ref()).filter(|l| l.unwrapped)
 }
 
-fn gltf_objects(record: &AssetRecord) -> Vec<Baked> {
-    baked_objects(record)
-        .filter_map(|(object, summary)| {
-            Some(Baked {
-                node: object.node?,
-                object: summary.plan.name.clone(),
-                image: format!("{}_diffuse.png", summary.plan.file_stem),
-                uv_set: record.uv_set,
-                geometry: new_layout(summary).map(|l| node_geometry(object, l)),
-            })
-        })
-        .collect()
+/// The glTF copy's baked objects and their emissive textures, by file name.
+fn gltf_objects(record: &AssetRecord) -> (Vec<Baked>, Vec<AssetFile>) {
+    let mut baked = Vec::new();
+    let mut textures = Vec::new();
+    for (object, summary) in baked_objects(record) {
+        let name = &summary.plan.name;
+        let (Some(node), Some((_, look))) =
+            (object.node, record.emissive.iter().find(|(n, _)| n == name))
+        else {
+            continue;
+        };
+        let image = emissive_png_name(&summary.plan.file_stem);
+        textures.push((PathBuf::from(&image), look.png.clone()));
+        baked.push(Baked {
+            node,
+            object: name.clone(),
+            image,
+            strength: look.strength,
+            uv_set: record.uv_set,
+            geometry: new_layout(summary).map(|l| node_geometry(object, l)),
+        });
+    }
+    (baked, textures)
 }
 
 fn usd_objects(record: &AssetRecord, notes: &mut Vec<String>) -> Vec<UsdBaked> {
@@ -132,7 +187,7 @@ fn usd_objects(record: &AssetRecord, notes: &mut Vec<String>) -> Vec<UsdBaked> {
         baked.push(UsdBaked {
             object: name.clone(),
             prim: prim.clone(),
-            diffuse: format!("{stem}diffuse.png"),
+            emission: map_file_name(&plan.file_stem, LOOK, "exr"),
             maps: record
                 .maps
                 .iter()

@@ -2,8 +2,9 @@
 //! linear EXR (and an sRGB PNG preview for colour maps), and the input's
 //! glTF copy or USD layer, all staged and renamed into place together.
 
-use crate::assets::{AssetRecord, asset_files};
+use crate::assets::{AssetKind, AssetRecord, asset_files};
 use crate::image_writer::{Precision, exr_bytes, png_bytes};
+use crate::look::{LOOK, emissive};
 use crate::staging::Staging;
 use sssbake::control::Control;
 use sssbake::{Error, Plan, Scene, Summary, bake_each};
@@ -53,10 +54,17 @@ pub fn bake_to_folder(
     let maps = map_paths(plan, &options.out);
     refuse_existing(maps.iter().map(|(_, _, p)| p.as_path()), options.force)?;
     let mut staging = Staging::new(&options.out)?;
+    // The glTF copy shows the look through its own emissive encoding.
+    let encode_look = AssetKind::of(input) == Some(AssetKind::Gltf);
+    let mut looks = Vec::new();
     let mut summary = bake_each(scene, plan, control, |object| {
         for (_, output, path) in maps.iter().filter(|(n, _, _)| n == object.name()) {
             let mut image = object.render(*output)?;
             let png = path.extension().is_some_and(|e| e == "png");
+            if encode_look && *output == LOOK && !png {
+                let look = emissive(&image).map_err(|e| Error::output(path.display(), e))?;
+                looks.push((object.name().to_string(), look));
+            }
             let bytes = if png {
                 let scale = options.exposure.exp2();
                 for texel in &mut image.texels {
@@ -80,6 +88,7 @@ pub fn bake_to_folder(
         objects: &scene.objects,
         summary: &summary,
         maps: &written,
+        emissive: &looks,
     };
     let mut notes = Vec::new();
     let assets = asset_files(&record, &mut notes)?;
@@ -100,14 +109,20 @@ pub fn map_paths(plan: &Plan, out: &Path) -> Vec<(String, sssbake::Output, PathB
     let mut paths = Vec::new();
     for object in &plan.objects {
         for &output in &plan.outputs {
-            let stem = format!("{}_{}", object.file_stem, output.name());
-            paths.push((object.name.clone(), output, out.join(format!("{stem}.exr"))));
+            let file = |extension| out.join(map_file_name(&object.file_stem, output, extension));
+            paths.push((object.name.clone(), output, file("exr")));
             if output.is_colour() {
-                paths.push((object.name.clone(), output, out.join(format!("{stem}.png"))));
+                paths.push((object.name.clone(), output, file("png")));
             }
         }
     }
     paths
+}
+
+/// The file name of map `output` of the object whose file-name-safe name
+/// is `file_stem`: `<file_stem>_<output>.<extension>`.
+pub fn map_file_name(file_stem: &str, output: sssbake::Output, extension: &str) -> String {
+    format!("{file_stem}_{}.{extension}", output.name())
 }
 
 fn refuse_existing<'a>(

@@ -1,9 +1,18 @@
-//! A copy of the input glTF in which the baked objects show their bake in
-//! any viewer: each gets an unlit material (`KHR_materials_unlit`) whose
-//! base colour is its `diffuse` PNG, read through the UV set it was baked
-//! into. Everything else is kept as it was; buffers and images the input
-//! names by relative path are copied beside the new file (those outside
-//! the input's folder as `external_<name>`, with the URI changed to match).
+//! A copy of the input glTF in which the baked objects show their bake,
+//! lit once, in any viewer: each gets a material that only emits, its
+//! `emissiveTexture` the look's emissive PNG (`crate::look`, the map over
+//! its strength, sRGB as glTF requires), read through the UV set it was
+//! baked into, with `emissiveFactor` 1 and
+//! `KHR_materials_emissive_strength` restoring the range; base colour
+//! black, metallic 0, roughness 1 and `KHR_materials_specular` with
+//! `specularFactor` 0 (no specular lobe at all), so lights add nothing.
+//! Neither extension is required: a viewer without emissive strength
+//! shows the bake's colours 1/strength as bright, one without specular
+//! adds a highlight; refusing the file would show nothing.
+//! `asset.generator` names sssbake. Everything else is kept as it was;
+//! buffers and images the input names by relative path are copied beside
+//! the new file (those outside the input's folder as `external_<name>`,
+//! with the URI changed to match).
 //!
 //! An object that was unwrapped gets a new mesh on its node, carrying its
 //! new UVs (seams split vertices, so positions and normals are new too),
@@ -24,8 +33,11 @@ pub struct Baked {
     pub node: usize,
     /// The object's name, for the material's.
     pub object: String,
-    /// The diffuse PNG's file name, beside the new asset.
+    /// The emissive PNG's file name, beside the new asset.
     pub image: String,
+    /// What the PNG's linear values are multiplied by (the emissive
+    /// strength).
+    pub strength: f32,
     /// The TEXCOORD set the bake used.
     pub uv_set: usize,
     /// For an unwrapped object, its new mesh (read through TEXCOORD_0).
@@ -47,6 +59,14 @@ pub struct Geometry {
 
 /// A file to write, relative to the output folder.
 pub type OutputFile = (PathBuf, Vec<u8>);
+
+/// The extensions the baked materials use, listed in `extensionsUsed`.
+pub const EXTENSIONS_USED: [&str; 2] =
+    ["KHR_materials_emissive_strength", "KHR_materials_specular"];
+
+/// The extensions a viewer must have to open the copy: none (see the
+/// module's documentation), so nothing is added to `extensionsRequired`.
+pub const EXTENSIONS_REQUIRED: [&str; 0] = [];
 
 /// The files of a copy of `input` (.gltf or .glb) named like it, with the
 /// `baked` objects' materials replaced.
@@ -201,7 +221,7 @@ fn add_geometry(document: &mut Value, baked: &[Baked], file: &str) -> Option<Vec
     Some(bytes)
 }
 
-/// Adds an unlit material per baked object and points its mesh's
+/// Adds a baked material per baked object and points its mesh's
 /// primitives at it.
 fn show_bake(document: &mut Value, baked: &[Baked]) -> Result<(), String> {
     for b in baked {
@@ -214,22 +234,7 @@ fn show_bake(document: &mut Value, baked: &[Baked]) -> Result<(), String> {
             json!({ "uri": uri_of(&b.image), "name": b.image }),
         );
         let texture = push(document, "textures", json!({ "source": image }));
-        let material = push(
-            document,
-            "materials",
-            json!({
-                "name": format!("{} (sssbake)", b.object),
-                "pbrMetallicRoughness": {
-                    "baseColorTexture": {
-                        "index": texture,
-                        "texCoord": if b.geometry.is_some() { 0 } else { b.uv_set }
-                    },
-                    "metallicFactor": 0.0,
-                    "roughnessFactor": 1.0
-                },
-                "extensions": { "KHR_materials_unlit": {} }
-            }),
-        );
+        let material = push(document, "materials", baked_material(b, texture));
         for primitive in document["meshes"][mesh]["primitives"]
             .as_array_mut()
             .into_iter()
@@ -239,17 +244,64 @@ fn show_bake(document: &mut Value, baked: &[Baked]) -> Result<(), String> {
         }
     }
     if !baked.is_empty() {
-        let used = document
+        name_generator(document)?;
+        let root = document
             .as_object_mut()
-            .ok_or("the document is not an object")?
-            .entry("extensionsUsed")
-            .or_insert_with(|| json!([]));
-        if let Some(list) = used.as_array_mut()
-            && !list.iter().any(|e| e == "KHR_materials_unlit")
-        {
-            list.push(json!("KHR_materials_unlit"));
+            .ok_or("the document is not an object")?;
+        for (key, names) in [
+            ("extensionsUsed", &EXTENSIONS_USED[..]),
+            ("extensionsRequired", &EXTENSIONS_REQUIRED[..]),
+        ] {
+            if names.is_empty() {
+                continue;
+            }
+            let list = root.entry(key).or_insert_with(|| json!([]));
+            if let Some(list) = list.as_array_mut() {
+                for name in names {
+                    if !list.iter().any(|e| e == name) {
+                        list.push(json!(name));
+                    }
+                }
+            }
         }
     }
+    Ok(())
+}
+
+/// The material of a baked object whose emissive PNG is `texture`: it
+/// emits the PNG × strength and reflects nothing.
+fn baked_material(b: &Baked, texture: usize) -> Value {
+    json!({
+        "name": format!("{} (sssbake)", b.object),
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+            "metallicFactor": 0.0,
+            "roughnessFactor": 1.0
+        },
+        "emissiveTexture": {
+            "index": texture,
+            "texCoord": if b.geometry.is_some() { 0 } else { b.uv_set }
+        },
+        "emissiveFactor": [1.0, 1.0, 1.0],
+        "extensions": {
+            "KHR_materials_emissive_strength": { "emissiveStrength": b.strength },
+            "KHR_materials_specular": { "specularFactor": 0.0 }
+        }
+    })
+}
+
+/// `asset.generator`: sssbake and its version, then what made the input.
+fn name_generator(document: &mut Value) -> Result<(), String> {
+    let asset = document
+        .get_mut("asset")
+        .and_then(Value::as_object_mut)
+        .ok_or("the document has no asset object")?;
+    let ours = format!("sssbake {}", crate::VERSION);
+    let generator = match asset.get("generator").and_then(Value::as_str) {
+        Some(input) if !input.is_empty() => format!("{ours} (from a file by {input})"),
+        _ => ours,
+    };
+    asset.insert("generator".into(), json!(generator));
     Ok(())
 }
 

@@ -47,15 +47,31 @@ pub fn exr_bytes(image: &Image, precision: Precision) -> Result<Vec<u8>, String>
     Ok(bytes.into_inner())
 }
 
-/// `image` (linear, rows top to bottom) as an 8-bit sRGB PNG. A fixed,
-/// position-hashed dither of one step keeps smooth gradients from banding.
+/// `image` (linear, rows top to bottom) as an 8-bit sRGB preview PNG. A
+/// fixed, position-hashed dither of one step keeps smooth gradients from
+/// banding.
 pub fn png_bytes(image: &Image) -> Result<Vec<u8>, String> {
+    encode_png(image, true)
+}
+
+/// `image` (linear, rows top to bottom, values in [0, 1]) as an 8-bit sRGB
+/// PNG for a renderer to read: each texel the nearest code, no dither, so
+/// no texel is more than half a step from its value.
+pub fn png_texture_bytes(image: &Image) -> Result<Vec<u8>, String> {
+    encode_png(image, false)
+}
+
+fn encode_png(image: &Image, dithered: bool) -> Result<Vec<u8>, String> {
     use image::ImageEncoder;
     let mut rgb = Vec::with_capacity(image.texels.len() * 3);
     for (i, texel) in image.texels.iter().enumerate() {
         let (x, y) = (i % image.width, i / image.width);
         for (c, &v) in texel.iter().enumerate() {
-            let dither = hash01(x as u32, y as u32, c as u32) - 0.5;
+            let dither = if dithered {
+                hash01(x as u32, y as u32, c as u32) - 0.5
+            } else {
+                0.0
+            };
             let encoded = linear_to_srgb(v) * 255.0 + dither;
             rgb.push(encoded.round().clamp(0.0, 255.0) as u8);
         }

@@ -9,6 +9,7 @@ pub mod gltf_writer;
 pub mod image_reader;
 pub mod image_writer;
 pub mod lighting;
+pub mod look;
 pub mod python;
 pub mod staging;
 mod usd_lights;
@@ -24,6 +25,9 @@ pub use usd_reader::read_usd;
 
 use sssbake::Scene;
 use std::path::Path;
+
+/// sssbake's version, as the assets record it.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// How to read a scene.
 #[derive(Clone, Debug, Default)]

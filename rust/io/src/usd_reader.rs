@@ -130,11 +130,7 @@ pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<Scene, InputError>
     if !path.is_file() {
         return Err(error("cannot read: no such file".into()));
     }
-    let uv_set = if options.uv_set == 0 {
-        String::new()
-    } else {
-        format!("st{}", options.uv_set)
-    };
+    let uv_set = uv_primvars(options.uv_set).join(",");
     let stdout =
         crate::python::run_script(READ_STAGE, [path.as_os_str(), uv_set.as_ref()], "read it")
             .map_err(error)?;
@@ -307,4 +303,16 @@ fn scene_from_stage(
     }
     scene.objects.sort_by(|a, b| a.mesh.name.cmp(&b.mesh.name));
     Ok(scene)
+}
+
+/// The primvars a mesh's texture coordinates are read from for the
+/// texture-coordinate set `uv_set`, the first a mesh has: set 0 is `st`
+/// (or the names other exporters use), set N is `stN`. The USD layer's
+/// materials read the same one.
+pub fn uv_primvars(uv_set: usize) -> Vec<String> {
+    if uv_set == 0 {
+        ["st", "UVMap", "uv", "st0"].map(String::from).to_vec()
+    } else {
+        vec![format!("st{uv_set}")]
+    }
 }

@@ -1,7 +1,8 @@
 //! The USD layer of a bake: written by `usd/write_layer.py` through
-//! usd-core, it sublayers the input and adds a UsdPreviewSurface material
-//! per baked object reading its `diffuse` map through `st`, bound to the
-//! object, with `sssbake:` attributes recording the settings.
+//! usd-core, it sublayers the input and gives each baked mesh a variant
+//! set `sssbakeLook` (`original`, `baked`; `baked` selected) whose `baked`
+//! variant binds a UsdPreviewSurface showing the look's linear EXR as
+//! emission, with `sssbake:` attributes recording the bake.
 
 use serde_json::{Value, json};
 use std::path::{Component, Path, PathBuf};
@@ -15,8 +16,8 @@ pub struct UsdBaked {
     pub object: String,
     /// Its mesh prim's path in the input stage.
     pub prim: String,
-    /// The diffuse map's file name, beside the layer.
-    pub diffuse: String,
+    /// The file name of the look's linear EXR, beside the layer.
+    pub emission: String,
     /// Every map written for it, by file name.
     pub maps: Vec<String>,
     /// How it was baked (material, model, method), as `sssbake:` attributes.
@@ -26,12 +27,15 @@ pub struct UsdBaked {
     pub st: Option<Vec<[f32; 2]>>,
 }
 
-/// The layer's text (usda) for a layer in `folder` over the stage `input`.
+/// The layer's text (usda) for a layer in `folder` over the stage `input`;
+/// the materials of objects baked in their own UVs read the first of
+/// `uv_primvars` their mesh has, as the reader did.
 pub fn usd_layer(
     input: &Path,
     folder: &Path,
     objects: &[UsdBaked],
     settings: Value,
+    uv_primvars: &[String],
 ) -> Result<Vec<u8>, String> {
     let input = input
         .canonicalize()
@@ -47,12 +51,13 @@ pub fn usd_layer(
         "objects": objects.iter().map(|o| json!({
             "object": o.object,
             "prim": o.prim,
-            "diffuse": o.diffuse,
+            "emission": o.emission,
             "maps": o.maps,
             "attributes": o.attributes,
             "st": o.st,
         })).collect::<Vec<_>>(),
         "settings": settings,
+        "uv_primvars": uv_primvars,
     });
     // The request can hold a UV per face corner: too long for an argument.
     let mut file =

@@ -3,7 +3,7 @@
 //! a GLB keeps its binary chunk and the format's padding.
 
 use serde_json::{Value, json};
-use sssbake_io::gltf_writer::{Baked, gltf_copy};
+use sssbake_io::gltf_writer::{Baked, EXTENSIONS_REQUIRED, EXTENSIONS_USED, gltf_copy};
 use std::path::{Path, PathBuf};
 
 fn scratch(name: &str) -> PathBuf {
@@ -54,6 +54,7 @@ fn baked(image: &str) -> Baked {
         node: 0,
         object: "Tile".into(),
         image: image.into(),
+        strength: 2.5,
         uv_set: 0,
         geometry: None,
     }
@@ -179,5 +180,91 @@ fn a_glb_shorter_than_its_header_is_refused() {
     std::fs::write(&input, bytes).unwrap();
     let error = gltf_copy(&input, &[]).unwrap_err();
     assert!(error.contains("not a valid GLB"), "{error}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_baked_material_only_emits_the_map_at_its_strength() {
+    let dir = scratch("look");
+    let bytes = triangle_bytes();
+    std::fs::write(dir.join("tri.bin"), &bytes).unwrap();
+    let mut document = triangle_document(
+        json!({"uri": "tri.bin", "byteLength": bytes.len()}),
+        json!([]),
+    );
+    // The input already uses one of the extensions and requires another.
+    document["extensionsUsed"] = json!(["KHR_materials_specular", "KHR_texture_transform"]);
+    document["extensionsRequired"] = json!(["KHR_texture_transform"]);
+    document["asset"]["generator"] = json!("Khronos glTF Blender I/O v5.0.21");
+    let input = dir.join("tri.gltf");
+    std::fs::write(&input, serde_json::to_vec(&document).unwrap()).unwrap();
+
+    let mut tile = baked("Tile_diffuse_emissive.png");
+    tile.uv_set = 1;
+    let files = gltf_copy(&input, &[tile]).unwrap();
+    let copy: Value = serde_json::from_slice(file(&files, "tri.gltf")).unwrap();
+    let material = &copy["materials"][0];
+    assert_eq!(copy["meshes"][0]["primitives"][0]["material"], 0);
+    assert_eq!(material["name"], "Tile (sssbake)");
+    let pbr = &material["pbrMetallicRoughness"];
+    assert_eq!(pbr["baseColorFactor"], json!([0.0, 0.0, 0.0, 1.0]));
+    assert_eq!(pbr["metallicFactor"], 0.0);
+    assert_eq!(pbr["roughnessFactor"], 1.0);
+    assert!(pbr.get("baseColorTexture").is_none());
+    assert_eq!(material["emissiveFactor"], json!([1.0, 1.0, 1.0]));
+    assert_eq!(
+        material["emissiveTexture"],
+        json!({"index": 0, "texCoord": 1})
+    );
+    assert_eq!(copy["textures"][0]["source"], 0);
+    assert_eq!(copy["images"][0]["uri"], "Tile_diffuse_emissive.png");
+    let extensions = &material["extensions"];
+    assert_eq!(
+        extensions["KHR_materials_emissive_strength"]["emissiveStrength"],
+        2.5
+    );
+    assert_eq!(extensions["KHR_materials_specular"]["specularFactor"], 0.0);
+    assert!(extensions.get("KHR_materials_unlit").is_none());
+    // Listed once each, after what the input listed; nothing more required.
+    assert_eq!(
+        copy["extensionsUsed"],
+        json!([
+            "KHR_materials_specular",
+            "KHR_texture_transform",
+            "KHR_materials_emissive_strength"
+        ])
+    );
+    assert_eq!(copy["extensionsRequired"], json!(["KHR_texture_transform"]));
+    assert_eq!(
+        copy["asset"]["generator"],
+        format!(
+            "sssbake {} (from a file by Khronos glTF Blender I/O v5.0.21)",
+            sssbake_io::VERSION
+        )
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_copy_of_a_file_without_extensions_lists_the_ones_it_uses_and_requires_none() {
+    let dir = scratch("look-bare");
+    let bytes = triangle_bytes();
+    std::fs::write(dir.join("tri.bin"), &bytes).unwrap();
+    let document = triangle_document(
+        json!({"uri": "tri.bin", "byteLength": bytes.len()}),
+        json!([]),
+    );
+    let input = dir.join("tri.gltf");
+    std::fs::write(&input, serde_json::to_vec(&document).unwrap()).unwrap();
+
+    let files = gltf_copy(&input, &[baked("Tile_diffuse_emissive.png")]).unwrap();
+    let copy: Value = serde_json::from_slice(file(&files, "tri.gltf")).unwrap();
+    assert_eq!(copy["extensionsUsed"], json!(EXTENSIONS_USED));
+    assert!(EXTENSIONS_REQUIRED.is_empty());
+    assert!(copy.get("extensionsRequired").is_none());
+    assert_eq!(
+        copy["asset"]["generator"],
+        format!("sssbake {}", sssbake_io::VERSION)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
