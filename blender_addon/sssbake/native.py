@@ -86,6 +86,7 @@ class Settings(ctypes.Structure):
         ("gaussians", ctypes.c_uint32),
         ("samples", ctypes.c_uint32),
         ("outputs", ctypes.c_uint32),
+        ("tolerance", ctypes.c_float),
     ]
 
 

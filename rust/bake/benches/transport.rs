@@ -14,7 +14,7 @@ use sssbake::rays::RayScene;
 use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::importance::{self, Surface};
 use sssbake::transport::integrator::IntegratorSettings;
-use sssbake::transport::sources::Targets;
+use sssbake::transport::sources::{OwnSource, Targets};
 use sssbake::transport::{Method, brute};
 use sssbake::{BakeRequest, Light, LightKind, Mesh, Scene, SceneObject, plan};
 use sssbake_profile::model::Model;
@@ -124,6 +124,7 @@ fn main() {
     let targets = Targets {
         position: &position,
         normal: &normal,
+        own: OwnSource::Listed(&subset),
     };
     let start = Instant::now();
     let reference = brute::integrate(kernel, &prepared.texel_sources(), targets, &control).unwrap();

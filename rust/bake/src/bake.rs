@@ -8,7 +8,11 @@ use crate::image::Image;
 use crate::maps::{Output, margin_fill, render};
 use crate::pipeline::{Prepared, prepare};
 use crate::plan::{ObjectPlan, Plan};
+use crate::request::BakeRequest;
 use crate::scene::Scene;
+use crate::transport::Method;
+use crate::transport::choice;
+use crate::transport::verify::{ErrorEstimate, estimate_error};
 use serde::Serialize;
 use std::fmt;
 use std::time::Instant;
@@ -47,8 +51,117 @@ pub struct ObjectSummary {
     pub plan: ObjectPlan,
     /// Sources the 3-D integrators gathered from (texels or points).
     pub sources: usize,
+    /// How far the exitance is from the exact sum; `None` when the bake
+    /// did not scatter.
+    pub accuracy: Option<Accuracy>,
     /// Seconds per stage.
     pub seconds: Seconds,
+}
+
+/// How far an object's exitance is from the exact sum, and what `auto`
+/// set aside to get there.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Accuracy {
+    /// The method whose exitance the maps hold.
+    pub method: Method,
+    /// Relative RMSE against the exact sum at `texels_checked` random
+    /// texels; 0 for `brute`, which is the exact sum.
+    pub estimated_error: f64,
+    /// How many texels the estimate checked.
+    pub texels_checked: usize,
+    /// The tolerance `auto` held the object to; `None` when a method was
+    /// asked for.
+    pub tolerance: Option<f64>,
+    /// Methods `auto` ran and set aside for missing the tolerance.
+    pub set_aside: Vec<SetAside>,
+}
+
+/// A method `auto` ran and set aside.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SetAside {
+    /// The method.
+    pub method: Method,
+    /// Its estimated relative RMSE.
+    pub estimated_error: f64,
+    /// Seconds it took, integration and check.
+    pub seconds: f64,
+}
+
+/// The exitance of one object and how it was reached.
+struct Scattered {
+    exitance: Vec<[f32; 3]>,
+    seconds: f64,
+    sources: usize,
+    accuracy: Accuracy,
+}
+
+/// Integrates by `method` and estimates the error against the exact sum;
+/// under `auto`, moves to a more exact method while the estimate exceeds
+/// the request's tolerance.
+fn scatter(
+    prepared: &Prepared,
+    object: &ObjectPlan,
+    mut method: Method,
+    request: &BakeRequest,
+    control: &Control,
+) -> Result<Scattered, Error> {
+    let scattering = &object.scattering_profile;
+    let chosen = request.method == Method::Auto;
+    let texels = prepared.surfels.len();
+    let neighbours = choice::neighbours(
+        object.texel_area_mm2 / texels.max(1) as f64,
+        f64::from(scattering.kernel.d_max),
+    );
+    let mut set_aside = Vec::new();
+    let mut seconds = 0.0;
+    loop {
+        let start = Instant::now();
+        let integration =
+            prepared.integrate(scattering, request.integrators.get(method), control)?;
+        let estimate = if method == Method::Brute {
+            ErrorEstimate {
+                relative_rmse: 0.0,
+                texels,
+            }
+        } else {
+            estimate_error(
+                prepared,
+                scattering,
+                &integration.exitance,
+                neighbours,
+                request.integrators.importance.seed,
+                control,
+            )?
+        };
+        let elapsed = start.elapsed().as_secs_f64();
+        seconds += elapsed;
+        let next = choice::more_exact(method, texels, neighbours)
+            .filter(|_| chosen && estimate.relative_rmse > request.tolerance);
+        match next {
+            Some(next) => {
+                set_aside.push(SetAside {
+                    method,
+                    estimated_error: estimate.relative_rmse,
+                    seconds: elapsed,
+                });
+                method = next;
+            }
+            None => {
+                return Ok(Scattered {
+                    exitance: integration.exitance,
+                    seconds,
+                    sources: integration.sources,
+                    accuracy: Accuracy {
+                        method,
+                        estimated_error: estimate.relative_rmse,
+                        texels_checked: estimate.texels,
+                        tolerance: chosen.then_some(request.tolerance),
+                        set_aside,
+                    },
+                });
+            }
+        }
+    }
 }
 
 /// What a bake did: each object's decisions and timings, and the scene's
@@ -152,23 +265,24 @@ fn bake_object(
         control,
     )?;
     stage(1, "scattering");
-    let (exitance, seconds, sources) = match &object.integrator {
+    let (exitance, seconds, sources, accuracy) = match &object.integrator {
         Some(integrator) => {
-            let integrator = request.integrators.get(integrator.method);
-            let integration = prepared.integrate(scattering, integrator, control)?;
+            let scattered = scatter(&prepared, object, integrator.method, request, control)?;
             (
-                integration.exitance,
-                integration.seconds,
-                integration.sources,
+                scattered.exitance,
+                scattered.seconds,
+                scattered.sources,
+                Some(scattered.accuracy),
             )
         }
-        None => (Vec::new(), 0.0, 0),
+        None => (Vec::new(), 0.0, 0, None),
     };
     let start = Instant::now();
     let fill = margin_fill(&prepared, request.margin);
     let summary = ObjectSummary {
         plan: object.clone(),
         sources,
+        accuracy,
         seconds: Seconds {
             layout: object.layout_seconds + start.elapsed().as_secs_f64(),
             lighting: prepared.seconds(),
@@ -248,6 +362,30 @@ impl fmt::Display for Summary {
                 o.seconds.lighting,
                 o.seconds.scattering,
             )?;
+            if let Some(a) = &o.accuracy {
+                for aside in &a.set_aside {
+                    writeln!(
+                        f,
+                        "{}: {} set aside: estimated error {:.2}% is above the tolerance ({:.2} s)",
+                        p.name,
+                        aside.method,
+                        100.0 * aside.estimated_error,
+                        aside.seconds
+                    )?;
+                }
+                if a.method == Method::Brute {
+                    writeln!(f, "{}: {}: the exact sum", p.name, a.method)?;
+                } else {
+                    writeln!(
+                        f,
+                        "{}: {}: estimated error {:.2}% (relative RMSE against the exact sum at {} texels)",
+                        p.name,
+                        a.method,
+                        100.0 * a.estimated_error,
+                        a.texels_checked
+                    )?;
+                }
+            }
             if let Some(warning) = &p.uvs.warning {
                 writeln!(f, "warning: {}: {warning}", p.name)?;
             }

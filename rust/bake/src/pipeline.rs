@@ -19,7 +19,7 @@ use crate::surface::texels::{TexelSurfels, rasterize, uv_jacobian};
 use crate::surface::turk::{place_points, relax};
 use crate::surface::uv_analysis::analyse_uvs;
 use crate::transport::integrator::Integrator;
-use crate::transport::sources::{Sources, Targets};
+use crate::transport::sources::{OwnSource, Sources, Targets};
 use crate::transport::texture_space;
 use glam::{Vec2, Vec3};
 use std::sync::{Arc, OnceLock};
@@ -284,6 +284,7 @@ impl Prepared {
         Targets {
             position: &self.surfels.position,
             normal: &self.surfels.normal,
+            own: OwnSource::None,
         }
     }
 
@@ -366,6 +367,14 @@ impl Prepared {
         image
     }
 
+    /// Exitance `m` at texel `i` with the colour split's second part
+    /// applied: C^(1 − α).
+    pub fn after_scattering(&self, i: usize, m: [f32; 3]) -> [f32; 3] {
+        let beta = 1.0 - self.colour_split;
+        let c = self.colour[i];
+        [0, 1, 2].map(|k| m[k] * c[k].powf(beta))
+    }
+
     /// Integrates with `integrator` under `scattering` and applies the
     /// colour after scattering.
     pub fn integrate(
@@ -381,11 +390,8 @@ impl Prepared {
         }
         let start = Instant::now();
         let mut integrated = integrator.integrate(self, scattering, control)?;
-        let beta = 1.0 - self.colour_split;
-        for (m, c) in integrated.exitance.iter_mut().zip(&self.colour) {
-            for k in 0..3 {
-                m[k] *= c[k].powf(beta);
-            }
+        for (i, m) in integrated.exitance.iter_mut().enumerate() {
+            *m = self.after_scattering(i, *m);
         }
         Ok(Integration {
             exitance: integrated.exitance,

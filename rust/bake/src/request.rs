@@ -65,6 +65,9 @@ pub struct BakeRequest {
     pub method: Method,
     /// Every integrator's settings.
     pub integrators: IntegratorSettings,
+    /// Relative RMSE against the exact sum that `auto` holds each object
+    /// to: it checks its estimate and moves to a more exact method above it.
+    pub tolerance: f64,
     /// Share of the reflectance left outside d_max, in (0, 1).
     pub d_max_epsilon: f64,
     /// Where the light comes from.
@@ -93,6 +96,7 @@ impl Default for BakeRequest {
             outputs: Output::DEFAULT.to_vec(),
             method: Method::Auto,
             integrators: IntegratorSettings::default(),
+            tolerance: 0.01,
             d_max_epsilon: D_MAX_EPSILON,
             lighting: Lighting::SceneLights,
             light_samples: 16,
@@ -138,6 +142,15 @@ impl BakeRequest {
         }
         if let Some(m) = self.roughness.filter(|m| !(m.is_finite() && *m > 0.0)) {
             return Err(Error::field("roughness", format!("{m} must be positive")));
+        }
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(Error::field(
+                "tolerance",
+                format!(
+                    "{} must be a positive relative error (0.01 is 1%)",
+                    self.tolerance
+                ),
+            ));
         }
         if !(0.0..=1.0).contains(&self.colour_split) {
             return Err(Error::field(

@@ -105,6 +105,11 @@ pub struct RequestArgs {
     /// RMS slope of a rough surface (Donner & Jensen 2005 §2.4) [default: smooth].
     #[arg(long)]
     pub roughness: Option<f64>,
+    /// Relative RMSE against the exact sum that `--method auto` holds each
+    /// object to: it estimates its error and moves to a more exact method
+    /// above it (0.01 is 1%).
+    #[arg(long, default_value_t = DEFAULTS.tolerance)]
+    pub tolerance: f64,
     /// Random seed for sample points and Monte Carlo.
     #[arg(long, default_value_t = INTEGRATORS.octree.seed)]
     pub seed: u64,
@@ -186,6 +191,7 @@ impl RequestArgs {
             roughness: self.roughness,
             base_colour,
             colour_split: self.colour_split,
+            tolerance: self.tolerance,
             ..BakeRequest::default()
         };
         Ok((scene, request))

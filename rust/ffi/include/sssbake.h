@@ -209,6 +209,11 @@ typedef struct SssbakeSettings {
    * stages they need.
    */
   uint32_t outputs;
+  /**
+   * Relative RMSE against the exact sum that method 0 (auto) holds each
+   * object to, moving to a more exact method above it (0.01 is 1%).
+   */
+  float tolerance;
 } SssbakeSettings;
 
 /**

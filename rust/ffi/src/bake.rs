@@ -39,6 +39,9 @@ pub struct SssbakeSettings {
     /// 2 diffuse, 3 thickness, 4 stretch, 5 area). The bake runs only the
     /// stages they need.
     pub outputs: u32,
+    /// Relative RMSE against the exact sum that method 0 (auto) holds each
+    /// object to, moving to a more exact method above it (0.01 is 1%).
+    pub tolerance: f32,
 }
 
 /// The method of number `code` (the order of [`SssbakeSettings::method`]).
@@ -72,6 +75,7 @@ pub unsafe extern "C" fn sssbake_settings_default(out: *mut SssbakeSettings) -> 
             gaussians: integrators.texture.gaussians as u32,
             samples: integrators.importance.samples,
             outputs: output_mask(&request.outputs),
+            tolerance: request.tolerance as f32,
         };
         // SAFETY: the caller gives writable storage or null.
         let out = unsafe { out.as_mut() }.ok_or_else(|| Failure::argument("out is null"))?;
@@ -133,6 +137,7 @@ pub(crate) fn request_from_host(
         margin: settings.margin,
         light_samples: settings.light_samples,
         integrators,
+        tolerance: f64::from(settings.tolerance),
         outputs: Output::ALL
             .iter()
             .enumerate()

@@ -5,7 +5,7 @@ use super::Method;
 use super::disk_kernel::{DiskKernel, Slot};
 use super::integrator::{Integrated, Integrator};
 use super::kernel::{Kernel, Separation};
-use super::sources::{Grid, Sources, Targets};
+use super::sources::{Grid, OwnSource, Sources, Targets};
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
 use crate::pipeline::Prepared;
@@ -22,6 +22,13 @@ pub(super) struct Sorted {
     pub normal: Vec<Vec3>,
     pub slot: Vec<Slot>,
     pub flux: Vec<[f32; 3]>,
+    /// Each source's own-disk weight: the reflectance within the disk of
+    /// its area, over that area (1/mm²), computed exactly rather than read
+    /// between the table's sizes, which for a profile sharper than a texel
+    /// would misstate all of its light.
+    pub own: Vec<[f32; 3]>,
+    /// Each source's place in this order, by its index in the sources.
+    pub rank: Vec<u32>,
     /// Texel parallelograms (empty for shapeless samples), with the slot of
     /// a sub-sample and the squared radius within which they are used.
     pub footprint: Vec<([Vec3; 2], Slot, f32)>,
@@ -48,6 +55,21 @@ impl Sorted {
                     sources.irradiance[pick(i)].map(|e| e * a)
                 })
                 .collect(),
+            own: order
+                .iter()
+                .map(|i| {
+                    let area = sources.area[pick(i)];
+                    let radius = (area.max(0.0) * std::f32::consts::FRAC_1_PI).sqrt();
+                    disks.kernel().disk_mean(0.0, radius)[0]
+                })
+                .collect(),
+            rank: {
+                let mut rank = vec![0u32; order.len()];
+                for (sorted, &i) in order.iter().enumerate() {
+                    rank[i as usize] = sorted as u32;
+                }
+                rank
+            },
             footprint: if shaped {
                 order
                     .iter()
@@ -69,7 +91,8 @@ impl Sorted {
     /// rather than as one disk: a stretched texel's footprint is long and
     /// thin, and texels crowded at a UV pole overlap as disks.
     #[inline]
-    pub fn gather(&self, disks: &DiskKernel, p: Vec3, n: Vec3) -> [f64; 3] {
+    pub fn gather(&self, disks: &DiskKernel, p: Vec3, n: Vec3, own: Option<usize>) -> [f64; 3] {
+        let own = own.and_then(|i| self.rank.get(i)).map(|&r| r as usize);
         let kernel = disks.kernel();
         let reach2 = kernel.d_max * kernel.d_max;
         let transmits = kernel.transmits();
@@ -80,7 +103,11 @@ impl Sorted {
                 if d2 > reach2 {
                     continue;
                 }
+                // A texel's own light is its disk mean (the reflectance
+                // within its disk, however sharp the profile); its
+                // neighbours' are integrated over their parallelograms.
                 let w = match self.footprint.get(j) {
+                    _ if own == Some(j) => self.own[j],
                     Some(&(edges, sub_slot, near2)) if d2 < near2 => {
                         self.footprint_weight(disks, j, edges, sub_slot, p, n)
                     }
@@ -150,7 +177,12 @@ pub fn integrate(
     let mut out = vec![[0.0f32; 3]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {
         sorted
-            .gather(&disks, targets.position[i], targets.normal[i])
+            .gather(
+                &disks,
+                targets.position[i],
+                targets.normal[i],
+                targets.own.of(i),
+            )
             .map(|v| v as f32)
     })?;
     Ok(out)
@@ -180,7 +212,12 @@ impl Integrator for BruteIntegrator {
         control: &Control,
     ) -> Result<Integrated, Error> {
         let sources = prepared.texel_sources();
-        let exitance = integrate(&scattering.kernel, &sources, prepared.targets(), control)?;
+        // The targets are the texels the sources were made from, in order.
+        let targets = Targets {
+            own: OwnSource::Same,
+            ..prepared.targets()
+        };
+        let exitance = integrate(&scattering.kernel, &sources, targets, control)?;
         Ok(Integrated {
             exitance,
             sources: sources.len(),

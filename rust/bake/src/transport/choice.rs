@@ -15,12 +15,29 @@ pub struct Choice {
     pub reason: String,
 }
 
+/// Texels within `d_max_mm` of a texel of mean area `texel_area_mm2`.
+pub fn neighbours(texel_area_mm2: f64, d_max_mm: f64) -> f64 {
+    (std::f64::consts::PI * d_max_mm * d_max_mm / texel_area_mm2.max(1e-12)).max(1.0)
+}
+
+/// The next more exact method after `method` missed its tolerance: the
+/// exact sum where it stays affordable (ten times what `auto` would pick it
+/// for), else the octree first; `None` after the exact sum.
+pub fn more_exact(method: Method, texels: usize, neighbours: f64) -> Option<Method> {
+    match method {
+        Method::Brute | Method::Auto => None,
+        Method::Octree | Method::Importance => Some(Method::Brute),
+        Method::Texture if texels as f64 * neighbours <= 10.0 * BRUTE_PAIRS => Some(Method::Brute),
+        Method::Texture => Some(Method::Octree),
+    }
+}
+
 /// Chooses for `texels` surfels of mean area `texel_area_mm2` under a
 /// profile reaching `d_max_mm`, which carries light through thin parts
 /// when `transmits`.
 pub fn choose(texels: usize, texel_area_mm2: f64, d_max_mm: f64, transmits: bool) -> Choice {
-    let neighbours = std::f64::consts::PI * d_max_mm * d_max_mm / texel_area_mm2.max(1e-12);
-    let pairs = texels as f64 * neighbours.max(1.0);
+    let neighbours = neighbours(texel_area_mm2, d_max_mm);
+    let pairs = texels as f64 * neighbours;
     let reach_texels = d_max_mm / texel_area_mm2.max(1e-12).sqrt();
     let (method, reason) = if pairs <= BRUTE_PAIRS {
         (

@@ -12,6 +12,7 @@ pub mod kernel;
 pub mod octree;
 pub mod sources;
 pub mod texture_space;
+pub mod verify;
 
 use serde::{Deserialize, Serialize};
 

@@ -49,6 +49,31 @@ pub struct Targets<'a> {
     pub position: &'a [Vec3],
     /// Unit normals.
     pub normal: &'a [Vec3],
+    /// Which source each target is, if any.
+    pub own: OwnSource<'a>,
+}
+
+/// Which source each target is: a texel's own light is weighed by the
+/// reflectance within its own disk, which only the texel itself gets.
+#[derive(Clone, Copy, Debug)]
+pub enum OwnSource<'a> {
+    /// Target i is source i.
+    Same,
+    /// Target i is source `listed[i]`.
+    Listed(&'a [usize]),
+    /// The targets are not sources.
+    None,
+}
+
+impl OwnSource<'_> {
+    /// The source target `i` is.
+    pub fn of(&self, i: usize) -> Option<usize> {
+        match self {
+            OwnSource::Same => Some(i),
+            OwnSource::Listed(listed) => listed.get(i).copied(),
+            OwnSource::None => None,
+        }
+    }
 }
 
 /// Sources sorted into cubic cells of a fixed size, each cell's members

@@ -1,0 +1,105 @@
+//! How far a bake's exitance is from the exact sum, estimated where it is
+//! cheap: the exact sum at one texel costs one gather, so a few thousand
+//! random texels measure any method's error without running the reference
+//! everywhere.
+
+use super::brute;
+use super::sources::{OwnSource, Targets};
+use crate::control::Control;
+use crate::error::Error;
+use crate::pipeline::Prepared;
+use crate::scattering::Scattering;
+use crate::transport::accuracy::relative_errors;
+use sssbake_profile::rng::Rng;
+
+/// Most texels checked.
+const MOST_CHECKED: usize = 4096;
+/// Fewest texels checked (fewer only when the object has fewer).
+const FEWEST_CHECKED: usize = 512;
+/// Source visits the check may spend: with long reaches it checks fewer
+/// texels, never fewer than [`FEWEST_CHECKED`].
+const VISIT_BUDGET: f64 = 4e7;
+
+/// An estimate of a map's error against the exact sum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorEstimate {
+    /// Relative RMSE over the checked texels and channels:
+    /// RMS(M − M_exact)/RMS(M_exact).
+    pub relative_rmse: f64,
+    /// How many texels were checked.
+    pub texels: usize,
+}
+
+/// Estimates the relative RMSE of `exitance` (after the colour split, as
+/// `Prepared::integrate` returns it) against the exact sum at a seeded
+/// random subset of texels; `neighbours` is the mean count of texels
+/// within the profile's reach, which sets how many are affordable.
+pub fn estimate_error(
+    prepared: &Prepared,
+    scattering: &Scattering,
+    exitance: &[[f32; 3]],
+    neighbours: f64,
+    seed: u64,
+    control: &Control,
+) -> Result<ErrorEstimate, Error> {
+    let texels = prepared.surfels.position.len();
+    let affordable = (VISIT_BUDGET / neighbours.max(1.0)) as usize;
+    let count = affordable.clamp(FEWEST_CHECKED, MOST_CHECKED).min(texels);
+    let picked = pick(texels, count, seed);
+    let position: Vec<_> = picked
+        .iter()
+        .map(|&i| prepared.surfels.position[i])
+        .collect();
+    let normal: Vec<_> = picked.iter().map(|&i| prepared.surfels.normal[i]).collect();
+    let targets = Targets {
+        position: &position,
+        normal: &normal,
+        own: OwnSource::Listed(&picked),
+    };
+    let sources = prepared.texel_sources();
+    let exact = brute::integrate(&scattering.kernel, &sources, targets, control)?;
+    let exact: Vec<[f32; 3]> = picked
+        .iter()
+        .zip(exact)
+        .map(|(&i, m)| prepared.after_scattering(i, m))
+        .collect();
+    let got: Vec<[f32; 3]> = picked.iter().map(|&i| exitance[i]).collect();
+    let (relative_rmse, _) = relative_errors(&got, &exact);
+    Ok(ErrorEstimate {
+        relative_rmse,
+        texels: picked.len(),
+    })
+}
+
+/// `count` distinct indices below `n`, drawn by a seeded Fisher–Yates
+/// prefix (all of them, in order, when `count ≥ n`).
+fn pick(n: usize, count: usize, seed: u64) -> Vec<usize> {
+    if count >= n {
+        return (0..n).collect();
+    }
+    let mut index: Vec<usize> = (0..n).collect();
+    let mut rng = Rng::new(seed, 0x7665_7269_6679);
+    for i in 0..count {
+        let j = i + (rng.next_u64() % (n - i) as u64) as usize;
+        index.swap(i, j);
+    }
+    index.truncate(count);
+    index
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pick;
+
+    #[test]
+    fn picks_are_distinct_and_in_range() {
+        let p = pick(1000, 300, 7);
+        let mut sorted = p.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(sorted.len(), 300);
+        assert!(p.iter().all(|&i| i < 1000));
+        assert_eq!(pick(5, 10, 1), vec![0, 1, 2, 3, 4]);
+        assert_ne!(pick(1000, 10, 1), pick(1000, 10, 2));
+    }
+}
