@@ -6,7 +6,7 @@ import os
 import pathlib
 import sys
 
-ABI_VERSION = 3
+ABI_VERSION = 4
 
 LIGHT_SUN, LIGHT_POINT, LIGHT_SPOT, LIGHT_RECTANGLE, LIGHT_DISK = range(5)
 MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML, MATERIAL_SCENE, MATERIAL_SIDECAR = range(5)
@@ -51,6 +51,12 @@ class Light(ctypes.Structure):
         ("angle", ctypes.c_float),
         ("spot_size", ctypes.c_float),
         ("spot_blend", ctypes.c_float),
+        ("exposure", ctypes.c_float),
+        ("temperature_colour", Vec3),
+        ("diffuse_factor", ctypes.c_float),
+        ("spread", ctypes.c_float),
+        ("normalize", ctypes.c_uint32),
+        ("casts_shadow", ctypes.c_uint32),
     ]
 
 

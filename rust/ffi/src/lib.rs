@@ -24,7 +24,7 @@ pub use material::*;
 pub use scene::*;
 
 /// The version of this ABI: hosts refuse a library of another version.
-pub const SSSBAKE_ABI_VERSION: u32 = 3;
+pub const SSSBAKE_ABI_VERSION: u32 = 4;
 
 /// The version of this ABI ([`SSSBAKE_ABI_VERSION`]).
 #[unsafe(no_mangle)]

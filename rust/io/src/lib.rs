@@ -11,7 +11,7 @@ pub mod image_writer;
 pub mod lighting;
 pub mod python;
 pub mod staging;
-mod usd_lights;
+pub mod usd_lights;
 pub mod usd_material;
 pub mod usd_reader;
 pub mod usd_writer;
