@@ -148,6 +148,7 @@ def read_light(prim, cache):
         "direction": list(world.TransformDir(Gf.Vec3d(0, 0, -1)).GetNormalized()),
         "tangent": list(world.TransformDir(Gf.Vec3d(1, 0, 0)).GetNormalized()),
         "normalize": bool(light.GetNormalizeAttr().Get()),
+        "diffuse": float(light.GetDiffuseAttr().Get() if light.GetDiffuseAttr().Get() is not None else 1.0),
         "scale": world.TransformDir(Gf.Vec3d(1, 0, 0)).GetLength(),
         "color_temperature": (
             float(light.GetColorTemperatureAttr().Get() or 6500.0)
@@ -186,6 +187,12 @@ def shape_of(prim, kind):
             "radius": float(value("inputs:radius", 0.5)),
             "treat_as_point": bool(value("treatAsPoint", False)),
         }
+    if kind == "CylinderLight":
+        return {
+            "length": float(value("inputs:length", 1.0)),
+            "radius": float(value("inputs:radius", 0.5)),
+            "treat_as_line": bool(value("treatAsLine", False)),
+        }
     if kind == "DiskLight":
         return {"radius": float(value("inputs:radius", 0.5))}
     if kind == "RectLight":
@@ -196,7 +203,7 @@ def shape_of(prim, kind):
     if kind == "DomeLight":
         texture = value("inputs:texture:file", None)
         path = texture.resolvedPath or texture.path if texture else ""
-        return {"texture": path}
+        return {"texture": path, "texture_format": str(value("inputs:texture:format", "automatic"))}
     return {}
 
 

@@ -54,6 +54,12 @@ class Light(ctypes.Structure):
         ("angle", ctypes.c_float),
         ("spot_size", ctypes.c_float),
         ("spot_blend", ctypes.c_float),
+        ("exposure", ctypes.c_float),
+        ("temperature_colour", Vec3),
+        ("diffuse_factor", ctypes.c_float),
+        ("spread", ctypes.c_float),
+        ("normalize", ctypes.c_uint32),
+        ("casts_shadow", ctypes.c_uint32),
     ]
 
 

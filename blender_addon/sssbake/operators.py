@@ -25,11 +25,16 @@ class Job:
 
     def __init__(self, context, settings):
         self.settings = settings
-        self.targets = [o for o in context.selected_objects if o.type == "MESH"]
+        selected = [o for o in context.selected_objects if o.type == "MESH"]
+        # An object hidden from renders is neither baked nor a shadow caster.
+        collections = scene_export.rendered_collections(context.view_layer)
+        self.targets = [o for o in selected if scene_export.renders(o, collections)]
         # Read here: the bakes may run on another thread, which must not touch Blender data.
         self.names = [o.name for o in self.targets]
-        if not self.targets:
+        if not selected:
             raise native.NativeError(1, "select the mesh objects to bake")
+        if not self.targets:
+            raise native.NativeError(1, "the selected objects are hidden from renders; nothing to bake")
         if not settings.outputs:
             raise native.NativeError(1, "choose at least one output")
         if not 1 <= settings.resolution <= 16384:

@@ -58,14 +58,24 @@ def mesh_arrays(obj, depsgraph, uv_map):
 
 
 def light_struct(obj):
-    """The native light for a Blender light object, or None for kinds not baked."""
+    """The native light for a Blender light object, or None for kinds not baked and for lights
+    that do not reach diffuse (and so subsurface) rays in Cycles."""
     data = obj.data
+    if not obj.visible_diffuse or data.diffuse_factor <= 0.0:
+        return None
     world = obj.matrix_world
     linear = world.to_3x3()
     scale = (linear.col[0].length + linear.col[1].length) / 2
     light = native.Light()
     light.colour = native.Vec3(*data.color)
     light.power = data.energy
+    light.exposure = data.exposure
+    light.temperature_colour = native.Vec3(
+        *(data.temperature_color if data.use_temperature else (1.0, 1.0, 1.0))
+    )
+    light.diffuse_factor = data.diffuse_factor
+    light.normalize = int(data.normalize)
+    light.casts_shadow = int(data.use_shadow)
     light.position = native.Vec3(*world.translation)
     light.direction = native.Vec3(*(linear @ _axis(0, 0, -1)).normalized())
     light.tangent = native.Vec3(*(linear @ _axis(1, 0, 0)).normalized())
@@ -79,6 +89,7 @@ def light_struct(obj):
             light.spot_size = data.spot_size
             light.spot_blend = data.spot_blend
     elif data.type == "AREA":
+        light.spread = data.spread
         if data.shape in ("DISK", "ELLIPSE"):
             light.kind = native.LIGHT_DISK
             light.size = data.size * scale
@@ -169,14 +180,39 @@ def value_of(inputs, name, default):
     return socket.default_value if socket is not None else default
 
 
+def rendered_collections(view_layer):
+    """The collections whose objects render in `view_layer`: neither excluded from it nor hidden
+    from renders, nor inside one that is."""
+    rendered = set()
+
+    def walk(layer_collection):
+        if layer_collection.exclude or layer_collection.collection.hide_render:
+            return
+        rendered.add(layer_collection.collection.name)
+        for child in layer_collection.children:
+            walk(child)
+
+    walk(view_layer.layer_collection)
+    return rendered
+
+
+def renders(obj, collections):
+    """True when Cycles renders `obj`: not hidden from renders and in a rendered collection
+    (what the viewport shows does not matter)."""
+    if obj.hide_render:
+        return False
+    return any(c.name in collections for c in obj.users_collection)
+
+
 def build_scene(context, uv_map):
-    """A native scene of every visible mesh (the shadow casters) and light, and the world."""
+    """A native scene of every mesh that renders (the shadow casters) and light, and the world."""
     scene = context.scene
     depsgraph = context.evaluated_depsgraph_get()
+    collections = rendered_collections(context.view_layer)
     native_scene = native.Scene(millimetres_per_unit(scene))
     try:
         for obj in scene.objects:
-            if not obj.visible_get():
+            if not renders(obj, collections):
                 continue
             if obj.type == "MESH":
                 arrays = mesh_arrays(obj, depsgraph, uv_map)

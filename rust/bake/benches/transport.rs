@@ -48,6 +48,7 @@ fn scene() -> Scene {
         position,
         direction: direction.normalize(),
         tangent: Vec3::X,
+        casts_shadow: true,
     };
     Scene {
         source: "benchmark".into(),

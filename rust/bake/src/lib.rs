@@ -40,6 +40,7 @@
 //!     position: Vec3::ZERO,
 //!     direction: Vec3::NEG_Z, // pointing down onto the square
 //!     tangent: Vec3::X,
+//!     casts_shadow: true,
 //! };
 //! let scene = Scene {
 //!     source: "built in code".into(),
@@ -72,6 +73,7 @@
 //! ```
 
 pub mod bake;
+pub mod blackbody;
 pub mod control;
 pub mod error;
 pub mod fast_hash;
@@ -96,7 +98,7 @@ pub use mesh::{Mesh, MeshError, MeshWarnings};
 pub use pipeline::Lighting;
 pub use plan::{Plan, plan};
 pub use request::{BakeRequest, UvPolicy};
-pub use scene::{Light, LightKind, MaterialHint, Scene, SceneObject};
+pub use scene::{ConeFalloff, Light, LightKind, LightRow, MaterialHint, Scene, SceneObject};
 pub use surface::texels::{TexelSurfels, rasterize};
 pub use surface::uv_analysis::{UvReport, analyse_uvs};
 pub use transport::Method;

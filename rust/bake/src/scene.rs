@@ -150,8 +150,12 @@ pub struct Light {
     pub position: Vec3,
     /// Direction the light points (its −Z axis), unit.
     pub direction: Vec3,
-    /// The light's local X axis, unit: orients rectangles.
+    /// The light's local X axis, unit: orients rectangles and is a
+    /// cylinder's axis.
     pub tangent: Vec3,
+    /// False for a light whose light no object blocks (Blender's
+    /// `use_shadow` off).
+    pub casts_shadow: bool,
 }
 
 /// Kinds of light, with the unit of [`Light::intensity`] for each.
@@ -178,6 +182,8 @@ pub enum LightKind {
         inner_cone: f32,
         /// No light beyond this angle, radians.
         outer_cone: f32,
+        /// How the light fades between the two cones.
+        falloff: ConeFalloff,
     },
     /// A rectangle emitting from its front face; intensity is radiance,
     /// W/(m²·sr).
@@ -186,12 +192,32 @@ pub enum LightKind {
         width_mm: f32,
         /// Extent along its Y axis, mm.
         height_mm: f32,
+        /// Angle of the cone the emission fills, radians (π: a Lambertian
+        /// emitter; Cycles' area `spread`).
+        spread: f32,
     },
     /// A disk emitting from its front face; intensity is radiance,
     /// W/(m²·sr).
     Disk {
         /// Radius, mm.
         radius_mm: f32,
+        /// As for a rectangle.
+        spread: f32,
+    },
+    /// A cylinder along the light's X axis emitting from its side (not its
+    /// caps); intensity is radiance, W/(m²·sr).
+    Cylinder {
+        /// Length along the axis, mm.
+        length_mm: f32,
+        /// Radius, mm.
+        radius_mm: f32,
+    },
+    /// A line along the light's X axis (a cylinder of no radius); intensity
+    /// is the radiant intensity of each metre of it seen broadside,
+    /// W/(sr·m), falling with the sine of the angle from the axis.
+    Line {
+        /// Length, mm.
+        length_mm: f32,
     },
     /// Light from every direction; intensity is radiance, W/(m²·sr),
     /// multiplied by the equirectangular image when there is one.
@@ -199,6 +225,49 @@ pub enum LightKind {
         /// The image file, as the asset names it.
         texture: Option<String>,
     },
+}
+
+/// How a spot fades from its inner cone (full light) to its outer cone
+/// (none), each format by its own definition.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConeFalloff {
+    /// Cycles: a smooth step (3t² − 2t³) in t, the cosine's share of the
+    /// way from the outer cone to the inner one.
+    Cycles,
+    /// glTF `KHR_lights_punctual`: t², the same t squared.
+    Gltf,
+    /// UsdLux `ShapingAPI`: one minus a smooth step in the angle itself,
+    /// from the inner cone to the outer one.
+    UsdLux,
+}
+
+impl ConeFalloff {
+    /// The share of the axis's light at `angle` (radians) from the axis of a
+    /// spot whose light fades from `inner` to `outer` (radians).
+    pub fn at(self, angle: f32, inner: f32, outer: f32) -> f32 {
+        if angle >= outer {
+            return 0.0;
+        }
+        if angle <= inner {
+            return 1.0;
+        }
+        let smooth = |t: f32| {
+            let t = t.clamp(0.0, 1.0);
+            t * t * (3.0 - 2.0 * t)
+        };
+        match self {
+            ConeFalloff::Cycles | ConeFalloff::Gltf => {
+                let (cos, cos_inner, cos_outer) = (angle.cos(), inner.cos(), outer.cos());
+                let t = ((cos - cos_outer) / (cos_inner - cos_outer).max(1e-9)).clamp(0.0, 1.0);
+                if self == ConeFalloff::Cycles {
+                    smooth(t)
+                } else {
+                    t * t
+                }
+            }
+            ConeFalloff::UsdLux => 1.0 - smooth((angle - inner) / (outer - inner).max(1e-9)),
+        }
+    }
 }
 
 /// The inner and outer cone (radians from the axis) of a spot of
@@ -222,6 +291,8 @@ impl LightKind {
             LightKind::Spot { .. } => "spot",
             LightKind::Rectangle { .. } => "rectangle",
             LightKind::Disk { .. } => "disk",
+            LightKind::Cylinder { .. } => "cylinder",
+            LightKind::Line { .. } => "line",
             LightKind::Environment { .. } => "environment",
         }
     }
@@ -257,4 +328,33 @@ impl Scene {
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| o.mesh.triangles.len()).sum()
     }
+}
+
+/// One row of a format's light table (README, "Lights and units"): what a
+/// file says, what the bake makes of it, and the irradiance it gives at a
+/// point of a plane. Each reader keeps its table beside its code, and a
+/// test checks the README shows the same rows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightRow {
+    /// The light as the format states it.
+    pub source: &'static str,
+    /// The bake's light.
+    pub read_as: &'static str,
+    /// Irradiance at a point of a plane, before the entry Fresnel.
+    pub irradiance: &'static str,
+}
+
+/// `rows` as a Markdown table under `header` (three column titles).
+pub fn light_table_markdown(header: [&str; 3], rows: &[LightRow]) -> String {
+    let mut out = format!(
+        "| {} | {} | {} |\n|---|---|---|\n",
+        header[0], header[1], header[2]
+    );
+    for row in rows {
+        out.push_str(&format!(
+            "| {} | {} | {} |\n",
+            row.source, row.read_as, row.irradiance
+        ));
+    }
+    out
 }

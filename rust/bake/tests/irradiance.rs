@@ -25,6 +25,7 @@ fn light(kind: LightKind, intensity: f32, position: Vec3, direction: Vec3) -> Li
         position,
         direction: direction.normalize(),
         tangent: Vec3::X,
+        casts_shadow: true,
     }
 }
 
@@ -122,7 +123,10 @@ fn a_sphere_light_lights_like_its_point_and_a_disk_by_its_solid_angle() {
     // A disk of radiance L and radius r at height h: E = L π r²/(r² + h²),
     // times ρt averaged over its cone.
     let disk = light(
-        LightKind::Disk { radius_mm: 100.0 },
+        LightKind::Disk {
+            radius_mm: 100.0,
+            spread: std::f32::consts::PI,
+        },
         5.0,
         Vec3::new(0.0, 0.0, 200.0),
         Vec3::NEG_Z,
@@ -139,13 +143,17 @@ fn a_sphere_light_lights_like_its_point_and_a_disk_by_its_solid_angle() {
         LightKind::Rectangle {
             width_mm: side,
             height_mm: side,
+            spread: std::f32::consts::PI,
         },
         5.0,
         Vec3::new(0.0, 0.0, 2000.0),
         Vec3::NEG_Z,
     );
     let far_disk = light(
-        LightKind::Disk { radius_mm: 10.0 },
+        LightKind::Disk {
+            radius_mm: 10.0,
+            spread: std::f32::consts::PI,
+        },
         5.0,
         Vec3::new(0.0, 0.0, 2000.0),
         Vec3::NEG_Z,
@@ -176,6 +184,7 @@ fn a_spot_light_is_dark_outside_its_cone() {
             radius_mm: 0.0,
             inner_cone: 0.2,
             outer_cone: 0.3,
+            falloff: sssbake::ConeFalloff::Gltf,
         },
         1.0,
         Vec3::new(0.0, 0.0, 1000.0),

@@ -29,6 +29,7 @@ pub fn sun_from(direction: Vec3) -> Light {
         position: Vec3::ZERO,
         direction: direction.normalize(),
         tangent: Vec3::X,
+        casts_shadow: true,
     }
 }
 

@@ -368,6 +368,34 @@ typedef struct SssbakeLight {
    * Spot: the share of the cone that fades, in [0, 1].
    */
   float spot_blend;
+  /**
+   * Stops: the power is multiplied by 2^exposure (Blender's `exposure`).
+   */
+  float exposure;
+  /**
+   * Multiplies the colour: Blender's `temperature_color` when
+   * `use_temperature` is on, else (1, 1, 1).
+   */
+  float temperature_colour[3];
+  /**
+   * Multiplies the power: Blender's `diffuse_factor` (Cycles counts
+   * subsurface scattering as diffuse); 1 for all of it.
+   */
+  float diffuse_factor;
+  /**
+   * Area lights: the angle of the cone the emission fills, radians
+   * (Blender's `spread`; π, or 0 when unset, is Lambertian).
+   */
+  float spread;
+  /**
+   * 1 when the power does not depend on the light's size (Blender's
+   * `normalize`, on by default), 0 when it does.
+   */
+  uint32_t normalize;
+  /**
+   * 1 when objects block the light (Blender's `use_shadow`), 0 when not.
+   */
+  uint32_t casts_shadow;
 } SssbakeLight;
 
 #ifdef __cplusplus

@@ -267,6 +267,7 @@ pub unsafe extern "C" fn sssbake_scene_set_world(
                 position: Vec3::ZERO,
                 direction: Vec3::NEG_Z,
                 tangent: Vec3::X,
+                casts_shadow: true,
             });
         }
         Ok(())

@@ -83,6 +83,12 @@ fn lit_sphere() -> Scene {
         angle: 0.0,
         spot_size: 0.0,
         spot_blend: 0.0,
+        exposure: 0.0,
+        temperature_colour: [1.0; 3],
+        diffuse_factor: 1.0,
+        spread: 0.0,
+        normalize: 1,
+        casts_shadow: 1,
     };
     assert_eq!(
         unsafe { sssbake_scene_add_light(scene, &sun) },
@@ -427,6 +433,12 @@ fn misuse_gets_a_status_and_a_message() {
         angle: 0.0,
         spot_size: 0.0,
         spot_blend: 0.0,
+        exposure: 0.0,
+        temperature_colour: [1.0; 3],
+        diffuse_factor: 1.0,
+        spread: 0.0,
+        normalize: 1,
+        casts_shadow: 1,
     };
     assert_eq!(
         unsafe { sssbake_scene_add_light(scene.0, &light) },

@@ -60,6 +60,7 @@ fn library_bake() -> Vec<u8> {
             position: Vec3::ZERO,
             direction: Vec3::new(0.0, -0.6, -0.8).normalize_or(Vec3::NEG_Z),
             tangent: Vec3::X,
+            casts_shadow: true,
         }],
         ..Scene::default()
     };

@@ -6,8 +6,8 @@
 use crate::{InputError, ReadOptions};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use gltf::mesh::Mode;
-use sssbake::scene::{Subsurface, Volume};
-use sssbake::{Light, LightKind, MaterialHint, Mesh, Scene, SceneObject};
+use sssbake::scene::{Subsurface, Volume, spot_cone};
+use sssbake::{ConeFalloff, Light, LightKind, LightRow, MaterialHint, Mesh, Scene, SceneObject};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -37,6 +37,12 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
         ..Default::default()
     };
     let mut names: HashMap<String, usize> = HashMap::new();
+    let by_blender = document
+        .as_json()
+        .asset
+        .generator
+        .as_deref()
+        .is_some_and(|g| g.starts_with(BLENDER_GENERATOR));
     let roots: Vec<gltf::Node> = match document
         .default_scene()
         .or_else(|| document.scenes().next())
@@ -77,9 +83,15 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
             }
         }
         if let Some(light) = node.light() {
-            scene
-                .lights
-                .push(read_light(&light, world, scale, node.index()));
+            let light = read_light(&light, world, scale, node.index(), by_blender);
+            if by_blender && matches!(light.kind, LightKind::Spot { .. }) {
+                scene.notes.push(format!(
+                    "light `{}`: a spot read as Blender's glTF exporter writes spots \
+                     (size 2 × outer cone, blend 1 − inner/outer, faded as Cycles fades it)",
+                    light.name
+                ));
+            }
+            scene.lights.push(light);
         }
         stack.extend(node.children().map(|c| (c, world)));
     }
@@ -343,11 +355,48 @@ fn subsurface_of(
     })
 }
 
+/// The start of `asset.generator` in files Blender's glTF exporter writes.
+const BLENDER_GENERATOR: &str = "Khronos glTF Blender I/O";
+
+/// The column titles of [`GLTF_LIGHTS`] in the README.
+pub const GLTF_HEADER: [&str; 3] = [
+    "glTF light",
+    "read as",
+    "irradiance at a point of the plane, × color",
+];
+
+/// The glTF table: one row per case, each with a test in
+/// `rust/io/tests/light_tables.rs`. d is the distance in metres, θ the
+/// angle of incidence, φ the angle from a spot's axis.
+pub const GLTF_LIGHTS: &[LightRow] = &[
+    LightRow {
+        source: "`directional`, `intensity` in lux",
+        read_as: "directional",
+        irradiance: "(intensity/683)·cos θ",
+    },
+    LightRow {
+        source: "`point`, `intensity` in candela",
+        read_as: "point",
+        irradiance: "(intensity/683)·cos θ/d²",
+    },
+    LightRow {
+        source: "`spot`, `innerConeAngle` i, `outerConeAngle` o",
+        read_as: "spot with the specification's ramp",
+        irradiance: "the point's × t², t = clamp((cos φ − cos o)/(cos i − cos o), 0, 1)",
+    },
+    LightRow {
+        source: "`spot` written by Blender (`asset.generator` \"Khronos glTF Blender I/O …\")",
+        read_as: "Blender's spot of size 2o and blend b = 1 − i/o",
+        irradiance: "the point's × smoothstep((cos φ − cos o)/(b(1 − cos o)))",
+    },
+];
+
 fn read_light(
     light: &gltf::khr_lights_punctual::Light,
     world: Mat4,
     scale: f64,
     node: usize,
+    by_blender: bool,
 ) -> Light {
     use gltf::khr_lights_punctual::Kind;
     let kind = match light.kind() {
@@ -356,10 +405,30 @@ fn read_light(
         Kind::Spot {
             inner_cone_angle,
             outer_cone_angle,
+        } if by_blender => {
+            // Blender writes outer = size/2 and inner = outer × (1 − blend).
+            let outer = outer_cone_angle.max(0.0);
+            let blend = if outer > 0.0 {
+                1.0 - inner_cone_angle / outer
+            } else {
+                0.0
+            };
+            let (inner_cone, outer_cone) = spot_cone(outer, blend);
+            LightKind::Spot {
+                radius_mm: 0.0,
+                inner_cone,
+                outer_cone,
+                falloff: ConeFalloff::Cycles,
+            }
+        }
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
         } => LightKind::Spot {
             radius_mm: 0.0,
             inner_cone: inner_cone_angle,
             outer_cone: outer_cone_angle,
+            falloff: ConeFalloff::Gltf,
         },
     };
     Light {
@@ -376,6 +445,7 @@ fn read_light(
             .transform_vector3(Vec3::NEG_Z)
             .normalize_or(Vec3::NEG_Z),
         tangent: world.transform_vector3(Vec3::X).normalize_or(Vec3::X),
+        casts_shadow: true,
     }
 }
 

@@ -12,7 +12,7 @@ pub mod lighting;
 pub mod look;
 pub mod python;
 pub mod staging;
-mod usd_lights;
+pub mod usd_lights;
 pub mod usd_material;
 pub mod usd_reader;
 pub mod usd_writer;

@@ -96,8 +96,12 @@ pub(crate) struct LightJson {
     pub(crate) normalize: bool,
     /// How much the world transform scales the light's x axis [default: 1].
     pub(crate) scale: Option<f32>,
-    /// A SphereLight's or DiskLight's inputs:radius.
+    /// A SphereLight's, DiskLight's or CylinderLight's inputs:radius.
     pub(crate) radius: Option<f32>,
+    /// A CylinderLight's inputs:length.
+    pub(crate) length: Option<f32>,
+    /// A CylinderLight's treatAsLine.
+    pub(crate) treat_as_line: Option<bool>,
     /// A RectLight's inputs:width.
     pub(crate) width: Option<f32>,
     /// A RectLight's inputs:height.
@@ -106,6 +110,11 @@ pub(crate) struct LightJson {
     pub(crate) angle: Option<f32>,
     /// A DomeLight's resolved inputs:texture:file; empty when it has none.
     pub(crate) texture: Option<String>,
+    /// A DomeLight's inputs:texture:format [default: `automatic`].
+    pub(crate) texture_format: Option<String>,
+    /// inputs:diffuse, the light's multiplier on diffuse response
+    /// [default: 1].
+    pub(crate) diffuse: Option<f32>,
     /// A SphereLight's treatAsPoint.
     pub(crate) treat_as_point: Option<bool>,
     /// The ShapingAPI cone's half-angle, degrees, when one is authored.
@@ -297,7 +306,7 @@ fn scene_from_stage(
     }
     let writer = Writer::of(stage.documentation.as_deref());
     for light in &stage.lights {
-        if let Some(light) = usd_light(light, scale, writer, &mut scene.notes) {
+        if let Some(light) = usd_light(light, scale, writer, &mut scene.notes).map_err(error)? {
             scene.lights.push(light);
         }
     }

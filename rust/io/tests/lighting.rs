@@ -21,6 +21,7 @@ fn dome(texture: Option<&str>) -> Scene {
             position: Vec3::ZERO,
             direction: Vec3::NEG_Z,
             tangent: Vec3::X,
+            casts_shadow: true,
         }],
         ..Scene::default()
     }

@@ -76,7 +76,7 @@ fn a_blender_point_light_gives_cycles_intensity() {
 }
 
 #[test]
-fn a_shaping_cone_makes_a_spot_that_fades_as_cycles_fades() {
+fn a_shaping_cone_makes_a_spot_that_fades_as_usdlux_says_or_as_cycles_for_blender() {
     let scene = lit(
         json!({"type": "SphereLight", "intensity": 10.0, "normalize": true, "radius": 0.02,
                "cone_angle": 30.0, "cone_softness": 0.25}),
@@ -86,15 +86,34 @@ fn a_shaping_cone_makes_a_spot_that_fades_as_cycles_fades() {
         radius_mm,
         inner_cone,
         outer_cone,
+        falloff,
     } = scene.lights[0].kind
     else {
         panic!("{:?}", scene.lights[0].kind);
     };
     assert!(close(radius_mm, 20.0));
     assert!(close(outer_cone, 30f32.to_radians()));
-    // The fade covers the last quarter of the cone's cosine range.
+    // UsdLux: the fade covers the last quarter of the cone's angle.
+    assert!(close(inner_cone, 0.75 * 30f32.to_radians()));
+    assert_eq!(falloff, sssbake::ConeFalloff::UsdLux);
+    // Blender's spot: the last quarter of the cone's cosine range, as
+    // Cycles fades it.
+    let scene = lit(
+        json!({"type": "SphereLight", "intensity": 10.0, "normalize": true, "radius": 0.02,
+               "cone_angle": 30.0, "cone_softness": 0.25}),
+        "Blender v5.0.1",
+    );
+    let LightKind::Spot {
+        inner_cone,
+        falloff,
+        ..
+    } = scene.lights[0].kind
+    else {
+        panic!("{:?}", scene.lights[0].kind);
+    };
     let c = 30f32.to_radians().cos();
     assert!(close(inner_cone.cos(), c + 0.25 * (1.0 - c)));
+    assert_eq!(falloff, sssbake::ConeFalloff::Cycles);
     // A cone of 180° shapes nothing.
     let scene = lit(
         json!({"type": "SphereLight", "intensity": 10.0, "radius": 0.0, "cone_angle": 180.0}),
@@ -178,12 +197,45 @@ fn area_lights_divide_by_their_area_when_normalized() {
 
 #[test]
 fn lights_the_bake_does_not_take_are_left_out_with_a_note() {
-    let scene = lit(json!({"type": "CylinderLight", "intensity": 1.0}), "");
+    let scene = lit(json!({"type": "PortalLight", "intensity": 1.0}), "");
     assert!(scene.lights.is_empty());
-    assert!(scene.notes.iter().any(|n| n.contains("CylinderLight")));
+    assert!(scene.notes.iter().any(|n| n.contains("PortalLight")));
+}
+
+#[test]
+fn a_dome_texture_in_another_format_is_refused_naming_the_light() {
+    let stage = json!({
+        "meters_per_unit": 1.0,
+        "lights": [{"name": "Sky", "type": "DomeLight", "intensity": 1.0, "exposure": 0.0,
+                    "texture": "sky.exr", "texture_format": "mirroredBall"}],
+    });
+    let error = scene_from_json(&stage, "sky.usda", &ReadOptions::default()).unwrap_err();
+    assert!(
+        error.message.contains("`Sky`") && error.message.contains("mirroredBall"),
+        "{}",
+        error.message
+    );
+}
+
+#[test]
+fn colour_temperature_multiplies_the_colour_and_blenders_6500_k_is_white() {
     let scene = lit(
-        json!({"type": "SphereLight", "intensity": 1.0, "radius": 0.0, "color_temperature": 3200.0}),
+        json!({"type": "SphereLight", "intensity": 1.0, "radius": 0.0, "color": [0.5, 1.0, 1.0],
+               "color_temperature": 3200.0, "diffuse": 0.5}),
         "",
     );
-    assert!(scene.notes.iter().any(|n| n.contains("3200 K")));
+    let want = sssbake::blackbody::blackbody_rgb(3200.0);
+    let colour = scene.lights[0].color;
+    for c in 0..3 {
+        let base = [0.25, 0.5, 0.5][c];
+        assert!(close(colour[c], base * want[c] as f32), "{colour:?}");
+    }
+    // Blender marks every light's temperature as in use; at its default
+    // 6500 K (which it leaves unwritten) the light stays white.
+    let scene = lit(
+        json!({"type": "SphereLight", "intensity": 1.0, "radius": 0.0,
+               "color_temperature": 6500.0}),
+        "Blender v5.0.1",
+    );
+    assert_eq!(scene.lights[0].color, [1.0; 3]);
 }

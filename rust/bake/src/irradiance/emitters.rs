@@ -4,7 +4,7 @@
 
 use super::environment::EnvironmentMap;
 use super::sequence::{basis, concentric_disk, cosine_hemisphere, uniform_cone};
-use crate::scene::{Light, LightKind};
+use crate::scene::{ConeFalloff, Light, LightKind};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -28,6 +28,18 @@ pub struct Emitter {
     shape: Shape,
     /// Colour × intensity.
     power: [f32; 3],
+    /// False when nothing blocks this light.
+    casts_shadow: bool,
+}
+
+/// A spot's cone: its axis, the inner and outer angles (radians) and how
+/// it fades between them.
+#[derive(Clone, Copy, Debug)]
+struct Cone {
+    facing: Vec3,
+    inner: f32,
+    outer: f32,
+    falloff: ConeFalloff,
 }
 
 #[derive(Clone, Debug)]
@@ -39,18 +51,32 @@ enum Shape {
     Sphere {
         centre: Vec3,
         radius: f32,
-        cone: Option<(Vec3, f32, f32)>,
+        cone: Option<Cone>,
     },
     Rectangle {
         centre: Vec3,
         x: Vec3,
         y: Vec3,
         facing: Vec3,
+        spread: Spread,
     },
     Disk {
         centre: Vec3,
         radius: f32,
         facing: Vec3,
+        spread: Spread,
+    },
+    Cylinder {
+        centre: Vec3,
+        /// Half the length along the axis, as a vector.
+        half: Vec3,
+        /// Two unit vectors across the axis.
+        across: (Vec3, Vec3),
+        radius: f32,
+    },
+    Line {
+        centre: Vec3,
+        half: Vec3,
     },
     Environment {
         map: Option<EnvironmentMap>,
@@ -80,18 +106,25 @@ impl Emitter {
                 radius_mm,
                 inner_cone,
                 outer_cone,
+                falloff,
             } => {
                 let outer = outer_cone.clamp(0.0, PI);
                 let inner = inner_cone.clamp(0.0, outer);
                 Shape::Sphere {
                     centre: light.position,
                     radius: radius_mm.max(0.0),
-                    cone: Some((facing, inner.cos(), outer.cos())),
+                    cone: Some(Cone {
+                        facing,
+                        inner,
+                        outer,
+                        falloff: *falloff,
+                    }),
                 }
             }
             LightKind::Rectangle {
                 width_mm,
                 height_mm,
+                spread,
             } => {
                 let x = light
                     .tangent
@@ -103,12 +136,30 @@ impl Emitter {
                     x: x * width_mm.max(0.0),
                     y: y * height_mm.max(0.0),
                     facing,
+                    spread: Spread::new(*spread),
                 }
             }
-            LightKind::Disk { radius_mm } => Shape::Disk {
+            LightKind::Disk { radius_mm, spread } => Shape::Disk {
                 centre: light.position,
                 radius: radius_mm.max(0.0),
                 facing,
+                spread: Spread::new(*spread),
+            },
+            LightKind::Cylinder {
+                length_mm,
+                radius_mm,
+            } => {
+                let axis = light.tangent.normalize_or(Vec3::X);
+                Shape::Cylinder {
+                    centre: light.position,
+                    half: axis * 0.5 * length_mm.max(0.0),
+                    across: basis(axis),
+                    radius: radius_mm.max(0.0),
+                }
+            }
+            LightKind::Line { length_mm } => Shape::Line {
+                centre: light.position,
+                half: light.tangent.normalize_or(Vec3::X) * 0.5 * length_mm.max(0.0),
             },
             LightKind::Environment { .. } => Shape::Environment {
                 map: environment.filter(|m| !m.is_constant()),
@@ -118,7 +169,13 @@ impl Emitter {
             name: light.name.clone(),
             shape,
             power,
+            casts_shadow: light.casts_shadow,
         }
+    }
+
+    /// True when objects block this light.
+    pub fn casts_shadow(&self) -> bool {
+        self.casts_shadow
     }
 
     /// True when one sample gives the exact answer (no area, no angle).
@@ -128,6 +185,8 @@ impl Emitter {
             Shape::Sphere { radius, .. } => radius <= 0.0,
             Shape::Rectangle { x, y, .. } => x.cross(y).length_squared() <= 0.0,
             Shape::Disk { radius, .. } => radius <= 0.0,
+            Shape::Cylinder { half, radius, .. } => half.length() <= 0.0 || radius <= 0.0,
+            Shape::Line { half, .. } => half.length() <= 0.0,
             Shape::Environment { .. } => false,
         }
     }
@@ -194,8 +253,9 @@ impl Emitter {
                 }
                 let d = d2.sqrt();
                 let axis = to / d;
-                let falloff = cone.map_or(1.0, |(facing, cos_inner, cos_outer)| {
-                    spot_falloff(facing.dot(-axis), cos_inner, cos_outer)
+                let falloff = cone.map_or(1.0, |c| {
+                    let angle = c.facing.dot(-axis).clamp(-1.0, 1.0).acos();
+                    c.falloff.at(angle, c.inner, c.outer)
                 });
                 if falloff <= 0.0 {
                     return None;
@@ -229,19 +289,53 @@ impl Emitter {
                 x,
                 y,
                 facing,
+                spread,
             } => {
                 let q = *centre + *x * (u.x - 0.5) + *y * (u.y - 0.5);
-                area_sample(p, q, *facing, x.cross(*y).length(), self.power)
+                area_sample(p, q, *facing, x.cross(*y).length(), *spread, self.power)
             }
             Shape::Disk {
                 centre,
                 radius,
                 facing,
+                spread,
             } => {
                 let (t, b) = basis(*facing);
                 let d = concentric_disk(u) * *radius;
                 let q = *centre + t * d.x + b * d.y;
-                area_sample(p, q, *facing, PI * radius * radius, self.power)
+                area_sample(p, q, *facing, PI * radius * radius, *spread, self.power)
+            }
+            Shape::Cylinder {
+                centre,
+                half,
+                across,
+                radius,
+            } => {
+                // Uniform over the side: u.x along the axis, u.y round it.
+                let phi = 2.0 * PI * u.y;
+                let normal = across.0 * phi.cos() + across.1 * phi.sin();
+                let q = *centre + *half * (2.0 * u.x - 1.0) + normal * *radius;
+                let area = 2.0 * PI * radius * 2.0 * half.length();
+                area_sample(p, q, normal, area, Spread::LAMBERTIAN, self.power)
+            }
+            Shape::Line { centre, half } => {
+                // Uniform along the line; each metre gives I·sin ψ / d².
+                let q = *centre + *half * (2.0 * u.x - 1.0);
+                let to = q - p;
+                let d2 = to.length_squared();
+                if d2 <= 0.0 {
+                    return None;
+                }
+                let d = d2.sqrt();
+                let direction = to / d;
+                let axis = half.normalize_or_zero();
+                let sin = axis.cross(direction).length();
+                let length_m = 2.0 * half.length() * 1e-3;
+                Some(LightSample {
+                    direction,
+                    distance: d,
+                    weight: scaled(sin * length_m / (d2 * 1e-6)),
+                })
             }
             Shape::Environment { map } => {
                 let (t, b) = basis(n);
@@ -282,21 +376,64 @@ impl Emitter {
     }
 }
 
-/// glTF's spot falloff: squared linear ramp in cos θ from the outer cone
-/// to the inner one.
-fn spot_falloff(cos: f32, cos_inner: f32, cos_outer: f32) -> f32 {
-    if cos <= cos_outer {
-        return 0.0;
+/// How an area light's emission narrows with Cycles' `spread`: radiance
+/// at angle θ from the normal scaled by max(tan a − tan θ, 0)/(tan a − a),
+/// a = spread/2, which keeps the emitted power (Cycles' `area.h` and
+/// `light.cpp`); a spread of π is Lambertian.
+#[derive(Clone, Copy, Debug)]
+struct Spread {
+    /// tan a, or infinite for a Lambertian emitter.
+    tan_half: f64,
+    /// 1/(tan a − a).
+    scale: f64,
+}
+
+impl Spread {
+    const LAMBERTIAN: Spread = Spread {
+        tan_half: f64::INFINITY,
+        scale: 0.0,
+    };
+
+    fn new(spread: f32) -> Self {
+        let half = 0.5 * f64::from(spread).clamp(0.0, std::f64::consts::PI);
+        if half >= 0.5 * std::f64::consts::PI - 1e-6 {
+            return Spread::LAMBERTIAN;
+        }
+        let tan_half = half.tan();
+        // tan a − a ≈ a³/3 for small a.
+        let rest = if half > 0.05 {
+            tan_half - half
+        } else {
+            half.powi(3) / 3.0
+        };
+        Spread {
+            tan_half,
+            scale: if rest > 0.0 { 1.0 / rest } else { 0.0 },
+        }
     }
-    let span = (cos_inner - cos_outer).max(1e-6);
-    let t = ((cos - cos_outer) / span).clamp(0.0, 1.0);
-    t * t
+
+    /// The factor on the radiance leaving at cos θ from the normal.
+    fn at(self, cos: f32) -> f32 {
+        if self.tan_half.is_infinite() {
+            return 1.0;
+        }
+        let cos = f64::from(cos).clamp(1e-9, 1.0);
+        let tan = (1.0 - cos * cos).max(0.0).sqrt() / cos;
+        ((self.tan_half - tan).max(0.0) * self.scale) as f32
+    }
 }
 
 /// A point `q` sampled uniformly on an emitter of `area` (mm²) with front
 /// normal `facing`, seen from `p`: density 1/A in area is d²/(A cos θl) in
 /// solid angle.
-fn area_sample(p: Vec3, q: Vec3, facing: Vec3, area: f32, power: [f32; 3]) -> Option<LightSample> {
+fn area_sample(
+    p: Vec3,
+    q: Vec3,
+    facing: Vec3,
+    area: f32,
+    spread: Spread,
+    power: [f32; 3],
+) -> Option<LightSample> {
     let to = q - p;
     let d2 = to.length_squared();
     if d2 <= 0.0 || area <= 0.0 {
@@ -308,7 +445,10 @@ fn area_sample(p: Vec3, q: Vec3, facing: Vec3, area: f32, power: [f32; 3]) -> Op
     if cos_light <= 0.0 {
         return None;
     }
-    let w = area * cos_light / d2;
+    let w = area * cos_light * spread.at(cos_light) / d2;
+    if w <= 0.0 {
+        return None;
+    }
     Some(LightSample {
         direction,
         distance: d,

@@ -87,6 +87,7 @@ pub fn transmitted_irradiance(
                     continue;
                 }
                 if settings.shadows
+                    && emitter.casts_shadow()
                     && rays.occluded(origin, sample.direction, sample.distance, skip)
                 {
                     continue;

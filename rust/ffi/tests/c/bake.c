@@ -54,6 +54,11 @@ int main(int argc, char **argv) {
     sun.power = 3.0f;
     sun.direction[0] = 0.0f, sun.direction[1] = -0.6f, sun.direction[2] = -0.8f;
     sun.tangent[0] = 1.0f;
+    /* Blender's defaults: no temperature tint, all of it diffuse, normalized, shadowed. */
+    sun.temperature_colour[0] = sun.temperature_colour[1] = sun.temperature_colour[2] = 1.0f;
+    sun.diffuse_factor = 1.0f;
+    sun.normalize = 1;
+    sun.casts_shadow = 1;
     status = sssbake_scene_add_light(scene, &sun);
     if (status != SSSBAKE_STATUS_OK) return failed("sssbake_scene_add_light", status);
 
