@@ -376,9 +376,15 @@ impl fmt::Display for Summary {
                 if a.method == Method::Brute {
                     writeln!(f, "{}: {}: the exact sum", p.name, a.method)?;
                 } else {
+                    let over = match a.tolerance {
+                        Some(t) if a.estimated_error > t => {
+                            "; above the tolerance, and nothing more exact is affordable at this size"
+                        }
+                        _ => "",
+                    };
                     writeln!(
                         f,
-                        "{}: {}: estimated error {:.2}% (relative RMSE against the exact sum at {} texels)",
+                        "{}: {}: estimated error {:.2}% (relative RMSE against the exact sum at {} texels){over}",
                         p.name,
                         a.method,
                         100.0 * a.estimated_error,

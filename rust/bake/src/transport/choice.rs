@@ -20,15 +20,41 @@ pub fn neighbours(texel_area_mm2: f64, d_max_mm: f64) -> f64 {
     (std::f64::consts::PI * d_max_mm * d_max_mm / texel_area_mm2.max(1e-12)).max(1.0)
 }
 
+/// Pairs the exact sum may visit when `auto` falls back to it (about a
+/// minute on two cores); beyond, the octree is as exact as a bake gets.
+const FALLBACK_PAIRS: f64 = 10.0 * BRUTE_PAIRS;
+
 /// The next more exact method after `method` missed its tolerance: the
-/// exact sum where it stays affordable (ten times what `auto` would pick it
-/// for), else the octree first; `None` after the exact sum.
+/// exact sum where it stays affordable, else the octree from texture
+/// space; `None` when nothing more exact is affordable.
 pub fn more_exact(method: Method, texels: usize, neighbours: f64) -> Option<Method> {
+    let brute_affordable = texels as f64 * neighbours <= FALLBACK_PAIRS;
     match method {
         Method::Brute | Method::Auto => None,
-        Method::Octree | Method::Importance => Some(Method::Brute),
-        Method::Texture if texels as f64 * neighbours <= 10.0 * BRUTE_PAIRS => Some(Method::Brute),
-        Method::Texture => Some(Method::Octree),
+        _ if brute_affordable => Some(Method::Brute),
+        Method::Texture | Method::Importance => Some(Method::Octree),
+        Method::Octree => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn falling_back_stays_affordable() {
+        assert_eq!(
+            more_exact(Method::Texture, 1000, 100.0),
+            Some(Method::Brute)
+        );
+        assert_eq!(more_exact(Method::Octree, 1000, 100.0), Some(Method::Brute));
+        let huge = FALLBACK_PAIRS;
+        assert_eq!(
+            more_exact(Method::Texture, 1_000_000, huge),
+            Some(Method::Octree)
+        );
+        assert_eq!(more_exact(Method::Octree, 1_000_000, huge), None);
+        assert_eq!(more_exact(Method::Brute, 10, 1.0), None);
     }
 }
 

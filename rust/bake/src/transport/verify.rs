@@ -15,10 +15,10 @@ use sssbake_profile::rng::Rng;
 /// Most texels checked.
 const MOST_CHECKED: usize = 4096;
 /// Fewest texels checked (fewer only when the object has fewer).
-const FEWEST_CHECKED: usize = 512;
-/// Source visits the check may spend: with long reaches it checks fewer
-/// texels, never fewer than [`FEWEST_CHECKED`].
-const VISIT_BUDGET: f64 = 4e7;
+const FEWEST_CHECKED: usize = 64;
+/// Source visits the check may spend (a few seconds at most): with long
+/// reaches it checks fewer texels, never fewer than [`FEWEST_CHECKED`].
+const VISIT_BUDGET: f64 = 1e8;
 
 /// An estimate of a map's error against the exact sum.
 #[derive(Clone, Copy, Debug, PartialEq)]
