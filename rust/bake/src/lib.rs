@@ -72,6 +72,7 @@
 //! ```
 
 pub mod bake;
+pub mod colour;
 pub mod control;
 pub mod error;
 pub mod fast_hash;
