@@ -246,7 +246,8 @@ def usd_plane(folder, shader_id, colour_input, image=None, colour=(0.8, 0.5, 0.4
     [("ND_open_pbr_surface_surfaceshader", "subsurface_color"), ("UsdPreviewSurface", "diffuseColor")],
 )
 def test_a_usd_texture_is_read_and_counted_once(sssbake, tmp_path, shader_id, colour_input):
-    png(tmp_path / "two.png", [[LEFT, RIGHT]] * 2)
+    # UsdUVTexture filters bilinearly: 16 texels a side keep the halves flat.
+    png(tmp_path / "two.png", [[LEFT] * 16 + [RIGHT] * 16] * 2)
     two = usd_plane(tmp_path, shader_id, colour_input, "two.png", name="two.usda")
     summary = bake(sssbake, two, tmp_path / "two", python=True)
     colour = summary["objects"][0]["colour"]
