@@ -96,14 +96,81 @@ def read_mesh(prim, cache, uv_primvars):
         "normals": normals,
         "faces": len(counts),
         "subsets": subsets,
-        "material": read_material(prim),
+        "material": read_material(prim, counts, indices, st),
     }
 
 
-def read_material(prim):
+def connected_shader(shader_input):
+    """The shader (through any node graphs) and output name an input's value
+    comes from, or (None, None)."""
+    if not shader_input.HasConnectedSource():
+        return None, None
+    for attribute in shader_input.GetValueProducingAttributes():
+        name, kind = UsdShade.Utils.GetBaseNameAndType(attribute.GetName())
+        if kind == UsdShade.AttributeType.Output:
+            return UsdShade.Shader(attribute.GetPrim()), str(name)
+    return None, None
+
+
+def input_value(shader, name, default):
+    shader_input = shader.GetInput(name)
+    value = shader_input.Get() if shader_input else None
+    return default if value is None else value
+
+
+def read_texture(shader_input, prim, counts, indices, st):
+    """A UsdUVTexture driving `shader_input`: its file, colour space, wrap,
+    scale and bias, the primvar its st reads (through a UsdTransform2d, if
+    one is there) and that primvar per face corner when it is not the one
+    the mesh's `uvs` came from. Another kind of source is named by its id."""
+    source, output = connected_shader(shader_input)
+    if source is None:
+        return None
+    shader_id = str(source.GetIdAttr().Get() or "")
+    if shader_id != "UsdUVTexture":
+        return {"shader": shader_id or str(source.GetPrim().GetPath())}
+    asset = input_value(source, "file", None)
+    file = (asset.resolvedPath or asset.path) if asset else ""
+    texture = {
+        "shader": shader_id,
+        "output": output,
+        "file": file,
+        "source_colour_space": str(input_value(source, "sourceColorSpace", "auto")),
+        "wrap_s": str(input_value(source, "wrapS", "useMetadata")),
+        "wrap_t": str(input_value(source, "wrapT", "useMetadata")),
+        "scale": list(input_value(source, "scale", (1.0, 1.0, 1.0, 1.0)))[:3],
+        "bias": list(input_value(source, "bias", (0.0, 0.0, 0.0, 0.0)))[:3],
+    }
+    st_input = source.GetInput("st")
+    reader, _ = connected_shader(st_input) if st_input else (None, None)
+    if reader is not None and str(reader.GetIdAttr().Get() or "") == "UsdTransform2d":
+        texture["transform"] = {
+            "rotation": float(input_value(reader, "rotation", 0.0)),
+            "scale": list(input_value(reader, "scale", (1.0, 1.0))),
+            "translation": list(input_value(reader, "translation", (0.0, 0.0))),
+        }
+        in_input = reader.GetInput("in")
+        reader, _ = connected_shader(in_input) if in_input else (None, None)
+    varname = None
+    if reader is not None and str(reader.GetIdAttr().Get() or "").startswith("UsdPrimvarReader"):
+        varname = str(input_value(reader, "varname", "") or "")
+    api = UsdGeom.PrimvarsAPI(prim)
+    if varname is None:
+        texture["primvar"] = st.GetPrimvarName() if st else None
+    else:
+        texture["primvar"] = varname
+        if not (st and st.GetPrimvarName() == varname):
+            primvar = api.GetPrimvar(varname) if varname and api.HasPrimvar(varname) else None
+            texture["uvs"] = primvar_corners(primvar, counts, indices) if primvar else None
+            texture["missing"] = primvar is None
+    return texture
+
+
+def read_material(prim, counts=(), indices=(), st=None):
     """The bound material's surface shader (UsdPreviewSurface, or OpenPBR in
-    MaterialX's context): its id, the values of its unconnected inputs, and
-    the names of the inputs a texture drives."""
+    MaterialX's context): its id, the values of its unconnected inputs, the
+    names of the inputs a texture drives, and for each of those the texture
+    (`read_texture`)."""
     material, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()
     if not material:
         return None
@@ -116,11 +183,14 @@ def read_material(prim):
             break
     if shader is None:
         return {"name": material.GetPrim().GetName(), "shader": "", "inputs": {}, "connected": []}
-    inputs, connected = {}, []
+    inputs, connected, textures = {}, [], {}
     for shader_input in shader.GetInputs():
         name = shader_input.GetBaseName()
         if shader_input.HasConnectedSource():
             connected.append(name)
+            texture = read_texture(shader_input, prim, counts, indices, st)
+            if texture is not None:
+                textures[name] = texture
             continue
         value = shader_input.Get()
         if value is None:
@@ -131,6 +201,7 @@ def read_material(prim):
         "shader": str(shader.GetIdAttr().Get() or ""),
         "inputs": inputs,
         "connected": connected,
+        "textures": textures,
     }
 
 

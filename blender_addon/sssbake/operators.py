@@ -61,6 +61,9 @@ class Job:
                 self._unwrap(context)
             self.scene = scene_export.build_scene(context, self.uv_map)
             self.materials = [scene_export.material_struct(settings, o, self.keep) for o in self.targets]
+            self.colour_warnings = [
+                w for o in self.targets if (w := scene_export.colour_warning(settings, o))
+            ]
         except Exception:
             self.abandon()
             raise
@@ -110,7 +113,7 @@ class Job:
 
     def finish(self):
         """Makes the images (main thread); the names of those made, and warnings."""
-        made, warnings = [], []
+        made, warnings = [], list(self.colour_warnings)
         folder = bpy.path.abspath(self.settings.folder)
         try:
             for obj, result in zip(self.targets, self.results, strict=True):

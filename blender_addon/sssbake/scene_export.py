@@ -174,6 +174,25 @@ def material_struct(settings, obj, keep):
     return material
 
 
+def colour_warning(settings, obj):
+    """What the bake does with a Base Color that a node drives, or None: the C ABI does not
+    yet carry an image, so any node into Base Color (an Image Texture, a Checker) is baked
+    as the socket's own colour, and the user is told which node was not read."""
+    if settings.material_source in ("PRESET", "LAYERS"):
+        return None
+    node = principled_node(obj)
+    socket = node.inputs.get("Base Color") if node is not None else None
+    if socket is None or not socket.is_linked:
+        return None
+    source = socket.links[0].from_node
+    colour = ", ".join(f"{c:.3f}" for c in socket.default_value[:3])
+    return (
+        f"{obj.name}: Base Color of material `{obj.active_material.name}` is driven by node "
+        f"`{source.name}` ({source.bl_idname}), which the add-on does not pass to the bake yet; "
+        f"it is baked as the socket's colour ({colour})"
+    )
+
+
 def value_of(inputs, name, default):
     """An input's value, or `default` where the node has no such input."""
     socket = inputs.get(name)

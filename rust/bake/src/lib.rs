@@ -74,6 +74,7 @@
 
 pub mod bake;
 pub mod blackbody;
+pub mod colour;
 pub mod control;
 pub mod error;
 pub mod fast_hash;

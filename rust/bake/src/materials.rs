@@ -18,10 +18,10 @@
 use crate::error::{Error, InputError};
 use crate::scene::SceneObject;
 use serde::Deserialize;
-use sssbake_profile::Material;
 use sssbake_profile::appearance::channel_mean_free_paths;
 pub use sssbake_profile::cycles::{AlbedoMapping, PrincipledSubsurface, SubsurfaceMethod};
 use sssbake_profile::presets;
+use sssbake_profile::{Appearance, Material};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -35,6 +35,55 @@ pub struct Sourced {
     pub material: Material,
     /// Where it came from, for summaries: `--preset`, `sidecar FILE`, …
     pub source: String,
+    /// For a material a shader describes by its colour (an asset's, or
+    /// Blender's Principled BSDF), how to build it for another colour: the
+    /// nominal colour of a colour map (crate::colour). `None` for a
+    /// material given by coefficients (a preset or material file).
+    pub recipe: Option<ColourRecipe>,
+}
+
+/// A material described by a colour, kept so that it can be built again
+/// for the nominal colour of a colour map.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ColourRecipe {
+    /// An asset's shader, as sssbake reads it (README, "Materials from the
+    /// asset").
+    Appearance(Appearance),
+    /// Blender's Principled BSDF (README, "Materials from Blender").
+    Principled(Principled),
+}
+
+impl ColourRecipe {
+    /// The colour the material states, linear RGB.
+    pub fn colour(&self) -> [f64; 3] {
+        match self {
+            ColourRecipe::Appearance(a) => a.colour,
+            ColourRecipe::Principled(p) => p.base_colour.map(f64::from),
+        }
+    }
+
+    /// The same material with colour `colour`.
+    pub fn with_colour(&self, colour: [f64; 3]) -> Result<Material, Error> {
+        match self {
+            ColourRecipe::Appearance(a) => Appearance {
+                colour,
+                ..a.clone()
+            }
+            .to_material()
+            .map_err(|e| {
+                Error::Input(InputError {
+                    field: Some(format!("material `{}`", a.name)),
+                    message: format!("at the colour map's mean colour {colour:?}: {e}"),
+                    ..InputError::default()
+                })
+            }),
+            ColourRecipe::Principled(p) => Principled {
+                base_colour: colour.map(|c| c as f32),
+                ..p.clone()
+            }
+            .to_material(),
+        }
+    }
 }
 
 /// How objects get their materials (see the module's documentation).
@@ -77,9 +126,23 @@ impl MaterialAssignment {
             every_object: Some(Sourced {
                 material,
                 source: source.into(),
+                recipe: None,
             }),
             ..MaterialAssignment::default()
         }
+    }
+
+    /// Every object (the sidecar's aside) bakes with Blender's Principled
+    /// BSDF `principled`, kept as a recipe so a colour map can rebuild it.
+    pub fn principled(principled: Principled, source: impl Into<String>) -> Result<Self, Error> {
+        Ok(MaterialAssignment {
+            every_object: Some(Sourced {
+                material: principled.to_material()?,
+                source: source.into(),
+                recipe: Some(ColourRecipe::Principled(principled)),
+            }),
+            ..MaterialAssignment::default()
+        })
     }
 
     /// The material of `object` of a scene read from `scene_source`.
@@ -91,6 +154,7 @@ impl MaterialAssignment {
             return Ok(Sourced {
                 material: material.clone(),
                 source: format!("sidecar {}", sidecar.path.display()),
+                recipe: None,
             });
         }
         if let Some(every) = &self.every_object {
@@ -106,6 +170,7 @@ impl MaterialAssignment {
             return Ok(Sourced {
                 material: self.fallback.clone(),
                 source: format!("default ({why})"),
+                recipe: None,
             });
         };
         let (appearance, from) = hint.appearance(channel_mean_free_paths(&self.fallback));
@@ -124,7 +189,11 @@ impl MaterialAssignment {
                 self.fallback.name
             ),
         };
-        Ok(Sourced { material, source })
+        Ok(Sourced {
+            material,
+            source,
+            recipe: Some(ColourRecipe::Appearance(appearance)),
+        })
     }
 }
 

@@ -57,6 +57,10 @@ pub struct Layout {
     pub source_vertex: Vec<u32>,
     /// The texels.
     pub surfels: TexelSurfels,
+    /// The base colour per surfel relative to the nominal colour the
+    /// profile is built for, C/m (crate::colour); empty: the same colour
+    /// everywhere. Set by the plan.
+    pub relative_colour: Vec<[f32; 3]>,
 }
 
 /// The layout's verdict on an object's own UVs, and what it did.
@@ -133,6 +137,7 @@ impl Layout {
             unwrapped: unwrap,
             source_vertex,
             surfels,
+            relative_colour: Vec::new(),
         };
         let decision = UvDecision {
             verdict,
@@ -144,7 +149,7 @@ impl Layout {
     }
 
     /// The centre of surfel `s`'s texel in UV space.
-    fn texel_uv(&self, s: usize) -> Vec2 {
+    pub(crate) fn texel_uv(&self, s: usize) -> Vec2 {
         let n = self.surfels.resolution;
         let t = self.surfels.texel[s];
         Vec2::new(
@@ -160,7 +165,8 @@ pub struct Prepared {
     /// Transmitted irradiance per surfel, W/m² (before the colour split);
     /// empty when the bake needs no light.
     pub irradiance: Vec<[f32; 3]>,
-    /// The base colour per surfel (ones without a map).
+    /// The base colour per surfel relative to the nominal colour the
+    /// profile is built for (ones without a map).
     pub colour: Vec<[f32; 3]>,
     colour_split: f32,
     dilation: OnceLock<Vec<(u32, u32)>>,
@@ -191,9 +197,10 @@ pub fn prepare(
 ) -> Result<Prepared, Error> {
     let start = Instant::now();
     let count = layout.surfels.len();
-    let colour: Vec<[f32; 3]> = match &request.base_colour {
-        Some(map) => (0..count).map(|s| map.sample(layout.texel_uv(s))).collect(),
-        None => vec![[1.0; 3]; count],
+    let colour: Vec<[f32; 3]> = if layout.relative_colour.len() == count {
+        layout.relative_colour.clone()
+    } else {
+        vec![[1.0; 3]; count]
     };
     let irradiance = if !lit {
         Vec::new()

@@ -3,8 +3,10 @@
 //! layouts and profiles the bake runs, so `sssbake plan` prints exactly
 //! the decisions `sssbake bake` follows.
 
+use crate::colour::{ColourMap, ColourPlan, area_mean, relative_to, texture_per_texel};
 use crate::error::{Error, InputError};
 use crate::maps::Output;
+use crate::materials::Sourced;
 use crate::pipeline::{Layout, Lighting};
 use crate::request::BakeRequest;
 use crate::scattering::Scattering;
@@ -85,6 +87,9 @@ pub struct ObjectPlan {
     pub texel_area_mm2: f64,
     /// The material and its profile.
     pub material: MaterialPlan,
+    /// Where the base colour came from, the nominal colour the profile is
+    /// built for and the split (README, "Colour maps").
+    pub colour: ColourPlan,
     /// Lighting: the irradiance entering every texel.
     pub lighting: Stage,
     /// Scattering: the exitance by the integrator.
@@ -213,17 +218,26 @@ fn plan_object(
     let object = &scene.objects[index];
     let name = object.mesh.name.clone();
     let sourced = request.materials.resolve(object, &scene.source)?;
-    let source = sourced.source;
+    let source = sourced.source.clone();
+    let start = Instant::now();
+    let (mut layout, uvs) = Layout::new(scene, index, request)?;
+    let layout_seconds = start.elapsed().as_secs_f64();
+    let (colour, ColourMap { relative, nominal }) =
+        plan_colour(scene, index, &layout, request, &sourced)?;
+    layout.relative_colour = relative;
+    let profile_material = match (&sourced.recipe, nominal) {
+        (Some(recipe), Some(m)) if m != recipe.colour() => recipe
+            .with_colour(m)
+            .map_err(|e| e.for_object(name.clone()).in_file(scene.source.clone()))?,
+        _ => sourced.material,
+    };
     let scattering = Scattering::new(
-        sourced.material,
+        profile_material,
         request.model,
         request.integrators.texture.gaussians,
         request.d_max_epsilon,
     )
     .map_err(|e| e.for_object(name.clone()))?;
-    let start = Instant::now();
-    let (layout, uvs) = Layout::new(scene, index, request)?;
-    let layout_seconds = start.elapsed().as_secs_f64();
     let texels = layout.surfels.len();
     let texel_area_mm2 = layout.surfels.total_area();
     let material = MaterialPlan {
@@ -289,6 +303,7 @@ fn plan_object(
         texels,
         texel_area_mm2,
         material,
+        colour,
         lighting,
         scattering: scattering_stage,
         integrator,
@@ -296,6 +311,101 @@ fn plan_object(
         layout: Arc::new(layout),
         scattering_profile: Arc::new(scattering),
     })
+}
+
+/// The object's colour: its plan, and its map relative to the nominal
+/// colour the profile is to be built for (crate::colour).
+fn plan_colour(
+    scene: &Scene,
+    index: usize,
+    layout: &Layout,
+    request: &BakeRequest,
+    sourced: &Sourced,
+) -> Result<(ColourPlan, ColourMap), Error> {
+    let object = &scene.objects[index];
+    let stated = sourced.recipe.as_ref().map(|r| r.colour());
+    let texture = object.colour_texture.as_ref();
+    let mut plan = ColourPlan {
+        source: if stated.is_some() { "material" } else { "none" }.to_string(),
+        file: None,
+        input: None,
+        uv_set: None,
+        colour_space: None,
+        nominal: stated,
+        split: request.colour_split,
+        note: None,
+    };
+    let map = if let Some(image) = &request.base_colour {
+        plan.source = "image".into();
+        plan.note = Some(match texture {
+            Some(t) => format!(
+                "a base-colour image in the bake's layout replaces the texture {} on {}",
+                t.file, t.input
+            ),
+            None => "a base-colour image in the bake's layout".to_string(),
+        });
+        (0..layout.surfels.len())
+            .map(|s| image.sample(layout.texel_uv(s)))
+            .collect()
+    } else if let Some(texture) = texture {
+        if stated.is_none() {
+            plan.note = Some(format!(
+                "the material ({}) is given by coefficients, not by a colour; the texture {} on \
+                 {} is not used",
+                sourced.source, texture.file, texture.input
+            ));
+            return Ok((
+                plan,
+                ColourMap {
+                    relative: Vec::new(),
+                    nominal: None,
+                },
+            ));
+        }
+        plan.source = "texture".into();
+        plan.file = Some(texture.file.clone());
+        plan.input = Some(texture.input.clone());
+        plan.uv_set = Some(texture.uv_set_name.clone());
+        plan.colour_space = Some(texture.colour_space.clone());
+        texture_per_texel(layout, object, texture).map_err(|message| {
+            Error::Input(InputError {
+                file: Some(scene.source.clone()),
+                object: Some(object.mesh.name.clone()),
+                field: Some(format!(
+                    "material `{}`: {} texture {}",
+                    texture.material, texture.input, texture.file
+                )),
+                message,
+            })
+        })?
+    } else {
+        return Ok((
+            plan,
+            ColourMap {
+                relative: Vec::new(),
+                nominal: stated,
+            },
+        ));
+    };
+    if stated.is_none() {
+        // A material given by coefficients: the map multiplies as it is.
+        return Ok((
+            plan,
+            ColourMap {
+                relative: map,
+                nominal: None,
+            },
+        ));
+    }
+    let nominal = area_mean(layout, &map);
+    plan.nominal = Some(nominal);
+    Ok((
+        plan,
+        ColourMap {
+            relative: relative_to(&map, nominal),
+            nominal: Some(nominal),
+        },
+    ))
 }
 
 /// `method` itself, or for `auto` the method that suits the texels and
@@ -458,6 +568,23 @@ impl ObjectPlan {
             m.d_max_mm,
             if m.transmits { ", transmits" } else { "" }
         )?;
+        let c = &self.colour;
+        let mut colour = c.source.clone();
+        if let Some(file) = &c.file {
+            colour += &format!(
+                " {file} on {} through {} ({})",
+                c.input.as_deref().unwrap_or("?"),
+                c.uv_set.as_deref().unwrap_or("?"),
+                c.colour_space.as_deref().unwrap_or("?")
+            );
+        }
+        if let Some(m) = c.nominal {
+            colour += &format!(", nominal ({:.4}, {:.4}, {:.4})", m[0], m[1], m[2]);
+        }
+        writeln!(f, "  colour: {colour}, split α {}", c.split)?;
+        if let Some(note) = &c.note {
+            writeln!(f, "  note: {note}")?;
+        }
         let stage = |s: &Stage| if s.run { "yes" } else { "no" };
         writeln!(
             f,

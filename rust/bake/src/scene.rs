@@ -34,6 +34,9 @@ pub struct SceneObject {
     pub node: Option<usize>,
     /// ... or the USD mesh prim's path.
     pub prim: Option<String>,
+    /// The texture its material's colour reads, when one drives it
+    /// (README, "Colour maps").
+    pub colour_texture: Option<crate::colour::ColourTexture>,
     /// From the file's coordinates in the object's own frame (the glTF
     /// node's) to the scene's, in mm; identity where positions are read in
     /// world space already.
@@ -47,8 +50,6 @@ pub struct MaterialHint {
     pub name: String,
     /// Base colour factor, linear RGBA.
     pub base_color: [f32; 4],
-    /// The base colour texture's image URI or name, if any.
-    pub base_color_texture: Option<String>,
     /// Index of refraction, if the asset gives one.
     pub ior: Option<f32>,
     /// Volume: attenuation distance (mm) and colour, when the asset has one.

@@ -202,5 +202,6 @@ fn sourced(material: Material, flag: &str) -> sssbake::materials::Sourced {
     sssbake::materials::Sourced {
         material,
         source: flag.to_string(),
+        recipe: None,
     }
 }

@@ -133,7 +133,10 @@ pub(crate) unsafe fn assignment_from_host(
                     }
                 },
             };
-            everywhere(principled.to_material()?, "Principled BSDF")
+            Ok(MaterialAssignment::principled(
+                principled,
+                "Principled BSDF",
+            )?)
         }
         SSSBAKE_MATERIAL_SCENE => Ok(MaterialAssignment::default()),
         SSSBAKE_MATERIAL_SIDECAR => {

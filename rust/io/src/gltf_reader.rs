@@ -3,13 +3,17 @@
 //! (base colour, KHR_materials_volume, KHR_materials_diffuse_transmission,
 //! KHR_materials_ior) and KHR_lights_punctual lights. glTF is in metres.
 
+use crate::colour_texture::{self, ColourSpace};
 use crate::{InputError, ReadOptions};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use gltf::mesh::Mode;
+use gltf::texture::{MagFilter, WrappingMode};
+use sssbake::colour::{ColourTexture, UvTransform, Wrap};
 use sssbake::scene::{Subsurface, Volume, spot_cone};
 use sssbake::{ConeFalloff, Light, LightKind, LightRow, MaterialHint, Mesh, Scene, SceneObject};
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::Arc;
 
 /// Millimetres per glTF unit (metres).
 const MILLIMETRES_PER_METRE: f64 = 1000.0;
@@ -71,9 +75,20 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
             } else {
                 format!("{base_name}.{}", *seen - 1)
             };
-            if let Some(object) =
-                read_mesh(&mesh, &name, world, scale, options, &data, &mut scene.notes)
-                    .map_err(error)?
+            let context = Context {
+                folder: base,
+                data: &data,
+            };
+            if let Some(object) = read_mesh(
+                &mesh,
+                &name,
+                world,
+                scale,
+                options,
+                &context,
+                &mut scene.notes,
+            )
+            .map_err(error)?
             {
                 scene.objects.push(SceneObject {
                     node: Some(node.index()),
@@ -133,21 +148,30 @@ fn check_accessors(document: &gltf::Document, data: &[&[u8]]) -> Result<(), Stri
     Ok(())
 }
 
+/// Where a glTF file's images are found: the folder it names relative
+/// paths from, and its buffers.
+struct Context<'a> {
+    folder: &'a Path,
+    data: &'a [&'a [u8]],
+}
+
 fn read_mesh(
     mesh: &gltf::Mesh,
     name: &str,
     world: Mat4,
     scale: f64,
     options: &ReadOptions,
-    data: &[&[u8]],
+    context: &Context,
     notes: &mut Vec<String>,
 ) -> Result<Option<SceneObject>, String> {
+    let data = context.data;
     let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
     let mirrored = Mat3::from_mat4(world).determinant() < 0.0;
     let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
     let mut uv_sets: Vec<Vec<Vec2>> = Vec::new();
     let mut all_have_normals = true;
     let mut material = None;
+    let mut colour_texture = None;
     for primitive in mesh.primitives() {
         let reader = primitive.reader(|b| data.get(b.index()).copied());
         let Some(points) = reader.read_positions() else {
@@ -228,7 +252,11 @@ fn read_mesh(
             if mirrored { [t[0], t[2], t[1]] } else { t }
         }));
         if material.is_none() && primitive.material().index().is_some() {
-            material = Some(read_material(&primitive.material(), scale));
+            let gltf_material = primitive.material();
+            let hint = read_material(&gltf_material, scale);
+            colour_texture = base_colour_texture(&gltf_material, &hint, context);
+            notes.extend(radius_texture_notes(&gltf_material));
+            material = Some(hint);
         }
     }
     if triangles.is_empty() {
@@ -260,6 +288,7 @@ fn read_mesh(
         mesh,
         uv_sets,
         material,
+        colour_texture,
         node: None,
         prim: None,
         local_to_world: Mat4::IDENTITY,
@@ -268,15 +297,6 @@ fn read_mesh(
 
 fn read_material(material: &gltf::Material, scale: f64) -> MaterialHint {
     let pbr = material.pbr_metallic_roughness();
-    let texture = pbr
-        .base_color_texture()
-        .map(|info| match info.texture().source().source() {
-            gltf::image::Source::Uri { uri, .. } => uri.to_string(),
-            gltf::image::Source::View { .. } => info.texture().source().name().map_or_else(
-                || format!("image {}", info.texture().source().index()),
-                String::from,
-            ),
-        });
     let volume = material.volume().map(|v| Volume {
         attenuation_distance_mm: (v.attenuation_distance() as f64 * scale) as f32,
         attenuation_color: v.attenuation_color(),
@@ -305,12 +325,158 @@ fn read_material(material: &gltf::Material, scale: f64) -> MaterialHint {
     MaterialHint {
         name: material.name().unwrap_or("unnamed").to_string(),
         base_color,
-        base_color_texture: texture,
         ior: material.ior(),
         volume,
         diffuse_transmission,
         subsurface,
     }
+}
+
+/// The material's `baseColorTexture`, read: its image decoded from sRGB,
+/// its texture coordinates (`texCoord`, or `KHR_texture_transform`'s),
+/// transform, sampler, and the colour it multiplies (the colour the
+/// profile is built for: the base colour factor, or
+/// `KHR_materials_volume_scatter`'s `multiscatterColor`).
+fn base_colour_texture(
+    material: &gltf::Material,
+    hint: &MaterialHint,
+    context: &Context,
+) -> Option<ColourTexture> {
+    let info = material.pbr_metallic_roughness().base_color_texture()?;
+    let texture = info.texture();
+    let (file, image) = image_of(&texture.source(), context);
+    let transform = info.texture_transform();
+    let uv_set = transform
+        .as_ref()
+        .and_then(|t| t.tex_coord())
+        .unwrap_or(info.tex_coord()) as usize;
+    let sampler = texture.sampler();
+    let wrap = |mode: WrappingMode| match mode {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::MirroredRepeat => Wrap::Mirror,
+        WrappingMode::ClampToEdge => Wrap::Clamp,
+    };
+    let factor = hint
+        .subsurface
+        .as_ref()
+        .map_or([0, 1, 2].map(|k| hint.base_color[k]), |s| {
+            s.colour.map(|c| c as f32)
+        });
+    let image = image.and_then(|bytes| colour_texture::decode(&bytes, ColourSpace::Srgb));
+    Some(ColourTexture {
+        material: hint.name.clone(),
+        input: "baseColorTexture".into(),
+        file,
+        image: image.map(|(image, _)| Arc::new(image)),
+        colour_space: "sRGB".into(),
+        uv_set,
+        uv_set_name: format!("TEXCOORD_{uv_set}"),
+        transform: transform.map(|t| UvTransform::Gltf {
+            offset: Vec2::from(t.offset()),
+            rotation: t.rotation(),
+            scale: Vec2::from(t.scale()),
+        }),
+        wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+        nearest: sampler.mag_filter() == Some(MagFilter::Nearest),
+        scale: factor,
+        bias: [0.0; 3],
+    })
+}
+
+/// An image's name for reports (its URI or name) and its bytes, or why
+/// they cannot be had.
+fn image_of(image: &gltf::Image, context: &Context) -> (String, Result<Vec<u8>, String>) {
+    match image.source() {
+        gltf::image::Source::Uri { uri, .. } => {
+            if let Some(data) = uri.strip_prefix("data:") {
+                let name = image
+                    .name()
+                    .map_or_else(|| format!("image {}", image.index()), String::from);
+                let bytes = data
+                    .split_once(";base64,")
+                    .ok_or_else(|| "a data URI that is not base64".to_string())
+                    .and_then(|(_, encoded)| base64_decode(encoded));
+                return (name, bytes);
+            }
+            let decoded = urlencoding::decode(uri).map_or_else(|_| uri.to_string(), String::from);
+            let path = context.folder.join(&decoded);
+            let bytes =
+                std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()));
+            (path.display().to_string(), bytes)
+        }
+        gltf::image::Source::View { view, .. } => {
+            let name = image
+                .name()
+                .map_or_else(|| format!("image {}", image.index()), String::from);
+            let bytes = context
+                .data
+                .get(view.buffer().index())
+                .and_then(|b| b.get(view.offset()..view.offset() + view.length()))
+                .map(<[u8]>::to_vec)
+                .ok_or_else(|| format!("buffer view {} lies outside its buffer", view.index()));
+            (name, bytes)
+        }
+    }
+}
+
+/// Standard base64 (RFC 4648), as data URIs carry it.
+fn base64_decode(text: &str) -> Result<Vec<u8>, String> {
+    let mut out = Vec::with_capacity(text.len() * 3 / 4);
+    let (mut bits, mut count) = (0u32, 0);
+    for c in text
+        .bytes()
+        .filter(|c| !c.is_ascii_whitespace() && *c != b'=')
+    {
+        let value = match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' | b'-' => 62,
+            b'/' | b'_' => 63,
+            _ => return Err("a data URI with a character that is not base64".into()),
+        };
+        bits = (bits << 6) | u32::from(value);
+        count += 6;
+        if count >= 8 {
+            count -= 8;
+            out.push((bits >> count) as u8);
+        }
+    }
+    Ok(out)
+}
+
+/// Notes on textures that would vary the scattering distance or colour
+/// (`KHR_materials_volume`'s `thicknessTexture`, any texture of
+/// `KHR_materials_volume_scatter`): read as their factors, the textures not
+/// applied.
+fn radius_texture_notes(material: &gltf::Material) -> Vec<String> {
+    let name = material.name().unwrap_or("unnamed");
+    let note = |what: String| {
+        format!(
+            "material `{name}`: {what} varies the scattering; it is read as its factor, \
+             the texture is not applied"
+        )
+    };
+    let mut notes = Vec::new();
+    if let Some(texture) = material.volume().and_then(|v| v.thickness_texture()) {
+        notes.push(note(format!(
+            "KHR_materials_volume thicknessTexture (texture {})",
+            texture.texture().index()
+        )));
+    }
+    if let Some(scatter) = material
+        .extension_value("KHR_materials_volume_scatter")
+        .and_then(|v| v.as_object())
+    {
+        for (key, texture) in scatter.iter().filter(|(k, _)| k.ends_with("Texture")) {
+            let index = texture.get("index").and_then(|i| i.as_u64());
+            notes.push(note(format!(
+                "KHR_materials_volume_scatter {key} (texture {})",
+                index.map_or_else(|| "?".to_string(), |i| i.to_string())
+            )));
+        }
+    }
+    notes
 }
 
 /// A volume's extinction σt = −ln(attenuationColor) / attenuationDistance

@@ -3,6 +3,7 @@
 
 pub mod assets;
 pub mod atomic_write;
+pub mod colour_texture;
 pub mod folder;
 pub mod gltf_reader;
 pub mod gltf_writer;

@@ -34,6 +34,77 @@ pub(crate) struct ShaderJson {
     /// The base names of the inputs a connection (a texture) drives.
     #[serde(default)]
     connected: Vec<String>,
+    /// For connected inputs, what drives them: a UsdUVTexture read, or
+    /// another shader named by its id.
+    #[serde(default)]
+    textures: HashMap<String, TextureJson>,
+}
+
+/// The colour input a texture drives, and that texture.
+pub(crate) type ColourInput = (String, TextureJson);
+
+/// What drives a connected input, as `usd/read_stage.py` reports it.
+#[derive(Clone, Debug, Deserialize)]
+pub(crate) struct TextureJson {
+    /// The source shader's id (`UsdUVTexture` for a texture sssbake reads).
+    #[serde(default)]
+    pub(crate) shader: String,
+    /// The output connected (`rgb`, `r`, …).
+    #[serde(default)]
+    pub(crate) output: String,
+    /// `inputs:file`, resolved where the resolver could.
+    #[serde(default)]
+    pub(crate) file: String,
+    /// `inputs:sourceColorSpace` (`auto`, `sRGB`, `raw`).
+    #[serde(default)]
+    pub(crate) source_colour_space: String,
+    /// `inputs:wrapS`.
+    #[serde(default)]
+    pub(crate) wrap_s: String,
+    /// `inputs:wrapT`.
+    #[serde(default)]
+    pub(crate) wrap_t: String,
+    /// `inputs:scale`, RGB.
+    pub(crate) scale: Option<[f32; 3]>,
+    /// `inputs:bias`, RGB.
+    pub(crate) bias: Option<[f32; 3]>,
+    /// A UsdTransform2d between the primvar reader and the texture.
+    pub(crate) transform: Option<TransformJson>,
+    /// The primvar the texture's st reads.
+    pub(crate) primvar: Option<String>,
+    /// That primvar per face corner, when it is not the one the mesh's
+    /// UVs came from.
+    pub(crate) uvs: Option<Vec<[f32; 2]>>,
+    /// The primvar is not on the mesh.
+    #[serde(default)]
+    pub(crate) missing: bool,
+}
+
+/// A UsdTransform2d's inputs.
+#[derive(Clone, Debug, Deserialize)]
+pub(crate) struct TransformJson {
+    /// Degrees, counter-clockwise.
+    pub(crate) rotation: f32,
+    /// Scale along s and t.
+    pub(crate) scale: [f32; 2],
+    /// Translation.
+    pub(crate) translation: [f32; 2],
+}
+
+impl TextureJson {
+    /// True for a UsdUVTexture whose colour output drives the input.
+    fn is_colour_texture(&self) -> bool {
+        self.shader == "UsdUVTexture" && matches!(self.output.as_str(), "rgb" | "")
+    }
+
+    /// How the texture is named in notes.
+    fn describe(&self) -> String {
+        if self.shader == "UsdUVTexture" {
+            format!("the texture {}", self.file)
+        } else {
+            format!("a {} shader", self.shader)
+        }
+    }
 }
 
 /// One input's value: a number (the script writes scalars and booleans as
@@ -55,14 +126,19 @@ enum InputJson {
 /// or has a shader the bake does not translate.
 pub fn usd_material(value: &Value, mm_per_unit: f64) -> Option<(MaterialHint, Vec<String>)> {
     let shader = ShaderJson::deserialize(value).ok()?;
-    material_hint(&shader, mm_per_unit)
+    material_hint(&shader, mm_per_unit).map(|(hint, notes, _)| (hint, notes))
 }
 
 /// The hint for one bound material, as [`usd_material`] describes.
+///
+/// Also returns the texture that drives the colour the profile is built for
+/// (`subsurface_color` of an OpenPBR with subsurface, else `base_color`;
+/// UsdPreviewSurface's `diffuseColor`), with that input's name, when a
+/// UsdUVTexture's colour drives it.
 pub(crate) fn material_hint(
     material: &ShaderJson,
     mm_per_unit: f64,
-) -> Option<(MaterialHint, Vec<String>)> {
+) -> Option<(MaterialHint, Vec<String>, Option<ColourInput>)> {
     let name = material.name.clone();
     let number = |key: &str, default: f64| match material.inputs.get(key) {
         Some(InputJson::Number(x)) => *x,
@@ -93,6 +169,16 @@ pub(crate) fn material_hint(
     } else {
         return None;
     };
+    let colour_input = match (shader, &subsurface) {
+        (OPEN_PBR, Some(_)) => "subsurface_color",
+        (OPEN_PBR, None) => "base_color",
+        _ => "diffuseColor",
+    };
+    let colour_texture = material
+        .textures
+        .get(colour_input)
+        .filter(|t| t.is_colour_texture())
+        .map(|t| (colour_input.to_string(), t.clone()));
     let notes = material
         .connected
         .iter()
@@ -100,7 +186,23 @@ pub(crate) fn material_hint(
             ["base_color", "diffuseColor", "ior", "specular_ior"].contains(&n.as_str())
                 || n.starts_with("subsurface")
         })
-        .map(|n| format!("material `{name}`: `{n}` is driven by a texture; its default is used"))
+        .filter(|n| !(colour_texture.is_some() && n.as_str() == colour_input))
+        .map(|n| {
+            let by = material
+                .textures
+                .get(n)
+                .map_or_else(|| "a texture".to_string(), TextureJson::describe);
+            let what = if n.as_str() == colour_input {
+                "sssbake reads only a UsdUVTexture's rgb there"
+            } else if n.starts_with("subsurface_radius") {
+                "the texture is reported, not yet applied"
+            } else if ["base_color", "diffuseColor"].contains(&n.as_str()) {
+                "it is not the colour the subsurface scatters"
+            } else {
+                "the texture is not applied"
+            };
+            format!("material `{name}`: `{n}` is driven by {by}; its default is used ({what})")
+        })
         .collect();
     let hint = MaterialHint {
         name,
@@ -109,5 +211,5 @@ pub(crate) fn material_hint(
         subsurface,
         ..Default::default()
     };
-    Some((hint, notes))
+    Some((hint, notes, colour_texture))
 }

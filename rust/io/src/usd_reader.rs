@@ -4,13 +4,15 @@
 //! `python3`), and hands meshes and lights over as JSON. Units come from
 //! the stage's metersPerUnit.
 
+use crate::colour_texture::{self, ColourSpace};
 use crate::usd_lights::{Writer, usd_light};
-use crate::usd_material::{ShaderJson, material_hint};
+use crate::usd_material::{ShaderJson, TextureJson, material_hint};
 use crate::{InputError, ReadOptions};
 use glam::{Vec2, Vec3};
 use serde::Deserialize;
 use serde_json::Value;
 use serde_path_to_error::Segment;
+use sssbake::colour::{ColourTexture, UvTransform, Wrap};
 use sssbake::{Mesh, Scene, SceneObject};
 use std::path::Path;
 
@@ -287,17 +289,23 @@ fn scene_from_stage(
                 "object `{name}`: has no st primvar; it will be unwrapped"
             ));
         }
+        let mut uv_sets: Vec<Vec<Vec2>> = uvs.into_iter().collect();
+        let mut colour_texture = None;
         let material = mesh
             .material
             .as_ref()
             .and_then(|m| material_hint(m, scale))
-            .map(|(hint, notes)| {
+            .map(|(hint, notes, texture)| {
                 scene.notes.extend(notes);
+                colour_texture = texture.map(|(input, texture)| {
+                    usd_colour_texture(&hint.name, input, texture, file, &mut uv_sets)
+                });
                 hint
             });
         scene.objects.push(SceneObject {
             mesh: mesh_out,
-            uv_sets: uvs.into_iter().collect(),
+            uv_sets,
+            colour_texture,
             material,
             node: None,
             local_to_world: glam::Mat4::IDENTITY,
@@ -312,6 +320,71 @@ fn scene_from_stage(
     }
     scene.objects.sort_by(|a, b| a.mesh.name.cmp(&b.mesh.name));
     Ok(scene)
+}
+
+/// A UsdUVTexture driving `input` of material `material`, read: its file
+/// (relative to the stage's folder when the resolver left it relative),
+/// decoded by `sourceColorSpace` (`auto`: sRGB for integer images, linear
+/// for float ones), with its wrap, scale and bias, the UsdTransform2d before
+/// it, and its primvar (added to `uv_sets` when it is not the bake's).
+fn usd_colour_texture(
+    material: &str,
+    input: String,
+    texture: TextureJson,
+    stage_file: &str,
+    uv_sets: &mut Vec<Vec<Vec2>>,
+) -> ColourTexture {
+    let path = Path::new(stage_file)
+        .parent()
+        .unwrap_or(Path::new("."))
+        .join(&texture.file);
+    let space = match texture.source_colour_space.as_str() {
+        "sRGB" => ColourSpace::Srgb,
+        "raw" => ColourSpace::Raw,
+        _ => ColourSpace::Auto,
+    };
+    let decoded = if texture.file.is_empty() {
+        Err("the texture names no file".to_string())
+    } else {
+        colour_texture::read(&path, space)
+    };
+    let colour_space = match (&decoded, space) {
+        (Ok((_, used)), ColourSpace::Auto) => format!("auto: {used}"),
+        _ => space.name().to_string(),
+    };
+    let primvar = texture.primvar.clone().unwrap_or_else(|| "st".into());
+    let uv_set = match (texture.uvs, texture.missing) {
+        (_, true) => usize::MAX,
+        (Some(uvs), false) => {
+            uv_sets.push(uvs.into_iter().map(Vec2::from).collect());
+            uv_sets.len() - 1
+        }
+        (None, false) => 0,
+    };
+    let wrap = |mode: &str| match mode {
+        "black" => Wrap::Black,
+        "clamp" => Wrap::Clamp,
+        "mirror" => Wrap::Mirror,
+        _ => Wrap::Repeat,
+    };
+    ColourTexture {
+        material: material.to_string(),
+        input,
+        file: path.display().to_string(),
+        image: decoded.map(|(image, _)| image),
+        colour_space,
+        uv_set,
+        uv_set_name: format!("primvar `{primvar}`"),
+        transform: texture.transform.map(|t| UvTransform::Usd {
+            translation: Vec2::from(t.translation),
+            rotation_degrees: t.rotation,
+            scale: Vec2::from(t.scale),
+        }),
+        wrap: [wrap(&texture.wrap_s), wrap(&texture.wrap_t)],
+        nearest: false,
+        scale: texture.scale.unwrap_or([1.0; 3]),
+        bias: texture.bias.unwrap_or([0.0; 3]),
+    }
 }
 
 /// The primvars a mesh's texture coordinates are read from for the

@@ -37,27 +37,6 @@ pub fn more_exact(method: Method, texels: usize, neighbours: f64) -> Option<Meth
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn falling_back_stays_affordable() {
-        assert_eq!(
-            more_exact(Method::Texture, 1000, 100.0),
-            Some(Method::Brute)
-        );
-        assert_eq!(more_exact(Method::Octree, 1000, 100.0), Some(Method::Brute));
-        let huge = FALLBACK_PAIRS;
-        assert_eq!(
-            more_exact(Method::Texture, 1_000_000, huge),
-            Some(Method::Octree)
-        );
-        assert_eq!(more_exact(Method::Octree, 1_000_000, huge), None);
-        assert_eq!(more_exact(Method::Brute, 10, 1.0), None);
-    }
-}
-
 /// Chooses for `texels` surfels of mean area `texel_area_mm2` under a
 /// profile reaching `d_max_mm`, which carries light through thin parts
 /// when `transmits`.
@@ -94,4 +73,25 @@ pub fn choose(texels: usize, texel_area_mm2: f64, d_max_mm: f64, transmits: bool
         )
     };
     Choice { method, reason }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn falling_back_stays_affordable() {
+        assert_eq!(
+            more_exact(Method::Texture, 1000, 100.0),
+            Some(Method::Brute)
+        );
+        assert_eq!(more_exact(Method::Octree, 1000, 100.0), Some(Method::Brute));
+        let huge = FALLBACK_PAIRS;
+        assert_eq!(
+            more_exact(Method::Texture, 1_000_000, huge),
+            Some(Method::Octree)
+        );
+        assert_eq!(more_exact(Method::Octree, 1_000_000, huge), None);
+        assert_eq!(more_exact(Method::Brute, 10, 1.0), None);
+    }
 }
