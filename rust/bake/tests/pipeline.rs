@@ -298,6 +298,7 @@ fn the_plan_is_what_the_bake_runs() {
                 let map = o.as_object_mut().unwrap();
                 map.remove("seconds");
                 map.remove("sources");
+                map.remove("accuracy");
                 o
             })
             .collect()

@@ -144,7 +144,7 @@ fn assert_message(text: &str, expected: &str) {
 fn an_unknown_key_at_the_top_is_named() {
     assert_message(
         "sigma_z = 1\n[[layers]]\nsigma_a = 0.1\nsigma_s = 1\n",
-        "skin.toml: sigma_z: unknown field `sigma_z`, expected `name` or `layers`",
+        "skin.toml: sigma_z: unknown field `sigma_z`, expected one of `name`, `coat_ior`, `layers`",
     );
 }
 
@@ -177,5 +177,18 @@ fn a_wrong_type_is_named_with_what_was_expected() {
         "layers = [1]\n",
         "skin.toml: layers[0]: invalid type: integer `1`, \
          expected a table of sigma_a, sigma_s, g, ior and thickness_mm",
+    );
+}
+
+#[test]
+fn a_coat_is_read_and_checked() {
+    let layer = "[[layers]]\nsigma_a = 0.1\nsigma_s = 1.0\n";
+    let coated = load(&format!("coat_ior = 1.45\n{layer}")).unwrap();
+    assert_eq!(coated.coat_ior, Some(1.45));
+    assert_eq!(coated.entry_index(), 1.45);
+    assert_eq!(load(layer).unwrap().coat_ior, None);
+    assert_message(
+        &format!("coat_ior = -1.0\n{layer}"),
+        "skin.toml: coat_ior: must be a positive finite index, got -1",
     );
 }
