@@ -76,22 +76,7 @@ fn a_profile_narrower_than_a_texel_still_returns_the_total_reflectance() {
         vec![centred_square(120.0, "square")],
         vec![sun_from(Vec3::NEG_Z)],
     );
-    let skin = sssbake::materials::Principled {
-        name: "skin".into(),
-        base_colour: [0.8, 0.55, 0.45],
-        subsurface_weight: 1.0,
-        radius: [1.0, 0.35, 0.2],
-        scale_mm: 2.0,
-        method: sssbake::materials::SubsurfaceMethod::RandomWalk,
-        ior: 1.4,
-        specular_ior_level: 0.5,
-        subsurface_ior: 1.4,
-        anisotropy: 0.0,
-        albedo: sssbake::materials::AlbedoMapping::Cycles,
-    }
-    .to_material()
-    .unwrap();
-    let skin = scattering_for(&skin, Model::Dipole);
+    let skin = scattering_for(&head_skin(), Model::Dipole);
     let prepared = prepared(&scene, "square", 256);
     let inside = interior(&prepared, 60.0, skin.kernel.d_max);
     let total = skin.profile.total_reflectance();
@@ -114,6 +99,81 @@ fn a_profile_narrower_than_a_texel_still_returns_the_total_reflectance() {
         }
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+#[test]
+fn texels_of_two_sizes_and_shapes_return_the_total_reflectance() {
+    // Two 60 × 120 mm halves of one square, mapped onto 80% and 20% of the
+    // image: texels of 0.29 × 0.47 mm and 1.17 × 0.47 mm under the head's
+    // skin, whose red light travels about as far as the larger texel.
+    let at = |x: f32, y: f32| Vec3::new(x - 60.0, y - 60.0, 0.0);
+    let positions = vec![
+        at(0.0, 0.0),
+        at(60.0, 0.0),
+        at(60.0, 120.0),
+        at(0.0, 120.0),
+        at(120.0, 0.0),
+        at(120.0, 120.0),
+    ];
+    let uvs = [
+        (0.0, 0.0),
+        (0.8, 0.0),
+        (0.8, 1.0),
+        (0.0, 1.0),
+        (1.0, 0.0),
+        (1.0, 1.0),
+    ]
+    .map(|(u, v)| glam::Vec2::new(u, v))
+    .to_vec();
+    let triangles = vec![[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2]];
+    let (square, _) = sssbake::Mesh::new("square", positions, None, Some(uvs), triangles).unwrap();
+    let scene = scene(vec![square], vec![sun_from(Vec3::NEG_Z)]);
+    let skin = scattering_for(&head_skin(), Model::Dipole);
+    let prepared = prepared(&scene, "square", 256);
+    let total = skin.profile.total_reflectance();
+    let m = exitance(
+        &prepared,
+        &skin,
+        Method::Brute,
+        &IntegratorSettings::default(),
+    );
+    for (lo, hi) in [(-50.0f32, -10.0f32), (10.0, 50.0)] {
+        let inside: Vec<usize> = (0..prepared.surfels.position.len())
+            .filter(|&i| {
+                let q = prepared.surfels.position[i];
+                q.x > lo && q.x < hi && q.y.abs() < 40.0
+            })
+            .collect();
+        let ratio = mean_ratio(&prepared, &m, &inside);
+        for c in 0..3 {
+            assert!(
+                (ratio[c] / total[c] - 1.0).abs() < 0.01,
+                "x in ({lo}, {hi}) mm, channel {c}: M/E = {:.5}, R_total = {:.5}",
+                ratio[c],
+                total[c]
+            );
+        }
+    }
+}
+
+/// The bundled head's skin as Cycles reads it: mean free paths of 0.16,
+/// 0.06 and 0.03 mm.
+fn head_skin() -> Material {
+    sssbake::materials::Principled {
+        name: "skin".into(),
+        base_colour: [0.8, 0.55, 0.45],
+        subsurface_weight: 1.0,
+        radius: [1.0, 0.35, 0.2],
+        scale_mm: 2.0,
+        method: sssbake::materials::SubsurfaceMethod::RandomWalk,
+        ior: 1.4,
+        specular_ior_level: 0.5,
+        subsurface_ior: 1.4,
+        anisotropy: 0.0,
+        albedo: sssbake::materials::AlbedoMapping::Cycles,
+    }
+    .to_material()
+    .unwrap()
 }
 
 /// ∫ over the half-plane x' > 0 of R(|p − x'|) for a point at signed

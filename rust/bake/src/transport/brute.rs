@@ -22,10 +22,10 @@ pub(super) struct Sorted {
     pub normal: Vec<Vec3>,
     pub slot: Vec<Slot>,
     pub flux: Vec<[f32; 3]>,
-    /// Each source's own-disk weight: the reflectance within the disk of
-    /// its area, over that area (1/mm²), computed exactly rather than read
-    /// between the table's sizes, which for a profile sharper than a texel
-    /// would misstate all of its light.
+    /// Each source's weight for its own light: the reflectance within its
+    /// parallelogram (a disk of its area when it has none) over its area,
+    /// 1/mm², computed exactly rather than read between the table's sizes,
+    /// which for a profile sharper than a texel would misstate all of it.
     pub own: Vec<[f32; 3]>,
     /// Each source's place in this order, by its index in the sources.
     pub rank: Vec<u32>,
@@ -57,10 +57,15 @@ impl Sorted {
                 .collect(),
             own: order
                 .iter()
-                .map(|i| {
-                    let area = sources.area[pick(i)];
-                    let radius = (area.max(0.0) * std::f32::consts::FRAC_1_PI).sqrt();
-                    disks.kernel().disk_mean(0.0, radius)[0]
+                .map(|i| match sources.footprint.get(pick(i)) {
+                    Some(&[u, v]) if u.cross(v).length() > 0.0 => {
+                        disks.kernel().parallelogram_mean(u, v)
+                    }
+                    _ => {
+                        let area = sources.area[pick(i)];
+                        let radius = (area.max(0.0) * std::f32::consts::FRAC_1_PI).sqrt();
+                        disks.kernel().disk_mean(0.0, radius)[0]
+                    }
                 })
                 .collect(),
             rank: {

@@ -159,6 +159,38 @@ impl Kernel {
         [0, 1, 2].map(|c| (1.0 - t) * reflected[c] + t * transmitted[c])
     }
 
+    /// The mean of R over the parallelogram with edges `u`, `v` centred on
+    /// the point of exit (mm; 1/mm²): a texel's weight for its own light.
+    /// In polar form ∫R dA = (1/2π)∫ E(ρ(φ)) dφ, with E the enclosed
+    /// reflectance and ρ(φ) the distance to the edge in direction φ, so a
+    /// profile sharper than the texel and one as wide as it are both exact.
+    pub(super) fn parallelogram_mean(&self, u: glam::Vec3, v: glam::Vec3) -> [f32; 3] {
+        let area = u.cross(v).length();
+        if area.is_nan() || area <= 0.0 {
+            return self.reflectance(0.0);
+        }
+        // Directions in the plane of u and v, each written as α u + β v.
+        let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+        let e1 = u / uu.sqrt();
+        let e2 = (v - e1 * e1.dot(v)).normalize_or_zero();
+        let det = uu * vv - uv * uv;
+        const ANGLES: usize = 256;
+        let mut sum = [0.0f32; 3];
+        for k in 0..ANGLES {
+            let phi = (k as f32 + 0.5) * std::f32::consts::TAU / ANGLES as f32;
+            let d = e1 * phi.cos() + e2 * phi.sin();
+            let (du, dv) = (d.dot(u), d.dot(v));
+            let alpha = (vv * du - uv * dv) / det;
+            let beta = (uu * dv - uv * du) / det;
+            let rho = 0.5 / alpha.abs().max(beta.abs()).max(1e-30);
+            let enclosed = lookup(&self.reflectance, rho, self.d_max);
+            for c in 0..3 {
+                sum[c] += enclosed[c];
+            }
+        }
+        sum.map(|s| (s / ANGLES as f32 / area).max(0.0))
+    }
+
     /// The means of R and of T over a disk of radius `a` whose centre is
     /// `d` from the point of entry (the 2-D convolution of the profile with
     /// the disk, so a sample's weight keeps the profile's integral however
