@@ -174,7 +174,7 @@ impl Kernel {
         let e1 = u / uu.sqrt();
         let e2 = (v - e1 * e1.dot(v)).normalize_or_zero();
         let det = uu * vv - uv * uv;
-        const ANGLES: usize = 256;
+        const ANGLES: usize = 64;
         let mut sum = [0.0f32; 3];
         for k in 0..ANGLES {
             let phi = (k as f32 + 0.5) * std::f32::consts::TAU / ANGLES as f32;
