@@ -1,4 +1,4 @@
-"""Shared fixtures: the sssbake binary the tests run."""
+"""Shared fixtures: the sssbake binary the tests run, and the Blender add-on."""
 
 import os
 import pathlib
@@ -9,6 +9,26 @@ import zlib
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+
+LIBRARY = ROOT / "target" / "release" / "libsssbake_ffi.so"
+
+
+@pytest.fixture
+def addon(monkeypatch):
+    """The Blender add-on registered from blender_addon/ in a factory-fresh headless bpy,
+    loading the release library."""
+    import bpy
+
+    assert LIBRARY.exists(), "scripts/test.sh builds it (cargo build --release -p sssbake-ffi)"
+    monkeypatch.setenv("SSSBAKE_LIBRARY", str(LIBRARY))
+    monkeypatch.syspath_prepend(str(ROOT / "blender_addon"))
+    import sssbake
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sssbake.register()
+    yield sssbake
+    sssbake.unregister()
 
 
 @pytest.fixture(scope="session")

@@ -15,23 +15,6 @@ import OpenEXR
 import pytest
 from conftest import ROOT, run
 
-LIBRARY = ROOT / "target" / "release" / "libsssbake_ffi.so"
-
-
-@pytest.fixture
-def addon(monkeypatch):
-    import bpy
-
-    assert LIBRARY.exists(), "scripts/test.sh builds it (cargo build --release -p sssbake-ffi)"
-    monkeypatch.setenv("SSSBAKE_LIBRARY", str(LIBRARY))
-    monkeypatch.syspath_prepend(str(ROOT / "blender_addon"))
-    import sssbake
-
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sssbake.register()
-    yield sssbake
-    sssbake.unregister()
-
 
 def suzanne_scene():
     """Suzanne (subdivided once) in a Principled skin, a floor, a hard sun; Suzanne selected."""

@@ -10,7 +10,7 @@ in sssbake, scatters its light: the square reaches 3 mm past the rows measured, 
 the red light travels). Cycles' noise is averaged along the edge."""
 
 import numpy as np
-from test_blender_addon import addon, pixels  # noqa: F401  (the fixture and the reader)
+from test_blender_addon import pixels
 
 MM = 0.001
 RESOLUTION = 512
@@ -119,7 +119,7 @@ def reach(x, profile, level):
     return -np.interp(level * lit, profile[above - 1 : above + 1], x[above - 1 : above + 1])
 
 
-def test_a_principled_skin_bakes_as_cycles_renders_it(addon):  # noqa: F811
+def test_a_principled_skin_bakes_as_cycles_renders_it(addon):
     import bpy
 
     _, material = slab_scene()

@@ -5,24 +5,7 @@ usd-core's own blackbody colour."""
 
 import numpy as np
 import pytest
-from conftest import ROOT, bake_summary, exr
-
-LIBRARY = ROOT / "target" / "release" / "libsssbake_ffi.so"
-
-
-@pytest.fixture
-def addon(monkeypatch):
-    import bpy
-
-    assert LIBRARY.exists(), "scripts/test.sh builds it (cargo build --release -p sssbake-ffi)"
-    monkeypatch.setenv("SSSBAKE_LIBRARY", str(LIBRARY))
-    monkeypatch.syspath_prepend(str(ROOT / "blender_addon"))
-    import sssbake
-
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sssbake.register()
-    yield sssbake
-    sssbake.unregister()
+from conftest import bake_summary, exr
 
 
 def test_a_blender_light_carries_what_cycles_reads(addon):

@@ -25,7 +25,7 @@ use crate::Rgb;
 use crate::appearance::{MAX_ANISOTROPY, MIN_MEAN_FREE_PATH_MM};
 use crate::dipole::dipole_total_reflectance;
 use crate::fresnel::diffuse_reflectance_fit;
-use crate::inversion::{InversionError, InversionModel, invert_albedo};
+use crate::inversion::{InversionError, InversionModel, albedo_for, invert_albedo};
 use crate::material::{Layer, Material, Optics};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -197,17 +197,10 @@ pub fn skin_radius_factor(colour: f64, subsurface_ior: f64) -> f64 {
     };
     let fdr = diffuse_reflectance_fit(eta).min(1.0 - 1e-9);
     let a = (1.0 + fdr) / (1.0 - fdr);
-    let colour = colour.clamp(0.0, 1.0);
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if dipole_total_reflectance(mid, a) < colour {
-            lo = mid
-        } else {
-            hi = mid
-        }
-    }
-    (3.0 * (1.0 - 0.5 * (lo + hi))).max(0.0).sqrt()
+    let albedo = albedo_for(colour.clamp(0.0, 1.0), |albedo| {
+        dipole_total_reflectance(albedo, a)
+    });
+    (3.0 * (1.0 - albedo)).max(0.0).sqrt()
 }
 
 /// The single-scattering albedo a random walk in an index-matched

@@ -101,17 +101,7 @@ pub fn invert_albedo(
                 limit,
             });
         }
-        // The total rises monotonically with α': bisect to machine precision.
-        let (mut lo, mut hi) = (0.0f64, 1.0f64);
-        for _ in 0..64 {
-            let mid = 0.5 * (lo + hi);
-            if total(mid, c) < value {
-                lo = mid
-            } else {
-                hi = mid
-            }
-        }
-        albedo[c] = 0.5 * (lo + hi);
+        albedo[c] = albedo_for(value, |albedo| total(albedo, c));
     }
     Ok(Layer {
         sigma_a: rgb_map(|c| (1.0 - albedo[c]) / mfp_mm[c]),
@@ -123,4 +113,19 @@ pub fn invert_albedo(
             InversionModel::Slab { thickness_mm } => Some(thickness_mm),
         },
     })
+}
+
+/// The reduced albedo α′ in [0, 1] at which `total(α′)`, rising
+/// monotonically, reaches `target`: bisected to machine precision.
+pub fn albedo_for(target: f64, total: impl Fn(f64) -> f64) -> f64 {
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if total(mid) < target {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    0.5 * (lo + hi)
 }
