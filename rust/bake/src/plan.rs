@@ -146,8 +146,6 @@ pub struct IntegratorPlan {
     pub method: Method,
     /// Why.
     pub reason: String,
-    /// Turk points, for the octree.
-    pub points: Option<usize>,
 }
 
 /// Plans a bake of `scene` as `request` asks.
@@ -268,17 +266,9 @@ fn plan_object(
     };
     let (scattering_stage, integrator) = if request.scatters() {
         let choice = choose_integrator(request.method, texels, texel_area_mm2, &scattering);
-        let points = (choice.method == Method::Octree).then(|| {
-            request.integrators.octree.point_count(
-                layout.mesh.area(),
-                material.mean_free_path_mm,
-                texels,
-            )
-        });
         let plan = IntegratorPlan {
             method: choice.method,
             reason: choice.reason,
-            points,
         };
         (
             Stage::new(true, "the subsurface or diffuse map"),
@@ -593,10 +583,7 @@ impl ObjectPlan {
             self.lighting.reason
         )?;
         match &self.integrator {
-            Some(i) => {
-                let points = i.points.map_or(String::new(), |p| format!(", {p} points"));
-                writeln!(f, "  scattering: {}{points}: {}", i.method, i.reason)
-            }
+            Some(i) => writeln!(f, "  scattering: {}: {}", i.method, i.reason),
             None => writeln!(f, "  scattering: no, {}", self.scattering.reason),
         }
     }

@@ -74,14 +74,9 @@ fn ladder(base: &IntegratorSettings) -> Vec<(Method, String, IntegratorSettings)
         change(&mut settings);
         runs.push((method, setting, settings));
     };
-    for epsilon in [0.5f32, 0.2, 0.05, 0.01] {
+    for epsilon in [2.0f32, 1.0, 0.5, 0.2, 0.05] {
         with(Method::Octree, format!("ε {epsilon}"), &|s| {
             s.octree.epsilon = epsilon
-        });
-    }
-    for per_disk in [1.0, 16.0] {
-        with(Method::Octree, format!("{per_disk} pts/disk"), &|s| {
-            s.octree.points_per_disk = per_disk
         });
     }
     for gaussians in [1, 2, 3, 4, 6, 8] {

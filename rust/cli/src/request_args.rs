@@ -72,9 +72,6 @@ pub struct RequestArgs {
     /// Octree: the solid angle (sr) below which a node is taken whole.
     #[arg(long, default_value_t = INTEGRATORS.octree.epsilon)]
     pub octree_epsilon: f32,
-    /// Octree: Turk points per disk of one mean free path.
-    #[arg(long, default_value_t = INTEGRATORS.octree.points_per_disk)]
-    pub points_per_disk: f64,
     /// Texture: Gaussians in the fit (and in a `gaussians` model).
     #[arg(long, default_value_t = INTEGRATORS.texture.gaussians)]
     pub gaussians: usize,
@@ -110,8 +107,8 @@ pub struct RequestArgs {
     /// above it (0.01 is 1%).
     #[arg(long, default_value_t = DEFAULTS.tolerance)]
     pub tolerance: f64,
-    /// Random seed for sample points and Monte Carlo.
-    #[arg(long, default_value_t = INTEGRATORS.octree.seed)]
+    /// Seed of the importance integrator's Monte Carlo.
+    #[arg(long, default_value_t = INTEGRATORS.importance.seed)]
     pub seed: u64,
     /// Worker threads [default: every core].
     #[arg(long)]
@@ -157,7 +154,6 @@ impl RequestArgs {
         let scene = read_scene(&self.input, &options)?;
         let mut integrators = IntegratorSettings::default();
         integrators.octree.epsilon = self.octree_epsilon;
-        integrators.octree.points_per_disk = self.points_per_disk;
         integrators.texture.gaussians = self.gaussians;
         integrators.importance.samples = self.samples;
         integrators.seed(self.seed);

@@ -188,7 +188,7 @@ typedef struct SssbakeSettings {
    */
   uint32_t light_samples;
   /**
-   * Seed for sample points and Monte Carlo.
+   * Seed of the importance integrator's Monte Carlo.
    */
   uint64_t seed;
   /**

@@ -27,7 +27,7 @@ pub struct SssbakeSettings {
     pub margin: u32,
     /// Samples per soft light and for the world, per texel.
     pub light_samples: u32,
-    /// Seed for sample points and Monte Carlo.
+    /// Seed of the importance integrator's Monte Carlo.
     pub seed: u64,
     /// Octree: the solid angle below which a node is taken whole.
     pub octree_epsilon: f32,
@@ -70,7 +70,7 @@ pub unsafe extern "C" fn sssbake_settings_default(out: *mut SssbakeSettings) -> 
                 .unwrap_or(0) as u32,
             margin: request.margin,
             light_samples: request.light_samples,
-            seed: integrators.octree.seed,
+            seed: integrators.importance.seed,
             octree_epsilon: integrators.octree.epsilon,
             gaussians: integrators.texture.gaussians as u32,
             samples: integrators.importance.samples,

@@ -1,21 +1,19 @@
 //! The kernel's disk means tabulated for the sample sizes at hand, so the
 //! integrators' inner loops cost two table reads per pair.
 //!
-//! Each size has a row of means over distance: evenly spaced within NEAR
-//! disk radii, then √-spaced out to d_max (beyond a few radii the disk
-//! mean still exceeds the centre value by about a²∇²R/8, percents where R
-//! curves sharply, so the far field is averaged too). Sizes are spaced
-//! geometrically; a sample's place among them is found once per sample.
+//! Each size has a row of means over distance, at distances spaced evenly
+//! in √(d/d_max) and the same for every row, so one index serves both rows
+//! a sample sits between (the spacing is finest at the centre, where a
+//! small disk's mean turns; beyond a few radii the disk mean still exceeds
+//! the centre value by about a²∇²R/8, percents where R curves sharply, so
+//! the far field is averaged too). Sizes are spaced geometrically; a
+//! sample's place among them is found once per sample.
 
 use super::kernel::{Kernel, Separation};
 use std::f32::consts::FRAC_1_PI;
 
-const NEAR: f32 = 4.0;
-/// Distances tabulated evenly in [0, NEAR·a].
-const DISTANCES: usize = 128;
-/// Distances tabulated in [NEAR·a, d_max].
-const FAR: usize = 1024;
-const ROW: usize = DISTANCES + FAR;
+/// Distances tabulated in [0, d_max].
+const ROW: usize = 1152;
 /// Disk radii tabulated across a range of sample areas.
 const SIZES: usize = 24;
 
@@ -47,8 +45,10 @@ pub struct DiskKernel<'k> {
     log_step: f32,
     /// Each row's disk radius.
     radii: Vec<f32>,
-    /// [size][distance] → (R mean, T mean).
-    table: Vec<[[f32; 3]; 2]>,
+    /// [size][distance] → R mean.
+    reflected: Vec<[f32; 3]>,
+    /// [size][distance] → T mean; empty when the kernel transmits nothing.
+    transmitted: Vec<[f32; 3]>,
 }
 
 impl<'k> DiskKernel<'k> {
@@ -67,10 +67,15 @@ impl<'k> DiskKernel<'k> {
         let radii: Vec<f32> = (0..sizes)
             .map(|i| a0 * (log_step * i as f32).exp())
             .collect();
-        let mut table = Vec::with_capacity(sizes * ROW);
+        let mut reflected = Vec::with_capacity(sizes * ROW);
+        let mut transmitted = Vec::new();
         for &a in &radii {
             for j in 0..ROW {
-                table.push(kernel.disk_mean(distance(j, a, kernel.d_max), a));
+                let [r, t] = kernel.disk_mean(distance(j, kernel.d_max), a);
+                reflected.push(r);
+                if kernel.transmits() {
+                    transmitted.push(t);
+                }
             }
         }
         DiskKernel {
@@ -78,7 +83,8 @@ impl<'k> DiskKernel<'k> {
             a0,
             log_step,
             radii,
-            table,
+            reflected,
+            transmitted,
         }
     }
 
@@ -143,12 +149,19 @@ impl<'k> DiskKernel<'k> {
         if slot.row == u32::MAX {
             return self.untabulated(d, slot.radius)[which];
         }
-        let lower = self.read(slot.row as usize, d, which);
+        let table = if which == 0 {
+            &self.reflected
+        } else {
+            &self.transmitted
+        };
+        let (j, f) = index(d, self.kernel.d_max);
+        let at = slot.row as usize * ROW + j;
+        let lower = lerp(table[at], table[at + 1], f);
         if slot.fraction <= 0.0 {
             return lower;
         }
-        let upper = self.read(slot.row as usize + 1, d, which);
-        [0, 1, 2].map(|c| lower[c] + (upper[c] - lower[c]) * slot.fraction)
+        let upper = lerp(table[at + ROW], table[at + ROW + 1], f);
+        lerp(lower, upper, slot.fraction)
     }
 
     /// Sizes outside the table are octree nodes taken whole: their centre
@@ -164,43 +177,31 @@ impl<'k> DiskKernel<'k> {
             self.kernel.disk_mean(d, a)
         }
     }
-
-    /// R (`which` 0) or T (1) means of a row at distance `d`, interpolated.
-    #[inline]
-    fn read(&self, row: usize, d: f32, which: usize) -> [f32; 3] {
-        let a = self.radii[row];
-        let (j, f) = index(d, a, self.kernel.d_max);
-        let (p, q) = (
-            &self.table[row * ROW + j][which],
-            &self.table[row * ROW + j + 1][which],
-        );
-        [0, 1, 2].map(|c| p[c] + (q[c] - p[c]) * f)
-    }
 }
 
-/// The distance of entry `j` of a row for disk radius `a`.
-fn distance(j: usize, a: f32, d_max: f32) -> f32 {
-    let start = NEAR * a;
-    if j < DISTANCES {
-        start * j as f32 / (DISTANCES - 1) as f32
-    } else {
-        let x = (j - DISTANCES) as f32 / (FAR - 1) as f32;
-        start + (d_max - start).max(0.0) * x * x
-    }
+/// The distance of entry `j` of every row.
+fn distance(j: usize, d_max: f32) -> f32 {
+    let x = j as f32 / (ROW - 1) as f32;
+    d_max * x * x
 }
 
-/// The entry below distance `d` in a row for radius `a`, and the fraction
-/// towards the next.
-fn index(d: f32, a: f32, d_max: f32) -> (usize, f32) {
-    let start = NEAR * a;
-    if d < start {
-        let x = (d / start).clamp(0.0, 1.0) * (DISTANCES - 1) as f32;
-        let j = (x as usize).min(DISTANCES - 2);
-        (j, x - j as f32)
-    } else {
-        let span = (d_max - start).max(1e-30);
-        let x = ((d - start) / span).clamp(0.0, 1.0).sqrt() * (FAR - 1) as f32;
-        let j = (x as usize).min(FAR - 2);
-        (DISTANCES + j, x - j as f32)
+/// The entry below distance `d` in every row, and the fraction towards the
+/// next.
+#[inline]
+fn index(d: f32, d_max: f32) -> (usize, f32) {
+    if d_max.is_nan() || d_max <= 0.0 {
+        return (0, 0.0);
     }
+    let x = (d / d_max).clamp(0.0, 1.0).sqrt() * (ROW - 1) as f32;
+    let j = (x as usize).min(ROW - 2);
+    (j, x - j as f32)
+}
+
+#[inline]
+fn lerp(a: [f32; 3], b: [f32; 3], f: f32) -> [f32; 3] {
+    [
+        a[0] + (b[0] - a[0]) * f,
+        a[1] + (b[1] - a[1]) * f,
+        a[2] + (b[2] - a[2]) * f,
+    ]
 }

@@ -6,7 +6,7 @@
 //! | method | settings (default) |
 //! |---|---|
 //! | `brute` | none |
-//! | `octree` | `epsilon` (0.05 sr), `points_per_disk` (4), `seed` (1) |
+//! | `octree` | `epsilon` (0.5 sr) |
 //! | `texture` | `gaussians` (6) |
 //! | `importance` | `samples` (64), `seed` (1) |
 
@@ -70,7 +70,6 @@ impl IntegratorSettings {
 
     /// Sets the seed of every integrator that draws random numbers.
     pub fn seed(&mut self, seed: u64) {
-        self.octree.seed = seed;
         self.importance.seed = seed;
     }
 

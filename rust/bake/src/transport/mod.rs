@@ -10,6 +10,7 @@ pub mod importance;
 pub mod integrator;
 pub mod kernel;
 pub mod octree;
+mod source_table;
 pub mod sources;
 pub mod texture_space;
 pub mod verify;

@@ -1,29 +1,32 @@
-//! The hierarchical integrator of Jensen & Buhler 2002 (Mikkelsen §3.2):
-//! an octree over the sources, each node summarising its flux, area,
-//! area-weighted normal and irradiance-weighted centre; a target takes a
-//! node whole when the node's area seen from it subtends less than ε
-//! (A/d² < ε) and the target lies outside the node's box, else opens it.
-//! At ε = 0 every node is opened and the sum is exactly `brute`'s over the
-//! same sources.
+//! The hierarchical integrator of Jensen & Buhler 2002 (Mikkelsen §3.2),
+//! over the texels themselves: an octree whose nodes summarise their flux,
+//! area, area-weighted normal, irradiance-weighted centre and the spread of
+//! their light about it; a target takes a node whole when the node's area
+//! seen from it subtends less than ε (A/d² < ε) and the target lies outside
+//! the node's box, else opens it. A node taken whole weighs its flux by the
+//! profile's mean over the disk with its light's second moment, which is
+//! the node's own second-order term (a point at its centre would
+//! underestimate every convex profile). Leaves hold texels and weigh them
+//! exactly as the exact sum does, so at ε = 0 every node is opened and the
+//! sum is the exact sum's, and ε alone sets the error.
 
 use super::Method;
-use super::brute::area_range;
 use super::disk_kernel::{DiskKernel, Slot};
 use super::integrator::{Integrated, Integrator};
 use super::kernel::{Kernel, Separation};
-use super::sources::{Sources, Targets};
+use super::source_table::{SourceTable, texel_disks};
+use super::sources::{OwnSource, Sources, Targets};
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
 use crate::pipeline::Prepared;
 use crate::scattering::Scattering;
-use crate::surface::turk::point_count;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
 /// Sources per leaf.
 const LEAF: usize = 8;
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 struct Node {
     lo: Vec3,
     hi: Vec3,
@@ -32,52 +35,119 @@ struct Node {
     /// Area-weighted mean normal, normalised.
     normal: Vec3,
     area: f32,
+    /// The area of the disk whose second moment is that of the node's
+    /// light about its centre, mm².
+    spread: f32,
     slot: Slot,
     flux: [f32; 3],
     /// Children (first, count) in `nodes`, or sources (first, count) in
-    /// the sorted arrays for a leaf.
+    /// the table for a leaf.
     first: u32,
     count: u32,
     leaf: bool,
 }
 
-/// The tree over sources sorted into its leaf order.
+/// The tree over sources, with the sources in its leaf order.
 pub struct Octree {
     nodes: Vec<Node>,
-    position: Vec<Vec3>,
-    normal: Vec<Vec3>,
-    slot: Vec<Slot>,
-    flux: Vec<[f32; 3]>,
+    table: SourceTable,
 }
 
 impl Octree {
-    /// Builds the tree over `sources`, with each sample's and node's place
-    /// in `disks`.
-    pub fn new(sources: &Sources, disks: &DiskKernel) -> Self {
-        let mut order: Vec<u32> = (0..sources.len() as u32).collect();
+    /// The tree of `shape` over `sources` in leaf `order`: texels' weights
+    /// come from `texels`, nodes' from `nodes` (see [`node_areas`]).
+    fn new(
+        sources: &Sources,
+        shape: Shape,
+        order: &[u32],
+        texels: &DiskKernel,
+        nodes: &DiskKernel,
+    ) -> Self {
         let mut tree = Octree {
-            nodes: Vec::new(),
-            position: Vec::new(),
-            normal: Vec::new(),
-            slot: Vec::new(),
-            flux: Vec::new(),
+            nodes: shape.nodes,
+            table: SourceTable::new(sources, order, texels),
         };
-        if !order.is_empty() {
-            tree.nodes.push(placeholder());
-            tree.build(0, &mut order, sources, 0);
-            for &i in &order {
-                let i = i as usize;
-                tree.position.push(sources.position[i]);
-                tree.normal.push(sources.normal[i]);
-                tree.slot.push(disks.slot(sources.area[i]));
-                tree.flux
-                    .push(sources.irradiance[i].map(|e| e * sources.area[i]));
-            }
-            for node in &mut tree.nodes {
-                node.slot = disks.slot(node.area);
-            }
+        for node in &mut tree.nodes {
+            node.slot = nodes.slot(node.spread);
         }
         tree
+    }
+
+    /// Σ over sources of P·flux at `p` with normal `n`, taking nodes whole
+    /// below the solid-angle threshold `epsilon`; `own` is the source the
+    /// target is, if any.
+    fn gather(
+        &self,
+        texels: &DiskKernel,
+        nodes: &DiskKernel,
+        p: Vec3,
+        n: Vec3,
+        own: Option<usize>,
+        epsilon: f32,
+    ) -> [f64; 3] {
+        let kernel = texels.kernel();
+        let own = self.table.rank_of(own);
+        let mut sum = [0.0f64; 3];
+        if self.nodes.is_empty() {
+            return sum;
+        }
+        let reach2 = kernel.d_max * kernel.d_max;
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        stack.push(0);
+        while let Some(at) = stack.pop() {
+            let node = &self.nodes[at as usize];
+            // Skip nodes wholly beyond the reach.
+            let outside = (node.lo - p).max(p - node.hi).max(Vec3::ZERO);
+            if outside.length_squared() > reach2 {
+                continue;
+            }
+            if !node.leaf {
+                // The solid angle from the node's nearest point, not its
+                // centre: a long node beside the target is near, whatever
+                // its centre's distance.
+                let d2 = (node.centre - p).length_squared();
+                if node.area < epsilon * outside.length_squared() {
+                    let separation =
+                        Separation::new(node.centre, node.normal, p, n, d2, kernel.transmits());
+                    let w = nodes.weight(separation, node.slot);
+                    for c in 0..3 {
+                        sum[c] += (w[c] * node.flux[c]) as f64;
+                    }
+                } else {
+                    stack.extend(node.first..node.first + node.count);
+                }
+                continue;
+            }
+            for j in node.first as usize..(node.first + node.count) as usize {
+                let d2 = (self.table.position[j] - p).length_squared();
+                if d2 > reach2 {
+                    continue;
+                }
+                let m = self.table.contribution(texels, j, p, n, d2, own);
+                for c in 0..3 {
+                    sum[c] += m[c] as f64;
+                }
+            }
+        }
+        sum
+    }
+}
+
+/// The tree's nodes before their slots, built by splitting at box centres.
+struct Shape {
+    nodes: Vec<Node>,
+}
+
+impl Shape {
+    /// The nodes over `sources` and the sources' leaf order.
+    fn new(sources: &Sources) -> (Self, Vec<u32>) {
+        let mut order: Vec<u32> = (0..sources.len() as u32).collect();
+        let mut shape = Shape { nodes: Vec::new() };
+        if !order.is_empty() {
+            shape.nodes.push(Node::default());
+            shape.build(0, &mut order, sources, 0);
+        }
+        (shape, order)
     }
 
     /// Fills node `at` from the sources in `items` (a slice of the order
@@ -86,40 +156,49 @@ impl Octree {
         let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         let mut area = 0.0f64;
         let mut flux = [0.0f64; 3];
-        let mut weighted = glam::DVec3::ZERO;
-        let mut by_area = glam::DVec3::ZERO;
-        let mut light = 0.0f64;
+        // Light- and area-weighted sums of position, |position|² and each
+        // texel's own second moment A/2π (a disk's).
+        let (mut light, mut by_light, mut square_by_light) = (0.0f64, DVec3::ZERO, 0.0f64);
+        let (mut by_area, mut square_by_area) = (DVec3::ZERO, 0.0f64);
         let mut normal = Vec3::ZERO;
         for &i in items.iter() {
             let i = i as usize;
             let p = sources.position[i];
             lo = lo.min(p);
             hi = hi.max(p);
-            let a = sources.area[i] as f64;
+            let a = sources.area[i].max(0.0) as f64;
             let e = sources.irradiance[i];
             area += a;
             for c in 0..3 {
                 flux[c] += e[c] as f64 * a;
             }
-            let luminance = (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]).max(0.0) as f64 * a;
-            weighted += p.as_dvec3() * luminance;
-            light += luminance;
-            by_area += p.as_dvec3() * a;
+            let q = p.as_dvec3();
+            let own = a / std::f64::consts::TAU;
+            let l = (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]).max(0.0) as f64 * a;
+            light += l;
+            by_light += q * l;
+            square_by_light += (q.length_squared() + own) * l;
+            by_area += q * a;
+            square_by_area += (q.length_squared() + own) * a;
             normal += sources.normal[i] * a as f32;
         }
-        let centre = if light > 0.0 {
-            (weighted / light).as_vec3()
+        let (centre, second_moment) = if light > 0.0 {
+            let c = by_light / light;
+            (c, square_by_light / light - c.length_squared())
         } else if area > 0.0 {
-            (by_area / area).as_vec3()
+            let c = by_area / area;
+            (c, square_by_area / area - c.length_squared())
         } else {
-            0.5 * (lo + hi)
+            (0.5 * (lo + hi).as_dvec3(), 0.0)
         };
         self.nodes[at] = Node {
             lo,
             hi,
-            centre,
+            centre: centre.as_vec3(),
             normal: normal.normalize_or_zero(),
             area: area as f32,
+            // A disk of radius a has second moment a²/2 about its centre.
+            spread: (std::f64::consts::TAU * second_moment.max(0.0)) as f32,
             slot: Slot::default(),
             flux: flux.map(|f| f as f32),
             first: offset as u32,
@@ -151,79 +230,26 @@ impl Octree {
         self.nodes[at].count = children.len() as u32;
         self.nodes[at].leaf = false;
         for _ in &children {
-            self.nodes.push(placeholder());
+            self.nodes.push(Node::default());
         }
         for (k, (a, b)) in children.into_iter().enumerate() {
             self.build(first_child + k, &mut items[a..b], sources, offset + a);
         }
     }
-
-    /// Σ over sources of P·flux at `p` with normal `n`, taking nodes whole
-    /// below the solid-angle threshold `epsilon`.
-    pub fn gather(&self, disks: &DiskKernel, p: Vec3, n: Vec3, epsilon: f32) -> [f64; 3] {
-        let kernel = disks.kernel();
-        let mut sum = [0.0f64; 3];
-        if self.nodes.is_empty() {
-            return sum;
-        }
-        let reach = kernel.d_max;
-        let mut stack: Vec<u32> = Vec::with_capacity(64);
-        stack.push(0);
-        while let Some(at) = stack.pop() {
-            let node = &self.nodes[at as usize];
-            // Skip nodes wholly beyond the reach.
-            let outside = (node.lo - p).max(p - node.hi).max(Vec3::ZERO);
-            if outside.length_squared() > reach * reach {
-                continue;
-            }
-            let separation = |entry: Vec3, normal: Vec3, d2: f32| {
-                Separation::new(entry, normal, p, n, d2, kernel.transmits())
-            };
-            if !node.leaf {
-                let d2 = (node.centre - p).length_squared();
-                let inside = outside == Vec3::ZERO;
-                if !inside && node.area < epsilon * d2 {
-                    let w = disks.weight(separation(node.centre, node.normal, d2), node.slot);
-                    for c in 0..3 {
-                        sum[c] += (w[c] * node.flux[c]) as f64;
-                    }
-                } else {
-                    stack.extend(node.first..node.first + node.count);
-                }
-                continue;
-            }
-            for j in node.first as usize..(node.first + node.count) as usize {
-                let d2 = (self.position[j] - p).length_squared();
-                if d2 > reach * reach {
-                    continue;
-                }
-                let w = disks.weight(
-                    separation(self.position[j], self.normal[j], d2),
-                    self.slot[j],
-                );
-                let f = self.flux[j];
-                for c in 0..3 {
-                    sum[c] += (w[c] * f[c]) as f64;
-                }
-            }
-        }
-        sum
-    }
 }
 
-fn placeholder() -> Node {
-    Node {
-        lo: Vec3::ZERO,
-        hi: Vec3::ZERO,
-        centre: Vec3::ZERO,
-        normal: Vec3::ZERO,
-        area: 0.0,
-        slot: Slot::default(),
-        flux: [0.0; 3],
-        first: 0,
-        count: 0,
-        leaf: true,
-    }
+/// The range of spread areas (mm²) a node taken whole can have: from the
+/// smallest node's to the largest area ε·d_max² the criterion admits,
+/// with room for a node whose light is spread wider than its area.
+fn node_areas(shape: &Shape, epsilon: f32, d_max: f32) -> (f32, f32) {
+    let largest = (4.0 * epsilon * d_max * d_max).max(f32::MIN_POSITIVE);
+    let smallest = shape
+        .nodes
+        .iter()
+        .filter(|n| !n.leaf && n.spread > 0.0)
+        .map(|n| n.spread)
+        .fold(largest, f32::min);
+    (smallest, largest)
 }
 
 /// Radiant exitance (W/m²) at each target through the octree with
@@ -235,42 +261,38 @@ pub fn integrate(
     epsilon: f32,
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
-    let (lo, hi) = area_range(&sources.area);
-    let disks = DiskKernel::new(kernel, lo, hi);
-    let tree = Octree::new(sources, &disks);
+    let epsilon = epsilon.max(0.0);
+    let texels = texel_disks(kernel, sources);
+    let (shape, order) = Shape::new(sources);
+    let (small, large) = node_areas(&shape, epsilon, kernel.d_max);
+    let nodes = DiskKernel::new(kernel, small, large);
+    let tree = Octree::new(sources, shape, &order, &texels, &nodes);
     let mut out = vec![[0.0f32; 3]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {
         tree.gather(
-            &disks,
+            &texels,
+            &nodes,
             targets.position[i],
             targets.normal[i],
-            epsilon.max(0.0),
+            targets.own.of(i),
+            epsilon,
         )
         .map(|v| v as f32)
     })?;
     Ok(out)
 }
 
-/// The octree integrator over relaxed Turk points, each carrying the
-/// texels of its Voronoi cell.
+/// The octree integrator over the texels.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct OctreeIntegrator {
     /// Solid angle (sr) below which a node is taken whole; 0 is exact.
     pub epsilon: f32,
-    /// Turk points per disk of one mean free path.
-    pub points_per_disk: f64,
-    /// Seed of the point placement.
-    pub seed: u64,
 }
 
 impl Default for OctreeIntegrator {
     fn default() -> Self {
-        OctreeIntegrator {
-            epsilon: 0.05,
-            points_per_disk: 4.0,
-            seed: 1,
-        }
+        OctreeIntegrator { epsilon: 0.5 }
     }
 }
 
@@ -283,21 +305,7 @@ impl OctreeIntegrator {
                 format!("{} must be a non-negative solid angle", self.epsilon),
             ));
         }
-        if !(self.points_per_disk.is_finite() && self.points_per_disk > 0.0) {
-            return Err(Error::field(
-                "octree.points_per_disk",
-                format!("{} must be positive", self.points_per_disk),
-            ));
-        }
         Ok(())
-    }
-
-    /// Points for a surface of `area_mm2` under a material whose finest
-    /// mean free path is `mean_free_path_mm`: `points_per_disk` per disk
-    /// of it, but never more than the `texels` that carry the light (a
-    /// point finer than a texel adds nothing).
-    pub fn point_count(&self, area_mm2: f64, mean_free_path_mm: f64, texels: usize) -> usize {
-        point_count(area_mm2, mean_free_path_mm, self.points_per_disk).min(texels.max(1))
     }
 }
 
@@ -312,19 +320,13 @@ impl Integrator for OctreeIntegrator {
         scattering: &Scattering,
         control: &Control,
     ) -> Result<Integrated, Error> {
-        let count = self.point_count(
-            prepared.mesh.area(),
-            scattering.material.finest_mean_free_path_mm(),
-            prepared.surfels.len(),
-        );
-        let sources = prepared.point_sources(count, self.seed, control)?;
-        let exitance = integrate(
-            &scattering.kernel,
-            &sources,
-            prepared.targets(),
-            self.epsilon,
-            control,
-        )?;
+        let sources = prepared.texel_sources();
+        // The targets are the texels the sources were made from, in order.
+        let targets = Targets {
+            own: OwnSource::Same,
+            ..prepared.targets()
+        };
+        let exitance = integrate(&scattering.kernel, &sources, targets, self.epsilon, control)?;
         Ok(Integrated {
             exitance,
             sources: sources.len(),
