@@ -14,7 +14,7 @@ use crate::rays::RayScene;
 use crate::request::{BakeRequest, UvPolicy};
 use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
-use crate::surface::dilation::seam_aware_offsets;
+use crate::surface::dilation::{SeamAwareDilation, seam_aware_dilation};
 use crate::surface::texels::{TexelSurfels, rasterize, uv_jacobian};
 use crate::surface::turk::{place_points, relax};
 use crate::surface::uv_analysis::analyse_uvs;
@@ -169,7 +169,7 @@ pub struct Prepared {
     /// profile is built for (ones without a map).
     pub colour: Vec<[f32; 3]>,
     colour_split: f32,
-    dilation: OnceLock<Vec<(u32, u32)>>,
+    dilation: OnceLock<SeamAwareDilation>,
     seconds: f64,
 }
 
@@ -296,10 +296,11 @@ impl Prepared {
     }
 
     /// Empty texels near a chart and the covered texels they copy, as far
-    /// as texture-space blurs reach (made on first use).
-    pub fn dilation(&self) -> &[(u32, u32)] {
+    /// as texture-space blurs reach, with which lie beyond open edges (made
+    /// on first use).
+    pub fn dilation(&self) -> &SeamAwareDilation {
         self.dilation.get_or_init(|| {
-            seam_aware_offsets(
+            seam_aware_dilation(
                 &self.mesh,
                 &self.uvs,
                 &self.surfels,
@@ -368,7 +369,7 @@ impl Prepared {
         for (s, e) in self.entering().into_iter().enumerate() {
             image[self.surfels.texel[s] as usize] = e;
         }
-        for &(to, from) in self.dilation() {
+        for &(to, from) in &self.dilation().offsets {
             image[to as usize] = image[from as usize];
         }
         image

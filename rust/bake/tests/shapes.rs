@@ -58,23 +58,24 @@ pub fn cube(size: f32) -> Mesh {
 }
 
 /// A UV sphere of `radius` mm with `rings` × `segments` quads and
-/// latitude–longitude UVs and normals.
+/// latitude–longitude UVs and normals. As an exporter writes one, the
+/// vertices duplicated along the seam (u = 0 and 1) and at the poles share
+/// their positions exactly, so the surface is closed.
 pub fn sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
     let (mut positions, mut uvs, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
     for i in 0..=rings {
         let v = i as f32 / rings as f32;
         let theta = v * std::f32::consts::PI;
+        let (sin_theta, cos_theta) = match i {
+            0 => (0.0, 1.0),
+            _ if i == rings => (0.0, -1.0),
+            _ => theta.sin_cos(),
+        };
         for j in 0..=segments {
             let u = j as f32 / segments as f32;
-            let phi = u * std::f32::consts::TAU;
-            positions.push(
-                radius
-                    * Vec3::new(
-                        theta.sin() * phi.cos(),
-                        theta.sin() * phi.sin(),
-                        theta.cos(),
-                    ),
-            );
+            let phi = (j % segments) as f32 / segments as f32 * std::f32::consts::TAU;
+            positions
+                .push(radius * Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta));
             uvs.push(Vec2::new(u, 1.0 - v));
         }
     }

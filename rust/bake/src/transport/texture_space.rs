@@ -5,7 +5,9 @@
 //! texel along u and v), so the blur is measured on the surface, not in
 //! UV space. Texels outside the layout are dilated first (across seams
 //! where the caller gives seam-aware offsets) so blurs near chart borders
-//! read the surface that continues there instead of black.
+//! read the surface that continues there instead of black; beyond an open
+//! edge of the mesh there is no surface, so they read nothing there, as
+//! the exact sum does (half the light at a straight border).
 //!
 //! The blur knows only the surface around each texel in the layout: light
 //! cannot cross thin parts (ears, nostrils) to the far face; the 3-D
@@ -17,6 +19,7 @@ use crate::control::{Cancelled, Control};
 use crate::error::Error;
 use crate::pipeline::Prepared;
 use crate::scattering::Scattering;
+use crate::surface::dilation::{ImageSides, SeamAwareDilation};
 use crate::surface::texels::TexelSurfels;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -31,49 +34,175 @@ const SHARP: f32 = 0.2;
 pub const MAX_REACH: u32 = 512;
 
 /// Radiant exitance (W/m²) at each surfel by texture-space blurs of its
-/// irradiance. `dilation` lists (empty texel, covered texel it copies).
+/// irradiance. `dilation` lists (empty texel, covered texel it copies) and
+/// which lie beyond open edges.
+///
+/// The image is padded beyond its edges by the widest blur's reach and
+/// blurred as a normalised convolution: the light and a mask of where
+/// surface is known (1 on the layout, its dilation and beyond open edges,
+/// where the surface is known to be absent and its light is 0; 0 beyond the
+/// image where the chart continues past the edge, as across a seam the
+/// layout cut there) are blurred alike and divided at the end. Light that
+/// spreads past an open edge is kept in the padding, so each Gaussian built
+/// from the previous one stays the blur of the original.
 pub fn integrate(
     gaussians: &SumOfGaussians,
     surfels: &TexelSurfels,
     irradiance: &[[f32; 3]],
-    dilation: &[(u32, u32)],
+    dilation: &SeamAwareDilation,
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
     let n = surfels.resolution as usize;
-    let texels = n * n;
     // Stretch per texel (mm per texel step), dilated with the irradiance.
-    let mut stretch = vec![glam::Vec2::ZERO; texels];
+    let mut stretch = vec![glam::Vec2::ZERO; n * n];
     for (s, &t) in surfels.texel.iter().enumerate() {
         stretch[t as usize] = surfels.stretch[s];
     }
-    for &(to, from) in dilation {
+    for &(to, from) in &dilation.offsets {
         stretch[to as usize] = stretch[from as usize];
     }
+    let widest = gaussians
+        .terms
+        .iter()
+        .flatten()
+        .map(|&(_, v)| v)
+        .fold(0.0f64, f64::max)
+        .sqrt() as f32;
+    let pad = border(n, widest, &stretch, &dilation.open_beyond_image);
+    let frame = Frame::new(n, pad, &stretch, &dilation.open_beyond_image);
     let blurs: usize = gaussians.terms.iter().map(Vec::len).sum();
-    control.plan((2 * blurs * texels) as u64);
+    control.plan((4 * blurs * frame.texels()) as u64);
     let mut out = vec![[0.0f32; 3]; surfels.len()];
     for c in 0..3 {
-        let mut image = vec![0.0f32; texels];
+        let mut image = vec![0.0f32; n * n];
         for (s, &t) in surfels.texel.iter().enumerate() {
             image[t as usize] = irradiance[s][c];
         }
-        for &(to, from) in dilation {
-            image[to as usize] = image[from as usize];
+        for (&(to, from), &open) in dilation.offsets.iter().zip(&dilation.open) {
+            image[to as usize] = if open { 0.0 } else { image[from as usize] };
         }
+        let mut light = frame.embed(&image);
+        let mut known = frame.known.clone();
         let mut terms = gaussians.terms[c].clone();
         terms.sort_by(|a, b| a.1.total_cmp(&b.1));
         let mut variance = 0.0f64;
         for (weight, v) in terms {
-            let step = (v - variance).max(0.0);
+            let step = ((v - variance).max(0.0)) as f32;
             variance = v.max(variance);
-            image = blur(&image, &stretch, n, step as f32, Axis::U, control)?;
-            image = blur(&image, &stretch, n, step as f32, Axis::V, control)?;
+            for axis in [Axis::U, Axis::V] {
+                light = blur(&light, &frame, step, axis, control)?;
+                known = blur(&known, &frame, step, axis, control)?;
+            }
             for (s, &t) in surfels.texel.iter().enumerate() {
-                out[s][c] += weight as f32 * image[t as usize];
+                let at = frame.at(t as usize);
+                if known[at] > 0.0 {
+                    out[s][c] += weight as f32 * light[at] / known[at];
+                }
             }
         }
     }
     Ok(out)
+}
+
+/// Texels of border the widest blur (σ `widest`, mm) needs beyond the
+/// image: its reach from the texels at open edges (none where no chart
+/// ends at the image's edge, since then the border is never read), at
+/// most half the image: a blur wider than the object is nearly flat over
+/// it, and light spread past that border is left out of the light and
+/// the mask alike.
+fn border(n: usize, widest: f32, stretch: &[glam::Vec2], open: &ImageSides) -> usize {
+    let most = (n / 2).min(MAX_REACH as usize);
+    let reach = |step: f32| {
+        if step > 0.0 {
+            ((3.0 * widest / step).ceil() as usize).min(most)
+        } else {
+            0
+        }
+    };
+    let mut pad = 0;
+    for i in 0..n {
+        for (flag, texel, vertical) in [
+            (open.left[i], i * n, false),
+            (open.right[i], i * n + n - 1, false),
+            (open.bottom[i], i, true),
+            (open.top[i], (n - 1) * n + i, true),
+        ] {
+            if flag {
+                let s = stretch[texel];
+                pad = pad.max(reach(if vertical { s.y } else { s.x }));
+            }
+        }
+    }
+    pad
+}
+
+/// The image inside a border of `pad` texels on every side.
+struct Frame {
+    n: usize,
+    pad: usize,
+    side: usize,
+    /// Stretch per framed texel, the border's copied from the nearest edge.
+    stretch: Vec<glam::Vec2>,
+    /// 1 where the surface is known (the image, and the border beyond open
+    /// edges), 0 beyond the image where the chart continues.
+    known: Vec<f32>,
+}
+
+impl Frame {
+    fn new(n: usize, pad: usize, stretch: &[glam::Vec2], open: &ImageSides) -> Self {
+        let side = n + 2 * pad;
+        let mut framed = vec![glam::Vec2::ZERO; side * side];
+        let mut known = vec![0.0f32; side * side];
+        for fy in 0..side {
+            for fx in 0..side {
+                let (x, y) = (fx as i64 - pad as i64, fy as i64 - pad as i64);
+                let (cx, cy) = (x.clamp(0, n as i64 - 1), y.clamp(0, n as i64 - 1));
+                let (cx, cy) = (cx as usize, cy as usize);
+                framed[fy * side + fx] = stretch[cy * n + cx];
+                let beyond_x = match x {
+                    _ if x < 0 => Some(open.left[cy]),
+                    _ if x >= n as i64 => Some(open.right[cy]),
+                    _ => None,
+                };
+                let beyond_y = match y {
+                    _ if y < 0 => Some(open.bottom[cx]),
+                    _ if y >= n as i64 => Some(open.top[cx]),
+                    _ => None,
+                };
+                let inside = match (beyond_x, beyond_y) {
+                    (None, None) => true,
+                    (Some(a), None) | (None, Some(a)) => a,
+                    (Some(a), Some(b)) => a && b,
+                };
+                known[fy * side + fx] = if inside { 1.0 } else { 0.0 };
+            }
+        }
+        Frame {
+            n,
+            pad,
+            side,
+            stretch: framed,
+            known,
+        }
+    }
+
+    fn texels(&self) -> usize {
+        self.side * self.side
+    }
+
+    /// The framed index of image texel `t`.
+    fn at(&self, t: usize) -> usize {
+        (t / self.n + self.pad) * self.side + t % self.n + self.pad
+    }
+
+    /// `image` (N × N) in the frame, 0 in the border.
+    fn embed(&self, image: &[f32]) -> Vec<f32> {
+        let mut framed = vec![0.0f32; self.texels()];
+        for (t, &v) in image.iter().enumerate() {
+            framed[self.at(t)] = v;
+        }
+        framed
+    }
 }
 
 #[derive(Clone, Copy, PartialEq)]
@@ -82,16 +211,17 @@ enum Axis {
     V,
 }
 
-/// One 1-D Gaussian pass of `variance` (mm²) along `axis`, gathering: each
-/// texel's σ in texels is √variance over its own stretch along the axis.
+/// One 1-D Gaussian pass of `variance` (mm²) along `axis` over the framed
+/// image, gathering: each texel's σ in texels is √variance over its own
+/// stretch along the axis. Taps beyond the frame read nothing.
 fn blur(
     image: &[f32],
-    stretch: &[glam::Vec2],
-    n: usize,
+    frame: &Frame,
     variance: f32,
     axis: Axis,
     control: &Control,
 ) -> Result<Vec<f32>, Cancelled> {
+    let n = frame.side;
     if variance <= 0.0 {
         control.advance(image.len() as u64)?;
         return Ok(image.to_vec());
@@ -104,8 +234,8 @@ fn blur(
         for (x, value) in row.iter_mut().enumerate() {
             let texel = y * n + x;
             let step = match axis {
-                Axis::U => stretch[texel].x,
-                Axis::V => stretch[texel].y,
+                Axis::U => frame.stretch[texel].x,
+                Axis::V => frame.stretch[texel].y,
             };
             let sigma = if step > 0.0 { sigma_mm / step } else { 0.0 };
             if sigma.is_nan() || sigma < SHARP {
@@ -116,10 +246,8 @@ fn blur(
             weights.clear();
             weights
                 .extend((-reach..=reach).map(|k| (-(k * k) as f32 / (2.0 * sigma * sigma)).exp()));
-            // Taps beyond the image's edge are left out and the rest
-            // renormalised: a chart touching the edge continues past it (a
-            // seam the layout cut there); it does not end.
-            let (mut sum, mut norm) = (0.0f32, 0.0f32);
+            let norm: f32 = weights.iter().sum();
+            let mut sum = 0.0f32;
             for (i, k) in (-reach..=reach).enumerate() {
                 let (sx, sy) = match axis {
                     Axis::U => (x as i64 + k, y as i64),
@@ -129,9 +257,8 @@ fn blur(
                     continue;
                 }
                 sum += weights[i] * image[sy as usize * n + sx as usize];
-                norm += weights[i];
             }
-            *value = if norm > 0.0 { sum / norm } else { image[texel] };
+            *value = sum / norm;
         }
         control.advance(n as u64)
     })?;
