@@ -177,9 +177,17 @@ def test_an_image_texture_is_read_through_its_uv_map_and_mapping(addon, tmp_path
         assert np.allclose(remapped[side], direct[side], rtol=1e-4, atol=1e-7)
 
 
-def test_inputs_the_bake_does_not_follow_are_reported(addon, capfd):
+def test_inputs_the_bake_does_not_follow_are_reported(addon, capfd, tmp_path):
     import bpy
+    from test_colour_maps import LEFT
 
+    muted = skin("Muted", DARK)
+    texture = muted.node_tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image(tmp_path, "one.png", [LEFT] * 4)
+    texture.mute = True
+    muted.node_tree.links.new(
+        texture.outputs["Color"], muted.node_tree.nodes["Principled BSDF"].inputs["Base Color"]
+    )
     material = skin("Skin", PALE)
     tree = material.node_tree
     bsdf = tree.nodes["Principled BSDF"]
@@ -187,10 +195,11 @@ def test_inputs_the_bake_does_not_follow_are_reported(addon, capfd):
     tree.links.new(checker.outputs["Color"], bsdf.inputs["Base Color"])
     noise = tree.nodes.new("ShaderNodeTexNoise")
     tree.links.new(noise.outputs["Fac"], bsdf.inputs["Subsurface Scale"])
-    plane_scene([material], right_slot=0)
+    plane_scene([material, muted])
     assert bpy.ops.sssbake.bake(resolution=16, method="BRUTE", outputs={"SUBSURFACE"}) == {"FINISHED"}
     out = capfd.readouterr().out
     assert (
         "Base Color is driven by `Checker Texture` (Checker Texture), which the add-on does not read" in out
     )
     assert "Subsurface Scale is driven by `Noise Texture` (Noise Texture), which is not applied" in out
+    assert "material `Muted`: Base Color is driven by `Image Texture` (Image Texture), which is muted" in out

@@ -103,7 +103,10 @@ def uv_source(texture_node, mesh):
     """(uv_map, transform) the Image Texture's Vector input reads, or a note saying why not."""
     node, socket = upstream(texture_node.inputs["Vector"])
     transform = None
-    if node is not None and node.type == "MAPPING":
+    if node is not None and node.type == "MAPPING" and node.mute:
+        # A muted Mapping passes its Vector through.
+        node, socket = upstream(node.inputs["Vector"])
+    elif node is not None and node.type == "MAPPING":
         transform = mapping_transform(node)
         if transform is None:
             return None, f"its Vector comes through Mapping `{node.name}` with linked inputs or Normal type"
@@ -175,6 +178,8 @@ def base_colour_texture(material, principled, mesh):
     )
     if node.type != "TEX_IMAGE" or output.name != "Color":
         return None, unread.format(", which the add-on does not read")
+    if node.mute:
+        return None, unread.format(", which is muted")
     image = node.image
     if image is None:
         return None, unread.format(", which has no image")
