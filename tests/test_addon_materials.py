@@ -8,6 +8,7 @@ Each is compared with an independent bake of the same plane where one exists: on
 on every face, a plain Base Color equal to a one-colour texture's decoded colour."""
 
 import numpy as np
+import pytest
 from conftest import srgb_to_linear
 from test_blender_addon import pixels
 
@@ -175,6 +176,101 @@ def test_an_image_texture_is_read_through_its_uv_map_and_mapping(addon, tmp_path
     remapped = halves(bake())
     for side in (0, 1):
         assert np.allclose(remapped[side], direct[side], rtol=1e-4, atol=1e-7)
+
+
+def mix(tree, blend, factor, constant, image_on="A"):
+    """A Mix node (colour) of `blend` with `factor`, `constant` on the other input."""
+    node = tree.nodes.new("ShaderNodeMix")
+    node.data_type, node.blend_type = "RGBA", blend
+    inputs = {s.identifier: s for s in node.inputs}
+    inputs["Factor_Float"].default_value = factor
+    inputs["B_Color" if image_on == "A" else "A_Color"].default_value = (*constant, 1.0)
+    return inputs[f"{image_on}_Color"], node.outputs["Result"]
+
+
+def node(tree, kind, **values):
+    """A colour node of `kind` with input values `values`: its Color input and its output."""
+    made = tree.nodes.new(kind)
+    for name, value in values.items():
+        made.inputs[name].default_value = value
+    return made.inputs["Color"], made.outputs["Color"]
+
+
+# Colour nodes between an Image Texture and Base Color: each makes (input, output).
+CHAINS = {
+    "multiply": lambda tree: [mix(tree, "MULTIPLY", 0.7, (0.9, 0.5, 0.3))],
+    "mix, image on B": lambda tree: [mix(tree, "MIX", 0.4, (0.2, 0.6, 0.3), image_on="B")],
+    "bright/contrast": lambda tree: [node(tree, "ShaderNodeBrightContrast", Bright=0.1, Contrast=0.3)],
+    "gamma, invert": lambda tree: [
+        node(tree, "ShaderNodeGamma", Gamma=1.8),
+        node(tree, "ShaderNodeInvert", Fac=0.25),
+    ],
+}
+
+
+def chain_colour(tree, texture, name):
+    """Links `texture` through chain `name` in `tree`; the chain's output socket."""
+    output = texture.outputs["Color"]
+    for step_input, step_output in CHAINS[name](tree):
+        tree.links.new(output, step_input)
+        output = step_output
+    return output
+
+
+def cycles_colour(image, name):
+    """What Cycles makes of `image` (one colour) through chain `name`: the chain feeds an
+    Emission shader on a probe plane whose emission Cycles bakes."""
+    import bpy
+
+    bpy.context.scene.render.engine = "CYCLES"
+    bpy.context.scene.cycles.samples = 1
+    bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0, 0, -5))
+    probe = bpy.context.active_object
+    material = bpy.data.materials.new("Probe")
+    if material.node_tree is None:
+        material.use_nodes = True
+    tree = material.node_tree
+    tree.nodes.remove(tree.nodes["Principled BSDF"])
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image, texture.interpolation = image, "Closest"
+    emission = tree.nodes.new("ShaderNodeEmission")
+    tree.links.new(chain_colour(tree, texture, name), emission.inputs["Color"])
+    tree.links.new(emission.outputs["Emission"], tree.nodes["Material Output"].inputs["Surface"])
+    target = tree.nodes.new("ShaderNodeTexImage")
+    target.image = bpy.data.images.new("Emitted", 4, 4, float_buffer=True)
+    tree.nodes.active = target
+    probe.data.materials.append(material)
+    bpy.ops.object.select_all(action="DESELECT")
+    probe.select_set(True)
+    bpy.context.view_layer.objects.active = probe
+    assert bpy.ops.object.bake(type="EMIT") == {"FINISHED"}
+    colour = pixels("Emitted")[..., :3].reshape(-1, 3).mean(axis=0)
+    bpy.data.objects.remove(probe)
+    bpy.data.images.remove(bpy.data.images["Emitted"])
+    return colour
+
+
+@pytest.mark.parametrize("name", CHAINS)
+def test_colour_nodes_between_the_image_and_base_color_are_applied(addon, tmp_path, name):
+    import bpy
+    from test_colour_maps import LEFT
+
+    material = skin("Skin", (0.5, 0.5, 0.5))
+    tree = material.node_tree
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image, texture.interpolation = image(tmp_path, "one.png", [LEFT] * 4), "Closest"
+    bsdf = tree.nodes["Principled BSDF"]
+    tree.links.new(chain_colour(tree, texture, name), bsdf.inputs["Base Color"])
+    plane_scene([material], right_slot=0)
+    through_nodes = bake()
+    colour = cycles_colour(texture.image, name)
+    assert not np.allclose(colour, [srgb_to_linear(c / 255) for c in LEFT], atol=0.01)
+    for link in bsdf.inputs["Base Color"].links:
+        tree.links.remove(link)
+    bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
+    bpy.data.objects["Plane"].select_set(True)
+    bpy.context.view_layer.objects.active = bpy.data.objects["Plane"]
+    assert np.allclose(through_nodes, bake(), rtol=1e-4, atol=1e-7)
 
 
 def test_inputs_the_bake_does_not_follow_are_reported(addon, capfd, tmp_path):

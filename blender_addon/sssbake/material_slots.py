@@ -24,11 +24,14 @@ UNREAD_LINKS = (
 @dataclasses.dataclass
 class Texture:
     """An Image Texture on Base Color: its image, the UV map its coordinates come from ("" is
-    the active render UV map) and the affine map a Mapping node applies to them."""
+    the active render UV map), the affine map a Mapping node applies to them, and the colour
+    nodes between the image and Base Color (Mix, Bright/Contrast, Gamma, Invert)."""
 
     node: object
     uv_map: str
     transform: tuple | None = None
+    # Texel-by-texel changes of the colour between the image and Base Color, image first.
+    colour_steps: tuple = ()
 
     @property
     def uv_key(self):
@@ -172,6 +175,13 @@ def base_colour_texture(material, principled, mesh):
     if node is None:
         return None, None
     colour = ", ".join(f"{c:.3f}" for c in socket.default_value[:3])
+    steps = []
+    while (step := colour_step(node)) is not None:
+        onward, function = step
+        steps.insert(0, function)
+        node, output = upstream(onward)
+        if node is None:
+            return None, None
     unread = (
         f"material `{material.name}`: Base Color is driven by `{node.name}` ({node.bl_label})"
         f"{{}}; it is baked as the socket's colour ({colour})"
@@ -192,7 +202,68 @@ def base_colour_texture(material, principled, mesh):
     source, why = uv_source(node, mesh)
     if source is None:
         return None, unread.format(f": {why}")
-    return Texture(node, *source), None
+    return Texture(node, *source, colour_steps=tuple(steps)), None
+
+
+def socket_by_id(node, identifier):
+    """The input of `node` with `identifier` (the Mix node has several inputs per name)."""
+    return next((s for s in node.inputs if s.identifier == identifier), None)
+
+
+def colour_step(node):
+    """For a node that changes a colour texel by texel with constant settings, the input the
+    colour comes from and the change as a function of n × 3 linear RGB (Cycles' own formulas:
+    svm_brightness_contrast, svm_math_gamma_color, invert, svm_mix_color); None for any other
+    node or one whose settings are linked."""
+    inputs = node.inputs
+
+    def constant(*names):
+        sockets = [inputs[n] for n in names]
+        if any(s.is_linked for s in sockets):
+            return None
+        return [np.array(s.default_value[:3]) if s.type == "RGBA" else s.default_value for s in sockets]
+
+    if node.type == "BRIGHTCONTRAST" and (values := constant("Bright", "Contrast")):
+        bright, contrast = values
+        return inputs["Color"], lambda rgb: np.maximum((1 + contrast) * rgb + bright - contrast / 2, 0)
+    if node.type == "GAMMA" and (values := constant("Gamma")):
+        (gamma,) = values
+        return inputs["Color"], lambda rgb: np.where(rgb > 0, np.abs(rgb) ** gamma, rgb)
+    if node.type == "INVERT" and (values := constant("Fac")):
+        (factor,) = values
+        return inputs["Color"], lambda rgb: (1 - factor) * rgb + factor * (1 - rgb)
+    if node.type == "MIX" and node.data_type == "RGBA":
+        factor, a, b = (socket_by_id(node, i) for i in ("Factor_Float", "A_Color", "B_Color"))
+        return mix_step(node, factor, a, b, node.clamp_factor, node.clamp_result)
+    if node.type == "MIX_RGB":
+        return mix_step(node, inputs["Fac"], inputs["Color1"], inputs["Color2"], True, node.use_clamp)
+    return None
+
+
+def mix_step(node, factor, a, b, clamp_factor, clamp_result):
+    """A Mix of blend Mix, Multiply, Add or Subtract whose factor and one colour are constant."""
+    if factor.is_linked or a.is_linked == b.is_linked or node.blend_type not in BLENDS:
+        return None
+    f = min(max(factor.default_value, 0.0), 1.0) if clamp_factor else factor.default_value
+    blend = BLENDS[node.blend_type]
+    if a.is_linked:
+        other = np.array(b.default_value[:3])
+        change = lambda rgb: blend(rgb, other, f)
+    else:
+        other = np.array(a.default_value[:3])
+        change = lambda rgb: blend(other, rgb, f)
+    if clamp_result:
+        return (a if a.is_linked else b), lambda rgb: np.clip(change(rgb), 0, 1)
+    return (a if a.is_linked else b), change
+
+
+# Cycles' svm_mix_color for the blends a texel-by-texel change can carry.
+BLENDS = {
+    "MIX": lambda a, b, f: (1 - f) * a + f * b,
+    "MULTIPLY": lambda a, b, f: a * ((1 - f) + f * b),
+    "ADD": lambda a, b, f: a + f * b,
+    "SUBTRACT": lambda a, b, f: a - f * b,
+}
 
 
 def colour_space_note(material, image):
@@ -255,13 +326,20 @@ def texture_uv_keys(slots):
     return keys
 
 
-def linear_pixels(image):
-    """The image's texels as linear float32, rows from the bottom (Blender's order): byte
-    images in sRGB decoded by the sRGB transfer; float images are linear already."""
+def linear_pixels(texture):
+    """The texture's image as linear float32 texels, rows from the bottom (Blender's order),
+    changed by its colour steps: byte images in sRGB decoded by the sRGB transfer; float
+    images are linear already. The steps apply to texels where Cycles applies them to the
+    filtered colour: the same under Closest filtering, and under bilinear filtering for the
+    affine steps (Mix, Invert; Bright/Contrast where it does not clip); Gamma's curve then
+    differs between texel centres."""
+    image = texture.node.image
     pixels = np.empty(len(image.pixels), dtype=np.float32)
     image.pixels.foreach_get(pixels)
+    texels = pixels.reshape(-1, image.channels)
     if not image.is_float and image.colorspace_settings.name == "sRGB":
-        texels = pixels.reshape(-1, image.channels)
         rgb = texels[:, :3]
         texels[:, :3] = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    for step in texture.colour_steps:
+        texels[:, :3] = step(texels[:, :3].astype(np.float64))
     return np.ascontiguousarray(pixels)

@@ -205,7 +205,7 @@ def principled_struct(settings, slot, uv_keys, keep):
     if slot.texture is not None:
         node = slot.texture.node
         image = node.image
-        pixels = material_slots.linear_pixels(image)
+        pixels = material_slots.linear_pixels(slot.texture)
         keep += [pixels, image.name.encode("utf-8")]
         material.image_pixels = native.floats(pixels)
         material.image_name = keep[-1]
