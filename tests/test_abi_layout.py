@@ -89,3 +89,22 @@ def test_the_header_parser_reads_every_field():
     # A declaration the parser missed would go unchecked; SssbakeLight has seventeen.
     fields = header_fields(HEADER.read_text(), "SssbakeLight")
     assert fields[:2] == ["kind", "colour"] and len(fields) == 17, fields
+
+
+def test_the_add_ons_numbers_are_the_headers(native):
+    # A kind, method or extension the add-on numbers differently would bake the wrong thing
+    # with no error; every number it sends is checked against the header's #define.
+    defines = {
+        name: int(value) for name, value in re.findall(r"#define SSSBAKE_(\w+) (\d+)", HEADER.read_text())
+    }
+    ours = {"ABI_VERSION": native.ABI_VERSION}
+    for kind in ("SUN", "POINT", "SPOT", "RECTANGLE", "DISK"):
+        ours[f"LIGHT_{kind}"] = getattr(native, f"LIGHT_{kind}")
+    for kind in ("PRESET", "PRINCIPLED", "TOML", "SCENE", "SIDECAR", "NONE"):
+        ours[f"MATERIAL_{kind}"] = getattr(native, f"MATERIAL_{kind}")
+    for blender, number in native.SUBSURFACE_METHODS.items():
+        ours[f"SUBSURFACE_{blender}"] = number
+    for blender, number in native.EXTENSIONS.items():
+        ours[f"EXTENSION_{blender}"] = number
+    ours["ALBEDO_CYCLES"], ours["ALBEDO_PHYSICAL"] = native.ALBEDO_CYCLES, native.ALBEDO_PHYSICAL
+    assert ours == {name: defines.get(name) for name in ours}

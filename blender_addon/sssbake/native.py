@@ -6,10 +6,14 @@ import os
 import pathlib
 import sys
 
-ABI_VERSION = 4
+ABI_VERSION = 5
 
 LIGHT_SUN, LIGHT_POINT, LIGHT_SPOT, LIGHT_RECTANGLE, LIGHT_DISK = range(5)
-MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML, MATERIAL_SCENE, MATERIAL_SIDECAR = range(5)
+MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML, MATERIAL_SCENE, MATERIAL_SIDECAR, MATERIAL_NONE = range(
+    6
+)
+# Blender's Image Texture extension in the library's numbering (SSSBAKE_EXTENSION_*).
+EXTENSIONS = {"REPEAT": 0, "EXTEND": 1, "CLIP": 2, "MIRROR": 3}
 # Blender's subsurface_method enum in the library's numbering (SSSBAKE_SUBSURFACE_*).
 SUBSURFACE_METHODS = {"BURLEY": 0, "RANDOM_WALK": 1, "RANDOM_WALK_SKIN": 2}
 ALBEDO_CYCLES, ALBEDO_PHYSICAL = range(2)
@@ -38,6 +42,9 @@ class Mesh(ctypes.Structure):
         ("vertex_count", ctypes.c_size_t),
         ("indices", ctypes.POINTER(ctypes.c_uint32)),
         ("index_count", ctypes.c_size_t),
+        ("material_indices", ctypes.POINTER(ctypes.c_uint32)),
+        ("texture_uvs", ctypes.POINTER(ctypes.c_float)),
+        ("texture_uv_count", ctypes.c_size_t),
     ]
 
 
@@ -78,6 +85,14 @@ class Material(ctypes.Structure):
         ("subsurface_ior", ctypes.c_float),
         ("specular_ior_level", ctypes.c_float),
         ("albedo_mapping", ctypes.c_uint32),
+        ("image_pixels", ctypes.POINTER(ctypes.c_float)),
+        ("image_width", ctypes.c_uint32),
+        ("image_height", ctypes.c_uint32),
+        ("image_channels", ctypes.c_uint32),
+        ("image_uv_set", ctypes.c_uint32),
+        ("image_extension", ctypes.c_uint32),
+        ("image_nearest", ctypes.c_uint32),
+        ("image_name", ctypes.c_char_p),
     ]
 
 
@@ -156,6 +171,18 @@ def library():
         ctypes.POINTER(ctypes.c_void_p),
     ]
     lib.sssbake_bake.restype = status
+    lib.sssbake_bake_materials.argtypes = [
+        ctypes.c_void_p,
+        ctypes.c_char_p,
+        ctypes.POINTER(Material),
+        ctypes.c_size_t,
+        ctypes.POINTER(Settings),
+        PROGRESS,
+        ctypes.c_void_p,
+        ctypes.POINTER(ctypes.c_int32),
+        ctypes.POINTER(ctypes.c_void_p),
+    ]
+    lib.sssbake_bake_materials.restype = status
     lib.sssbake_result_free.argtypes = [ctypes.c_void_p]
     lib.sssbake_result_free.restype = None
     lib.sssbake_result_resolution.argtypes = [ctypes.c_void_p]
@@ -256,8 +283,15 @@ class Scene:
             library().sssbake_scene_free(self.handle)
             self.handle = ctypes.c_void_p()
 
-    def add_mesh(self, name, positions, normals, uvs, indices):
-        """Flat float32 arrays (3 per vertex; normals and uvs may be None) and uint32 indices."""
+    def add_mesh(self, name, positions, normals, uvs, indices, material_indices=None, texture_uvs=()):
+        """Flat float32 arrays (3 per vertex; normals and uvs may be None), uint32 indices,
+        optionally a uint32 material index per triangle and further float32 UV sets (2 per
+        vertex each) that base-colour images read as UV sets 1, 2, ..."""
+        import numpy as np
+
+        extra = np.ascontiguousarray(np.concatenate(texture_uvs), dtype=np.float32) if texture_uvs else None
+        if material_indices is not None:
+            material_indices = np.ascontiguousarray(material_indices, dtype=np.uint32)
         mesh = Mesh(
             name.encode("utf-8"),
             floats(positions),
@@ -266,6 +300,11 @@ class Scene:
             len(positions) // 3,
             indices.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32)),
             len(indices),
+            None
+            if material_indices is None
+            else material_indices.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32)),
+            None if extra is None else floats(extra),
+            len(texture_uvs),
         )
         check(library().sssbake_scene_add_mesh(self.handle, ctypes.byref(mesh)))
 
@@ -323,17 +362,21 @@ class Result:
 
 
 def bake(scene, obj, material, settings, cancel, progress=None):
-    """Bakes object `obj`; `cancel` is a ctypes.c_int32 another thread may set to 1;
+    """Bakes object `obj` with `material`, or with a list of materials that its faces'
+    material indices choose from; `cancel` is a ctypes.c_int32 another thread may set to 1;
     `progress(fraction)` is called from a library thread."""
+    materials = list(material) if isinstance(material, (list, tuple)) else [material]
+    array = (Material * len(materials))(*materials)
     callback = PROGRESS(
         (lambda _user, fraction: progress(fraction)) if progress else (lambda _user, _fraction: None)
     )
     handle = ctypes.c_void_p()
     check(
-        library().sssbake_bake(
+        library().sssbake_bake_materials(
             scene.handle,
             obj.encode("utf-8"),
-            ctypes.byref(material),
+            array,
+            len(materials),
             ctypes.byref(settings),
             callback,
             None,

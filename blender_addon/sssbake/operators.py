@@ -61,9 +61,7 @@ class Job:
                 self._unwrap(context)
             self.scene = scene_export.build_scene(context, self.uv_map)
             self.materials = [scene_export.material_struct(settings, o, self.keep) for o in self.targets]
-            self.colour_warnings = [
-                w for o in self.targets if (w := scene_export.colour_warning(settings, o))
-            ]
+            self.colour_warnings = [w for o in self.targets for w in scene_export.material_notes(settings, o)]
         except Exception:
             self.abandon()
             raise

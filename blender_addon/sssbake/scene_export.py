@@ -1,13 +1,14 @@
 """The Blender scene as the library takes it: evaluated meshes (modifiers applied) as flat
-world-space arrays, lights and the world colour in Blender's own units, and materials.
-Only data moves here; every conversion of units and physics happens in the library."""
+world-space arrays with each triangle's material and the UV sets their textures read, lights
+and the world colour in Blender's own units, and materials slot by slot. Only data moves
+here; every conversion of units and physics happens in the library."""
 
 import math
 
 import bpy
 import numpy as np
 
-from . import native
+from . import material_slots, native
 
 
 def millimetres_per_unit(scene):
@@ -16,9 +17,17 @@ def millimetres_per_unit(scene):
     return 1000.0 * (units.scale_length if units.system != "NONE" else 1.0)
 
 
-def mesh_arrays(obj, depsgraph, uv_map):
+def corner_uvs(mesh, layer, loops):
+    """The UVs of `layer` at the corners `loops`, n × 2."""
+    uvs = np.empty(2 * len(mesh.loops), dtype=np.float32)
+    layer.data.foreach_get("uv", uvs)
+    return uvs.reshape(-1, 2)[loops]
+
+
+def mesh_arrays(obj, depsgraph, uv_map, texture_uv_keys=()):
     """One vertex per triangle corner: positions, normals (world space) and the UVs of
-    `uv_map` ("" for the active one; None when the mesh has none)."""
+    `uv_map` ("" for the active one; None when the mesh has none), the triangles' indices and
+    material slots, and one UV set per (UV map, Mapping transform) of `texture_uv_keys`."""
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
@@ -28,16 +37,24 @@ def mesh_arrays(obj, depsgraph, uv_map):
         vertices = np.empty(3 * count, dtype=np.int32)
         mesh.loop_triangles.foreach_get("loops", loops)
         mesh.loop_triangles.foreach_get("vertices", vertices)
+        slots = np.empty(count, dtype=np.int32)
+        mesh.loop_triangles.foreach_get("material_index", slots)
         co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
         mesh.vertices.foreach_get("co", co)
         normals = np.empty(3 * len(mesh.loops), dtype=np.float32)
         mesh.corner_normals.foreach_get("vector", normals)
         layer = mesh.uv_layers.get(uv_map) if uv_map else mesh.uv_layers.active
-        uvs = None
-        if layer is not None:
-            uvs = np.empty(2 * len(mesh.loops), dtype=np.float32)
-            layer.data.foreach_get("uv", uvs)
-            uvs = uvs.reshape(-1, 2)[loops].reshape(-1)
+        uvs = None if layer is None else corner_uvs(mesh, layer, loops).reshape(-1)
+        texture_uvs = []
+        for name, transform in texture_uv_keys:
+            render = next((uv for uv in mesh.uv_layers if uv.active_render), None)
+            source = mesh.uv_layers.get(name) if name else render
+            corners = corner_uvs(mesh, source, loops) if source is not None else np.zeros((3 * count, 2))
+            texture_uvs.append(
+                np.ascontiguousarray(
+                    material_slots.apply_transform(corners, transform), dtype=np.float32
+                ).reshape(-1)
+            )
     finally:
         evaluated.to_mesh_clear()
     world = np.array(obj.matrix_world, dtype=np.float64)
@@ -54,6 +71,8 @@ def mesh_arrays(obj, depsgraph, uv_map):
         np.ascontiguousarray(corner_normals, dtype=np.float32).reshape(-1),
         None if uvs is None else np.ascontiguousarray(uvs, dtype=np.float32),
         np.ascontiguousarray(indices, dtype=np.uint32).reshape(-1),
+        slots,
+        texture_uvs,
     )
 
 
@@ -125,72 +144,91 @@ def world_colour(scene):
     return tuple(world.color), 1.0
 
 
-def principled_node(obj):
-    """The Principled BSDF of the object's active material, or None."""
-    material = obj.active_material
-    if material is None or material.node_tree is None:
-        return None
-    return next((n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
-
-
 def material_struct(settings, obj, keep):
-    """The native material the panel asks for, for `obj`; `keep` holds the strings alive."""
-    material = native.Material()
+    """The native materials the panel asks for, for `obj`: a list of one for a preset or a
+    layers file, else one per distinct material of its slots (the order of
+    material_slots.object_slots, which the mesh's material indices follow). `keep` holds the
+    strings and pixels alive."""
     source = settings.material_source
     if source == "PRESET":
+        material = native.Material()
         material.kind = native.MATERIAL_PRESET
         keep.append(settings.preset.encode("utf-8"))
         material.name = keep[-1]
-    elif source == "LAYERS":
+        return [material]
+    if source == "LAYERS":
         path = bpy.path.abspath(settings.layers_file)
         try:
             with open(path, encoding="utf-8") as file:
                 text = file.read()
         except OSError as error:
             raise native.NativeError(2, f"{path}: cannot read the layers file: {error}") from error
+        material = native.Material()
         material.kind = native.MATERIAL_TOML
         keep += [text.encode("utf-8"), path.encode("utf-8")]
         material.toml, material.name = keep[-2], keep[-1]
-    else:
-        node = principled_node(obj)
-        if node is None:
-            raise native.NativeError(2, f"object `{obj.name}`: its active material has no Principled BSDF")
-        inputs = node.inputs
-        material.kind = native.MATERIAL_PRINCIPLED
-        keep.append(obj.active_material.name.encode("utf-8"))
-        material.name = keep[-1]
-        material.base_colour = native.Vec3(*inputs["Base Color"].default_value[:3])
-        material.subsurface_weight = inputs["Subsurface Weight"].default_value
-        material.radius = native.Vec3(*inputs["Subsurface Radius"].default_value)
-        material.scale = inputs["Subsurface Scale"].default_value
-        material.subsurface_method = native.SUBSURFACE_METHODS.get(node.subsurface_method, 1)
-        material.ior = value_of(inputs, "IOR", 1.5)
-        material.specular_ior_level = value_of(inputs, "Specular IOR Level", 0.5)
-        material.subsurface_ior = value_of(inputs, "Subsurface IOR", 1.4)
-        material.anisotropy = value_of(inputs, "Subsurface Anisotropy", 0.0)
-        material.albedo_mapping = (
-            native.ALBEDO_PHYSICAL if settings.albedo_mapping == "PHYSICAL" else native.ALBEDO_CYCLES
+        return [material]
+    slots, _ = material_slots.object_slots(obj)
+    if all(slot.left_out for slot in slots):
+        reasons = "; ".join(slot.left_out for slot in slots)
+        raise native.NativeError(
+            2, f"object `{obj.name}`: no material slot has subsurface to bake ({reasons})"
         )
+    uv_keys = material_slots.texture_uv_keys(slots)
+    return [principled_struct(settings, slot, uv_keys, keep) for slot in slots]
+
+
+def principled_struct(settings, slot, uv_keys, keep):
+    """The native material of one slot: its Principled inputs and Base Color image, or
+    MATERIAL_NONE for a slot without subsurface (its faces are left out)."""
+    material = native.Material()
+    name = slot.material.name if slot.material is not None else "(empty slot)"
+    keep.append(name.encode("utf-8"))
+    material.name = keep[-1]
+    if slot.left_out:
+        material.kind = native.MATERIAL_NONE
+        return material
+    inputs = slot.principled.inputs
+    material.kind = native.MATERIAL_PRINCIPLED
+    material.base_colour = native.Vec3(*inputs["Base Color"].default_value[:3])
+    material.subsurface_weight = inputs["Subsurface Weight"].default_value
+    material.radius = native.Vec3(*inputs["Subsurface Radius"].default_value)
+    material.scale = inputs["Subsurface Scale"].default_value
+    material.subsurface_method = native.SUBSURFACE_METHODS.get(slot.principled.subsurface_method, 1)
+    material.ior = value_of(inputs, "IOR", 1.5)
+    material.specular_ior_level = value_of(inputs, "Specular IOR Level", 0.5)
+    material.subsurface_ior = value_of(inputs, "Subsurface IOR", 1.4)
+    material.anisotropy = value_of(inputs, "Subsurface Anisotropy", 0.0)
+    material.albedo_mapping = (
+        native.ALBEDO_PHYSICAL if settings.albedo_mapping == "PHYSICAL" else native.ALBEDO_CYCLES
+    )
+    if slot.texture is not None:
+        node = slot.texture.node
+        image = node.image
+        pixels = material_slots.linear_pixels(slot.texture)
+        keep += [pixels, image.name.encode("utf-8")]
+        material.image_pixels = native.floats(pixels)
+        material.image_name = keep[-1]
+        material.image_width, material.image_height = image.size
+        material.image_channels = image.channels
+        material.image_uv_set = 1 + uv_keys.index(slot.texture.uv_key)
+        material.image_extension = native.EXTENSIONS.get(node.extension, 0)
+        material.image_nearest = int(node.interpolation == "Closest")
     return material
 
 
-def colour_warning(settings, obj):
-    """What the bake does with a Base Color that a node drives, or None: the C ABI does not
-    yet carry an image, so any node into Base Color (an Image Texture, a Checker) is baked
-    as the socket's own colour, and the user is told which node was not read."""
+def material_notes(settings, obj):
+    """What the bake does not read of the object's materials, one line each: slots left out
+    (no subsurface), nodes on Base Color it does not follow, textures on other inputs."""
     if settings.material_source in ("PRESET", "LAYERS"):
-        return None
-    node = principled_node(obj)
-    socket = node.inputs.get("Base Color") if node is not None else None
-    if socket is None or not socket.is_linked:
-        return None
-    source = socket.links[0].from_node
-    colour = ", ".join(f"{c:.3f}" for c in socket.default_value[:3])
-    return (
-        f"{obj.name}: Base Color of material `{obj.active_material.name}` is driven by node "
-        f"`{source.name}` ({source.bl_idname}), which the add-on does not pass to the bake yet; "
-        f"it is baked as the socket's colour ({colour})"
-    )
+        return []
+    slots, _ = material_slots.object_slots(obj)
+    notes = []
+    for slot in slots:
+        if slot.left_out and not all(s.left_out for s in slots):
+            notes.append(f"{obj.name}: {slot.left_out}; its faces are left out of the bake (texels empty)")
+        notes += [f"{obj.name}: {note}" for note in slot.notes]
+    return notes
 
 
 def value_of(inputs, name, default):
@@ -234,9 +272,12 @@ def build_scene(context, uv_map):
             if not renders(obj, collections):
                 continue
             if obj.type == "MESH":
-                arrays = mesh_arrays(obj, depsgraph, uv_map)
+                slots, index_of = material_slots.object_slots(obj)
+                keys = material_slots.texture_uv_keys(slots)
+                *arrays, slot_of_face, texture_uvs = mesh_arrays(obj, depsgraph, uv_map, keys)
                 if len(arrays[3]):
-                    native_scene.add_mesh(obj.name, *arrays)
+                    faces = np.asarray(index_of, dtype=np.uint32)[np.clip(slot_of_face, 0, len(index_of) - 1)]
+                    native_scene.add_mesh(obj.name, *arrays, faces, texture_uvs)
             elif obj.type == "LIGHT":
                 light = light_struct(obj)
                 if light is not None:

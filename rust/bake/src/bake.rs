@@ -326,6 +326,12 @@ impl BakedObject {
         ))
     }
 
+    /// The margin's filled texels and the covered texels they copy
+    /// (row-major, y growing with v).
+    pub fn fill(&self) -> &[(u32, u32)] {
+        &self.fill
+    }
+
     /// Whether texel `t` (row-major, y growing with v) holds a value:
     /// covered by the layout or filled in its margin.
     pub fn covered(&self) -> Vec<bool> {

@@ -13,7 +13,7 @@
 /**
  * The version of this ABI: hosts refuse a library of another version.
  */
-#define SSSBAKE_ABI_VERSION 4
+#define SSSBAKE_ABI_VERSION 5
 
 /**
  * [`sssbake_bake_to_folder`] flag: replace files already in the folder.
@@ -97,6 +97,33 @@
  * working folder). Objects it does not name take their scene material.
  */
 #define SSSBAKE_MATERIAL_SIDECAR 4
+
+/**
+ * No subsurface (a Principled BSDF with Subsurface Weight 0, a slot
+ * without a material): the faces of this material are left out of the
+ * bake, their texels empty (alpha 0), and the summary says so.
+ */
+#define SSSBAKE_MATERIAL_NONE 5
+
+/**
+ * Image Texture extension: the image tiles.
+ */
+#define SSSBAKE_EXTENSION_REPEAT 0
+
+/**
+ * The edge texel repeats (Blender's Extend).
+ */
+#define SSSBAKE_EXTENSION_EXTEND 1
+
+/**
+ * Black outside the image (Blender's Clip).
+ */
+#define SSSBAKE_EXTENSION_CLIP 2
+
+/**
+ * The image tiles mirrored (Blender's Mirror).
+ */
+#define SSSBAKE_EXTENSION_MIRROR 3
 
 /**
  * Christensen–Burley: mean free path Radius × Scale / 4π.
@@ -274,6 +301,43 @@ typedef struct SssbakeMaterial {
    * One of the `SSSBAKE_ALBEDO_*` mappings from colour to albedo.
    */
   uint32_t albedo_mapping;
+  /**
+   * The Base Color image, or null: `image_width` × `image_height`
+   * texels of `image_channels` floats (3 RGB, or 4 RGBA whose alpha is
+   * ignored), linear (the host decodes its colour space), rows from
+   * v = 0 up (Blender's order). It replaces `base_colour` where it is
+   * sampled; the profile is built for its mean (README, "Colour maps").
+   */
+  const float *image_pixels;
+  /**
+   * Texels per row.
+   */
+  uint32_t image_width;
+  /**
+   * Rows.
+   */
+  uint32_t image_height;
+  /**
+   * 3 or 4.
+   */
+  uint32_t image_channels;
+  /**
+   * The UV set the image reads: 0 the mesh's `uvs`, k ≥ 1 its texture
+   * UV set k ([`SssbakeMesh::texture_uvs`](crate::SssbakeMesh)).
+   */
+  uint32_t image_uv_set;
+  /**
+   * One of the `SSSBAKE_EXTENSION_*` wraps outside [0, 1].
+   */
+  uint32_t image_extension;
+  /**
+   * Nonzero: the nearest texel (Blender's Closest); 0: bilinear.
+   */
+  uint32_t image_nearest;
+  /**
+   * The image's name for reports (UTF-8), or null.
+   */
+  const char *image_name;
 } SssbakeMaterial;
 
 /**
@@ -286,7 +350,10 @@ typedef void (*SssbakeProgress)(void *user, float fraction);
  * One mesh: `vertex_count` vertices with positions (x, y, z in scene
  * units, world space), optional unit normals and optional UVs (u, v with v
  * running up, as Blender's), and `index_count` indices, three per
- * triangle, counter-clockwise seen from outside.
+ * triangle, counter-clockwise seen from outside; optionally each
+ * triangle's material (an index into the materials given to
+ * [`sssbake_bake_materials`](crate::sssbake_bake_materials)) and further
+ * UV sets a base-colour image may read.
  */
 typedef struct SssbakeMesh {
   /**
@@ -317,6 +384,21 @@ typedef struct SssbakeMesh {
    * A multiple of 3.
    */
   size_t index_count;
+  /**
+   * `index_count` / 3 material indices, one per triangle, or null: every
+   * triangle has material 0.
+   */
+  const uint32_t *material_indices;
+  /**
+   * `texture_uv_count` × 2 × `vertex_count` floats: further UV sets, one
+   * after another, v running up; null when the count is 0. UV set 0 is
+   * `uvs` (the set baked into); these are sets 1 to `texture_uv_count`.
+   */
+  const float *texture_uvs;
+  /**
+   * UV sets in `texture_uvs`.
+   */
+  size_t texture_uv_count;
 } SssbakeMesh;
 
 /**
@@ -417,7 +499,8 @@ enum SssbakeStatus sssbake_settings_default(struct SssbakeSettings *out);
 
 /**
  * Bakes `object` of `scene` with `material` and `settings`, into the
- * object's own UVs as they are (a host shows the maps through them).
+ * object's own UVs as they are (a host shows the maps through them). Every
+ * face bakes with `material`, whatever material indices the mesh gives.
  *
  * `progress` (may be null) is called with the fraction done; the bake
  * stops with [`SssbakeStatus::Cancelled`] soon after `*cancel` (may be
@@ -436,6 +519,31 @@ enum SssbakeStatus sssbake_bake(const struct SssbakeScene *scene,
                                 void *user,
                                 const int32_t *cancel,
                                 struct SssbakeResult **out);
+
+/**
+ * Bakes `object` of `scene` as [`sssbake_bake`] does, each triangle with
+ * the material of `materials` (`material_count` of them) that its mesh's
+ * `material_indices` names (material 0 when the mesh gives none). A texel
+ * takes the bake of its own face's material: the object is baked once per
+ * material its faces use, each time as if the whole object were of that
+ * material (light entering another material's faces included). Faces of an
+ * [`SSSBAKE_MATERIAL_NONE`](crate::SSSBAKE_MATERIAL_NONE) material are left
+ * out (their texels empty); the summary's object lists each material in
+ * `materials` with the texels it owns.
+ *
+ * # Safety
+ * As [`sssbake_bake`]; `materials` points to `material_count` valid
+ * materials whose images hold the floats they state.
+ */
+enum SssbakeStatus sssbake_bake_materials(const struct SssbakeScene *scene,
+                                          const char *object,
+                                          const struct SssbakeMaterial *materials,
+                                          size_t material_count,
+                                          const struct SssbakeSettings *settings,
+                                          SssbakeProgress progress,
+                                          void *user,
+                                          const int32_t *cancel,
+                                          struct SssbakeResult **out);
 
 /**
  * Frees a result (null is allowed).

@@ -2,12 +2,13 @@
 //! cancel flag, and the result whose maps the host copies out. The library
 //! plans and bakes; this file only converts.
 
-use crate::errors::{Failure, SssbakeStatus, guarded, text};
-use crate::material::{SssbakeMaterial, assignment_from_host};
+use crate::errors::{Failure, SssbakeStatus, guarded, slice, text};
+use crate::material::SssbakeMaterial;
 use crate::scene::SssbakeScene;
+use crate::slots::{Composite, bake_materials};
 use sssbake::control::{Control, watch_while};
 use sssbake::transport::integrator::IntegratorSettings;
-use sssbake::{BakeRequest, BakedObject, Method, Output, UvPolicy};
+use sssbake::{BakeRequest, Method, Output, UvPolicy};
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
 use std::ffi::{CString, c_char, c_void};
@@ -99,7 +100,7 @@ pub type SssbakeProgress = Option<unsafe extern "C" fn(user: *mut c_void, fracti
 
 /// A finished bake (opaque): its maps, rendered on request.
 pub struct SssbakeResult {
-    object: BakedObject,
+    composite: Composite,
     summary: CString,
 }
 
@@ -154,7 +155,8 @@ pub(crate) fn request_from_host(
 }
 
 /// Bakes `object` of `scene` with `material` and `settings`, into the
-/// object's own UVs as they are (a host shows the maps through them).
+/// object's own UVs as they are (a host shows the maps through them). Every
+/// face bakes with `material`, whatever material indices the mesh gives.
 ///
 /// `progress` (may be null) is called with the fraction done; the bake
 /// stops with [`SssbakeStatus::Cancelled`] soon after `*cancel` (may be
@@ -175,37 +177,92 @@ pub unsafe extern "C" fn sssbake_bake(
     cancel: *const i32,
     out: *mut *mut SssbakeResult,
 ) -> SssbakeStatus {
+    // SAFETY: forwarded from the caller; one material is a slice of one.
+    unsafe {
+        sssbake_bake_materials(
+            scene,
+            object,
+            material,
+            usize::from(!material.is_null()),
+            settings,
+            progress,
+            user,
+            cancel,
+            out,
+        )
+    }
+}
+
+/// Bakes `object` of `scene` as [`sssbake_bake`] does, each triangle with
+/// the material of `materials` (`material_count` of them) that its mesh's
+/// `material_indices` names (material 0 when the mesh gives none). A texel
+/// takes the bake of its own face's material: the object is baked once per
+/// material its faces use, each time as if the whole object were of that
+/// material (light entering another material's faces included). Faces of an
+/// [`SSSBAKE_MATERIAL_NONE`](crate::SSSBAKE_MATERIAL_NONE) material are left
+/// out (their texels empty); the summary's object lists each material in
+/// `materials` with the texels it owns.
+///
+/// # Safety
+/// As [`sssbake_bake`]; `materials` points to `material_count` valid
+/// materials whose images hold the floats they state.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sssbake_bake_materials(
+    scene: *const SssbakeScene,
+    object: *const c_char,
+    materials: *const SssbakeMaterial,
+    material_count: usize,
+    settings: *const SssbakeSettings,
+    progress: SssbakeProgress,
+    user: *mut c_void,
+    cancel: *const i32,
+    out: *mut *mut SssbakeResult,
+) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: forwarded from the caller.
-        let (scene, material, settings, cancel) =
-            unsafe { bake_arguments(scene, material, settings, cancel) }?;
         // SAFETY: forwarded from the caller.
         unsafe { clear(out, "out") }?;
         // SAFETY: forwarded from the caller.
-        let object = unsafe { text(object, "object name") }?;
-        let scene = &scene.scene;
-        let mut request = request_from_host(settings, true)?;
-        request.objects = vec![object.to_string()];
+        let (scene, settings, cancel) = unsafe { host_arguments(scene, settings, cancel) }?;
         // SAFETY: forwarded from the caller.
-        request.materials = unsafe { assignment_from_host(material, scene.millimetres_per_unit) }?;
-        let control = Control::new();
+        let materials = unsafe { slice(materials, material_count, "materials") }?;
+        // SAFETY: forwarded from the caller.
+        let object = unsafe { text(object, "object name") }?;
         let user = UserData(user);
-        let (mut objects, summary) = watched(&control, progress, &user, cancel, || {
-            let plan = sssbake::plan(scene, &request)?;
-            sssbake::bake(scene, &plan, &control)
-        })?;
-        let object = objects
-            .pop()
-            .ok_or_else(|| Failure::input(format!("no object named `{object}`")))?;
+        let (composite, summary) =
+            bake_materials(scene, object, materials, settings, progress, &user, cancel)?;
         let summary = serde_json::to_string(&summary).unwrap_or_default();
         let result = SssbakeResult {
-            object,
+            composite,
             summary: CString::new(summary).unwrap_or_default(),
         };
         // SAFETY: checked non-null; the caller gives writable storage.
         unsafe { *out = Box::into_raw(Box::new(result)) };
         Ok(())
     })
+}
+
+/// The scene, settings and cancel flag a host's bake takes, checked for
+/// null.
+///
+/// # Safety
+/// As [`bake_arguments`].
+unsafe fn host_arguments<'a>(
+    scene: *const SssbakeScene,
+    settings: *const SssbakeSettings,
+    cancel: *const i32,
+) -> Result<(&'a SssbakeScene, &'a SssbakeSettings, Option<&'a AtomicI32>), Failure> {
+    // SAFETY: as the caller promises.
+    let (scene, settings, cancel) = unsafe {
+        (
+            scene.as_ref(),
+            settings.as_ref(),
+            cancel.cast::<AtomicI32>().as_ref(),
+        )
+    };
+    match (scene, settings) {
+        (Some(scene), Some(settings)) => Ok((scene, settings, cancel)),
+        _ => Err(Failure::argument("scene or settings is null")),
+    }
 }
 
 /// The arguments every bake call takes, checked for null.
@@ -258,12 +315,15 @@ pub(crate) unsafe fn clear<T>(out: *mut *mut T, what: &str) -> Result<(), Failur
 }
 
 /// Runs `work` while a thread reports progress and passes the host's
-/// cancel flag on to `control`.
+/// cancel flag on to `control`; `(part, parts)`: the work is part `part` of
+/// `parts` equal parts of the call, so the fraction reported runs from
+/// part / parts to (part + 1) / parts.
 pub(crate) fn watched<T>(
     control: &Control,
     progress: SssbakeProgress,
     user: &UserData,
     cancel: Option<&AtomicI32>,
+    (part, parts): (usize, usize),
     work: impl FnOnce() -> T,
 ) -> T {
     let tick = || {
@@ -271,8 +331,9 @@ pub(crate) fn watched<T>(
             control.cancel();
         }
         if let Some(callback) = progress {
+            let fraction = (part as f64 + control.fraction()) / parts.max(1) as f64;
             // SAFETY: the host's callback, called as documented.
-            unsafe { callback(user.0, control.fraction() as f32) };
+            unsafe { callback(user.0, fraction as f32) };
         }
     };
     watch_while(Duration::from_millis(200), tick, work)
@@ -297,7 +358,7 @@ pub unsafe extern "C" fn sssbake_result_free(result: *mut SssbakeResult) {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_result_resolution(result: *const SssbakeResult) -> u32 {
     // SAFETY: the caller passes a live result or null.
-    unsafe { result.as_ref() }.map_or(0, |r| r.object.prepared.surfels.resolution)
+    unsafe { result.as_ref() }.map_or(0, |r| r.composite.resolution())
 }
 
 /// What the bake did, as JSON: the summary `sssbake bake --json` prints
@@ -329,7 +390,7 @@ pub unsafe extern "C" fn sssbake_result_image(
     guarded(|| {
         // SAFETY: forwarded from the caller.
         let (result, image) = unsafe { rendered(result, output) }?;
-        let n = result.object.prepared.surfels.resolution as usize;
+        let n = result.composite.resolution() as usize;
         if len != 4 * n * n || rgba.is_null() {
             return Err(Failure::argument(format!(
                 "the buffer holds {len} floats; a {n}² RGBA map needs {}",
@@ -338,7 +399,7 @@ pub unsafe extern "C" fn sssbake_result_image(
         }
         // SAFETY: checked non-null; the caller gives `len` writable floats.
         let pixels = unsafe { std::slice::from_raw_parts_mut(rgba, len) };
-        let covered = result.object.covered();
+        let covered = result.composite.covered();
         // Image rows run down; texel rows (and the host's) run up with v.
         for y in 0..n {
             let row = &image.texels[(n - 1 - y) * n..(n - y) * n];
@@ -401,6 +462,6 @@ unsafe fn rendered<'a>(
     let output = *Output::ALL
         .get(output as usize)
         .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;
-    let image = result.object.render(output)?;
+    let image = result.composite.render(output)?;
     Ok((result, image))
 }

@@ -76,6 +76,7 @@ pub unsafe extern "C" fn sssbake_scene_read(
                 path: path.to_path_buf(),
                 uv_set: options.uv_set,
             }),
+            face_materials: std::collections::HashMap::new(),
         };
         // SAFETY: checked non-null; the caller gives writable storage.
         unsafe { *out = Box::into_raw(Box::new(scene)) };
@@ -152,7 +153,7 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
         };
         let control = Control::new();
         let user = UserData(user);
-        let summary = watched(&control, progress, &user, cancel, || {
+        let summary = watched(&control, progress, &user, cancel, (0, 1), || {
             let plan = sssbake::plan(scene, &request)?;
             bake_to_folder(scene_file, scene, &plan, &options, &control)
         })?;

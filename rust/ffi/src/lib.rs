@@ -15,6 +15,7 @@ mod folder;
 mod lights;
 mod material;
 mod scene;
+mod slots;
 
 pub use bake::*;
 pub use errors::*;
@@ -24,7 +25,7 @@ pub use material::*;
 pub use scene::*;
 
 /// The version of this ABI: hosts refuse a library of another version.
-pub const SSSBAKE_ABI_VERSION: u32 = 4;
+pub const SSSBAKE_ABI_VERSION: u32 = 5;
 
 /// The version of this ABI ([`SSSBAKE_ABI_VERSION`]).
 #[unsafe(no_mangle)]

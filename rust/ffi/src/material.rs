@@ -1,13 +1,17 @@
 //! Materials as a host gives them: a preset, a material file's text, or
-//! Blender's Principled BSDF subsurface inputs.
+//! Blender's Principled BSDF subsurface inputs, with an optional
+//! base-colour image.
 
-use crate::errors::{Failure, text};
+use crate::errors::{Failure, slice, text};
+use sssbake::colour::{ColourTexture, Wrap};
+use sssbake::image::Image;
 use sssbake::materials::{
     AlbedoMapping, MaterialAssignment, Principled, Sidecar, SubsurfaceMethod, preset,
 };
 use sssbake_profile::Material;
 use std::ffi::c_char;
 use std::path::Path;
+use std::sync::Arc;
 
 /// A preset by `name` (skin1, marble, skin3layer, …).
 pub const SSSBAKE_MATERIAL_PRESET: u32 = 0;
@@ -23,6 +27,19 @@ pub const SSSBAKE_MATERIAL_SCENE: u32 = 3;
 /// file; `name` is the folder those files are relative to (null: the
 /// working folder). Objects it does not name take their scene material.
 pub const SSSBAKE_MATERIAL_SIDECAR: u32 = 4;
+/// No subsurface (a Principled BSDF with Subsurface Weight 0, a slot
+/// without a material): the faces of this material are left out of the
+/// bake, their texels empty (alpha 0), and the summary says so.
+pub const SSSBAKE_MATERIAL_NONE: u32 = 5;
+
+/// Image Texture extension: the image tiles.
+pub const SSSBAKE_EXTENSION_REPEAT: u32 = 0;
+/// The edge texel repeats (Blender's Extend).
+pub const SSSBAKE_EXTENSION_EXTEND: u32 = 1;
+/// Black outside the image (Blender's Clip).
+pub const SSSBAKE_EXTENSION_CLIP: u32 = 2;
+/// The image tiles mirrored (Blender's Mirror).
+pub const SSSBAKE_EXTENSION_MIRROR: u32 = 3;
 
 /// A material. Fields a kind does not use are ignored.
 #[repr(C)]
@@ -56,6 +73,57 @@ pub struct SssbakeMaterial {
     pub specular_ior_level: f32,
     /// One of the `SSSBAKE_ALBEDO_*` mappings from colour to albedo.
     pub albedo_mapping: u32,
+    /// The Base Color image, or null: `image_width` × `image_height`
+    /// texels of `image_channels` floats (3 RGB, or 4 RGBA whose alpha is
+    /// ignored), linear (the host decodes its colour space), rows from
+    /// v = 0 up (Blender's order). It replaces `base_colour` where it is
+    /// sampled; the profile is built for its mean (README, "Colour maps").
+    pub image_pixels: *const f32,
+    /// Texels per row.
+    pub image_width: u32,
+    /// Rows.
+    pub image_height: u32,
+    /// 3 or 4.
+    pub image_channels: u32,
+    /// The UV set the image reads: 0 the mesh's `uvs`, k ≥ 1 its texture
+    /// UV set k ([`SssbakeMesh::texture_uvs`](crate::SssbakeMesh)).
+    pub image_uv_set: u32,
+    /// One of the `SSSBAKE_EXTENSION_*` wraps outside [0, 1].
+    pub image_extension: u32,
+    /// Nonzero: the nearest texel (Blender's Closest); 0: bilinear.
+    pub image_nearest: u32,
+    /// The image's name for reports (UTF-8), or null.
+    pub image_name: *const c_char,
+}
+
+impl Default for SssbakeMaterial {
+    /// A preset with no name, no image, Blender's Principled defaults for
+    /// the rest: a host fills what its kind uses.
+    fn default() -> Self {
+        SssbakeMaterial {
+            kind: SSSBAKE_MATERIAL_PRESET,
+            name: std::ptr::null(),
+            toml: std::ptr::null(),
+            base_colour: [0.8; 3],
+            subsurface_weight: 0.0,
+            radius: [1.0, 0.2, 0.1],
+            scale: 0.05,
+            ior: 1.5,
+            anisotropy: 0.0,
+            subsurface_method: SSSBAKE_SUBSURFACE_RANDOM_WALK,
+            subsurface_ior: 1.4,
+            specular_ior_level: 0.5,
+            albedo_mapping: SSSBAKE_ALBEDO_CYCLES,
+            image_pixels: std::ptr::null(),
+            image_width: 0,
+            image_height: 0,
+            image_channels: 0,
+            image_uv_set: 0,
+            image_extension: SSSBAKE_EXTENSION_REPEAT,
+            image_nearest: 0,
+            image_name: std::ptr::null(),
+        }
+    }
 }
 
 /// Christensen–Burley: mean free path Radius × Scale / 4π.
@@ -139,6 +207,10 @@ pub(crate) unsafe fn assignment_from_host(
             )?)
         }
         SSSBAKE_MATERIAL_SCENE => Ok(MaterialAssignment::default()),
+        SSSBAKE_MATERIAL_NONE => Err(Failure::input(format!(
+            "material `{}` has no subsurface; there is nothing to bake with it",
+            name_or("material")?
+        ))),
         SSSBAKE_MATERIAL_SIDECAR => {
             // SAFETY: forwarded from the caller.
             let toml = unsafe { text(material.toml, "sidecar TOML") }?;
@@ -153,4 +225,103 @@ pub(crate) unsafe fn assignment_from_host(
             "material kind {other} is not one of SSSBAKE_MATERIAL_*"
         ))),
     }
+}
+
+/// The base-colour texture a host material gives, or `None`; `object` and
+/// its `uv_set_count` UV sets name and bound what it may read.
+///
+/// # Safety
+/// `image_pixels` is null or holds the floats the material states;
+/// `image_name` and `name` are null or NUL-terminated.
+pub(crate) unsafe fn texture_from_host(
+    material: &SssbakeMaterial,
+    object: &str,
+    uv_set_count: usize,
+) -> Result<Option<ColourTexture>, Failure> {
+    if material.image_pixels.is_null() {
+        return Ok(None);
+    }
+    let material_name = if material.name.is_null() {
+        "material".to_string()
+    } else {
+        // SAFETY: forwarded from the caller.
+        unsafe { text(material.name, "material name") }?.to_string()
+    };
+    let image_name = if material.image_name.is_null() {
+        "Base Color image".to_string()
+    } else {
+        // SAFETY: forwarded from the caller.
+        unsafe { text(material.image_name, "image name") }?.to_string()
+    };
+    let at = |what: String| {
+        Failure::argument(format!(
+            "object `{object}`, material `{material_name}`, image `{image_name}`: {what}"
+        ))
+    };
+    let (w, h, c) = (
+        material.image_width as usize,
+        material.image_height as usize,
+        material.image_channels as usize,
+    );
+    if w == 0 || h == 0 {
+        return Err(at(format!("its size is {w} × {h}; both must be positive")));
+    }
+    if c != 3 && c != 4 {
+        return Err(at(format!(
+            "{c} channels; it must have 3 (RGB) or 4 (RGBA)"
+        )));
+    }
+    let len = w
+        .checked_mul(h)
+        .and_then(|n| n.checked_mul(c))
+        .ok_or_else(|| at(format!("{w} × {h} × {c} floats is too many")))?;
+    // SAFETY: forwarded from the caller.
+    let pixels = unsafe { slice(material.image_pixels, len, "image pixels") }?;
+    if let Some(bad) = pixels.iter().position(|v| !v.is_finite()) {
+        let texel = bad / c;
+        return Err(at(format!(
+            "texel ({}, {}) from the bottom left is {}; colours must be finite",
+            texel % w,
+            texel / w,
+            pixels[bad]
+        )));
+    }
+    let uv_set = material.image_uv_set as usize;
+    if uv_set >= uv_set_count.max(1) {
+        return Err(at(format!(
+            "it reads UV set {uv_set} but the mesh has {uv_set_count} (0 is `uvs`, then `texture_uvs`)"
+        )));
+    }
+    let wrap = match material.image_extension {
+        SSSBAKE_EXTENSION_REPEAT => Wrap::Repeat,
+        SSSBAKE_EXTENSION_EXTEND => Wrap::Clamp,
+        SSSBAKE_EXTENSION_CLIP => Wrap::Black,
+        SSSBAKE_EXTENSION_MIRROR => Wrap::Mirror,
+        other => {
+            return Err(at(format!(
+                "extension {other} is not one of SSSBAKE_EXTENSION_*"
+            )));
+        }
+    };
+    // The host's rows run up from v = 0; an Image's rows run down.
+    let texels = (0..h)
+        .rev()
+        .flat_map(|y| (0..w).map(move |x| (y * w + x) * c))
+        .map(|i| [pixels[i], pixels[i + 1], pixels[i + 2]])
+        .collect();
+    let image = Image::new(w, h, texels).map_err(|e| at(e.to_string()))?;
+    Ok(Some(ColourTexture {
+        material: material_name,
+        input: "Base Color".into(),
+        file: image_name,
+        image: Ok(Arc::new(image)),
+        colour_space: "linear (decoded by the host)".into(),
+        uv_set,
+        uv_set_name: format!("UV set {uv_set}"),
+        transform: None,
+        wrap: [wrap; 2],
+        nearest: material.image_nearest != 0,
+        scale: [1.0; 3],
+        bias: [0.0; 3],
+    }))
 }

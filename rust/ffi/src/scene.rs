@@ -14,6 +14,9 @@ pub struct SssbakeScene {
     /// The file it was read from, kept so a bake into a folder can write
     /// the file's glTF copy or USD layer; `None` for a host's scene.
     pub(crate) file: Option<SceneFile>,
+    /// Per object of a host's scene, the material index of each of its
+    /// mesh's triangles (in the mesh's order); absent: all 0.
+    pub(crate) face_materials: HashMap<String, Vec<u32>>,
 }
 
 /// Where a scene read from a file came from.
@@ -27,7 +30,10 @@ pub(crate) struct SceneFile {
 /// One mesh: `vertex_count` vertices with positions (x, y, z in scene
 /// units, world space), optional unit normals and optional UVs (u, v with v
 /// running up, as Blender's), and `index_count` indices, three per
-/// triangle, counter-clockwise seen from outside.
+/// triangle, counter-clockwise seen from outside; optionally each
+/// triangle's material (an index into the materials given to
+/// [`sssbake_bake_materials`](crate::sssbake_bake_materials)) and further
+/// UV sets a base-colour image may read.
 #[repr(C)]
 pub struct SssbakeMesh {
     /// The object's name (UTF-8, NUL-terminated).
@@ -44,6 +50,33 @@ pub struct SssbakeMesh {
     pub indices: *const u32,
     /// A multiple of 3.
     pub index_count: usize,
+    /// `index_count` / 3 material indices, one per triangle, or null: every
+    /// triangle has material 0.
+    pub material_indices: *const u32,
+    /// `texture_uv_count` × 2 × `vertex_count` floats: further UV sets, one
+    /// after another, v running up; null when the count is 0. UV set 0 is
+    /// `uvs` (the set baked into); these are sets 1 to `texture_uv_count`.
+    pub texture_uvs: *const f32,
+    /// UV sets in `texture_uvs`.
+    pub texture_uv_count: usize,
+}
+
+impl Default for SssbakeMesh {
+    /// No arrays and no name: a host fills what it has.
+    fn default() -> Self {
+        SssbakeMesh {
+            name: std::ptr::null(),
+            positions: std::ptr::null(),
+            normals: std::ptr::null(),
+            uvs: std::ptr::null(),
+            vertex_count: 0,
+            indices: std::ptr::null(),
+            index_count: 0,
+            material_indices: std::ptr::null(),
+            texture_uvs: std::ptr::null(),
+            texture_uv_count: 0,
+        }
+    }
 }
 
 /// Makes an empty scene whose units are `millimetres_per_unit` mm.
@@ -71,6 +104,7 @@ pub unsafe extern "C" fn sssbake_scene_new(
                 ..Scene::default()
             },
             file: None,
+            face_materials: HashMap::new(),
         };
         // SAFETY: checked non-null; the caller gives writable storage.
         unsafe { *out = Box::into_raw(Box::new(scene)) };
@@ -117,7 +151,8 @@ pub unsafe extern "C" fn sssbake_scene_add_mesh(
             )));
         }
         // SAFETY: the caller's arrays hold the stated lengths.
-        let object = unsafe { object_from_host(mesh, scene.scene.millimetres_per_unit) }?;
+        let (object, face_materials) =
+            unsafe { object_from_host(mesh, scene.scene.millimetres_per_unit) }?;
         if scene
             .scene
             .objects
@@ -129,16 +164,26 @@ pub unsafe extern "C" fn sssbake_scene_add_mesh(
                 object.mesh.name
             )));
         }
+        if let Some(face_materials) = face_materials {
+            scene
+                .face_materials
+                .insert(object.mesh.name.clone(), face_materials);
+        }
         scene.scene.objects.push(object);
         Ok(())
     })
 }
 
-/// Reads the host's arrays into an object, sharing identical vertices.
+/// Reads the host's arrays into an object, sharing identical vertices and
+/// leaving out triangles without area, with each kept triangle's material
+/// index when the host gives them.
 ///
 /// # Safety
 /// The mesh's arrays hold the lengths it states.
-unsafe fn object_from_host(mesh: &SssbakeMesh, scale: f64) -> Result<SceneObject, Failure> {
+unsafe fn object_from_host(
+    mesh: &SssbakeMesh,
+    scale: f64,
+) -> Result<(SceneObject, Option<Vec<u32>>), Failure> {
     // SAFETY: forwarded from the caller.
     let name = unsafe { text(mesh.name, "mesh name") }?.to_string();
     let n = mesh.vertex_count;
@@ -157,6 +202,17 @@ unsafe fn object_from_host(mesh: &SssbakeMesh, scale: f64) -> Result<SceneObject
         // SAFETY: forwarded from the caller.
         Some(unsafe { slice(mesh.uvs, 2 * n, &at("uvs")) }?)
     };
+    let extra_len = mesh
+        .texture_uv_count
+        .checked_mul(2 * n)
+        .ok_or_else(|| Failure::argument(at("texture_uv_count is too large")))?;
+    // SAFETY: forwarded from the caller.
+    let extra = unsafe { slice(mesh.texture_uvs, extra_len, &at("texture_uvs")) }?;
+    if extra.iter().any(|c| !c.is_finite()) {
+        return Err(Failure::argument(at(
+            "texture_uvs hold a value that is not finite",
+        )));
+    }
     // SAFETY: forwarded from the caller.
     let indices = unsafe { slice(mesh.indices, mesh.index_count, &at("indices")) }?;
     if indices.len() % 3 != 0 {
@@ -168,44 +224,80 @@ unsafe fn object_from_host(mesh: &SssbakeMesh, scale: f64) -> Result<SceneObject
     if let Some(bad) = indices.iter().find(|&&i| i as usize >= n) {
         return Err(Failure::input(at(&format!("index {bad} but {n} vertices"))));
     }
-    // Share vertices equal bit for bit.
-    let mut shared: HashMap<[u32; 8], u32> = HashMap::new();
+    let face_materials = if mesh.material_indices.is_null() {
+        None
+    } else {
+        // SAFETY: forwarded from the caller.
+        Some(unsafe {
+            slice(
+                mesh.material_indices,
+                indices.len() / 3,
+                &at("material_indices"),
+            )
+        }?)
+    };
+    // Share vertices equal bit for bit in every attribute.
+    let mut shared: HashMap<Vec<u32>, u32> = HashMap::new();
     let mut remap = Vec::with_capacity(n);
     let (mut p, mut nr, mut uv) = (Vec::new(), Vec::new(), Vec::new());
+    let mut sets: Vec<Vec<Vec2>> = vec![Vec::new(); mesh.texture_uv_count];
     for v in 0..n {
         let position = Vec3::from_slice(&positions[3 * v..3 * v + 3]);
         let normal = normals.map_or(Vec3::ZERO, |s| Vec3::from_slice(&s[3 * v..3 * v + 3]));
         let coord = uvs.map_or(Vec2::ZERO, |s| Vec2::from_slice(&s[2 * v..2 * v + 2]));
-        let key = [
+        let texture_coord = |k: usize| Vec2::from_slice(&extra[2 * (k * n + v)..][..2]);
+        let mut key: Vec<u32> = [
             position.x, position.y, position.z, normal.x, normal.y, normal.z, coord.x, coord.y,
         ]
-        .map(f32::to_bits);
+        .map(f32::to_bits)
+        .to_vec();
+        for k in 0..sets.len() {
+            key.extend(texture_coord(k).to_array().map(f32::to_bits));
+        }
         let index = *shared.entry(key).or_insert_with(|| {
             p.push(position * scale as f32);
             nr.push(normal);
             uv.push(coord);
+            for (k, set) in sets.iter_mut().enumerate() {
+                set.push(texture_coord(k));
+            }
             (p.len() - 1) as u32
         });
         remap.push(index);
     }
+    // Triangles without area are left out here (Mesh::new would drop them)
+    // so that the material indices stay in step with the mesh's triangles.
+    let mut kept_materials = Vec::new();
     let triangles = indices
         .chunks_exact(3)
-        .map(|t| {
-            [
-                remap[t[0] as usize],
-                remap[t[1] as usize],
-                remap[t[2] as usize],
-            ]
+        .enumerate()
+        .map(|(f, t)| (f, [t[0], t[1], t[2]].map(|i| remap[i as usize])))
+        .filter(|&(_, t)| sssbake::mesh::triangle_area(&p, t) > 0.0)
+        .map(|(f, t)| {
+            if let Some(m) = face_materials {
+                kept_materials.push(m[f]);
+            }
+            t
         })
         .collect();
     let uvs = uvs.map(|_| uv);
     let (mesh, _) = Mesh::new(&name, p, normals.map(|_| nr), uvs.clone(), triangles)
         .map_err(|e| Failure::input(e.to_string()))?;
-    Ok(SceneObject {
+    // UV set 0 is the baked one, so texture sets keep their numbers even
+    // on a mesh without it.
+    let uv_sets = if sets.is_empty() {
+        uvs.into_iter().collect()
+    } else {
+        std::iter::once(uvs.unwrap_or_default())
+            .chain(sets)
+            .collect()
+    };
+    let object = SceneObject {
         mesh,
-        uv_sets: uvs.into_iter().collect(),
+        uv_sets,
         ..SceneObject::default()
-    })
+    };
+    Ok((object, face_materials.map(|_| kept_materials)))
 }
 
 /// Adds a light in the host's units (see [`SssbakeLight`]).

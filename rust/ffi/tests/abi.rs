@@ -64,6 +64,7 @@ fn lit_sphere() -> Scene {
         vertex_count: p.len() / 3,
         indices: idx.as_ptr(),
         index_count: idx.len(),
+        ..SssbakeMesh::default()
     };
     assert_eq!(
         unsafe { sssbake_scene_add_mesh(scene, &mesh) },
@@ -116,6 +117,7 @@ fn preset(name: &CString) -> SssbakeMaterial {
         subsurface_ior: 1.4,
         specular_ior_level: 0.5,
         albedo_mapping: SSSBAKE_ALBEDO_CYCLES,
+        ..SssbakeMaterial::default()
     }
 }
 
@@ -270,6 +272,7 @@ fn principled_inputs_bake_their_colour() {
         subsurface_ior: 1.4,
         specular_ior_level: 0.5,
         albedo_mapping: SSSBAKE_ALBEDO_CYCLES,
+        ..SssbakeMaterial::default()
     };
     let mut result = null_mut();
     let status = unsafe {
@@ -364,6 +367,7 @@ fn misuse_gets_a_status_and_a_message() {
         vertex_count: 3,
         indices: idx.as_ptr(),
         index_count: 3,
+        ..SssbakeMesh::default()
     };
     assert_eq!(
         unsafe { sssbake_scene_add_mesh(scene.0, &mesh) },
@@ -386,6 +390,7 @@ fn misuse_gets_a_status_and_a_message() {
         vertex_count: 3,
         indices: corners.as_ptr(),
         index_count: 3,
+        ..SssbakeMesh::default()
     };
     assert_eq!(
         unsafe { sssbake_scene_add_mesh(scene.0, &bare) },

@@ -50,6 +50,7 @@ fn scene_material() -> SssbakeMaterial {
         subsurface_ior: 1.4,
         specular_ior_level: 0.5,
         albedo_mapping: SSSBAKE_ALBEDO_CYCLES,
+        ..SssbakeMaterial::default()
     }
 }
 
@@ -268,6 +269,7 @@ fn misuse_of_files_and_folders_gets_a_status_and_a_message() {
         vertex_count: 3,
         indices: idx.as_ptr(),
         index_count: 3,
+        ..SssbakeMesh::default()
     };
     assert_eq!(
         unsafe { sssbake_scene_add_mesh(scene, &mesh) },
