@@ -23,10 +23,12 @@ def register():
     for cls in CLASSES:
         bpy.utils.register_class(cls)
     bpy.types.Scene.sssbake = bpy.props.PointerProperty(type=properties.SSSBAKE_PG_settings)
+    bpy.types.VIEW3D_MT_object.append(operators.menu_entry)
 
 
 def unregister():
     operators.cancel_running()
+    bpy.types.VIEW3D_MT_object.remove(operators.menu_entry)
     del bpy.types.Scene.sssbake
     for cls in reversed(CLASSES):
         bpy.utils.unregister_class(cls)
