@@ -186,6 +186,37 @@ def test_unwrap_keeps_the_artists_fixes_and_active_map(addon, capfd):
     assert layers.active.name == "UVMap" and len(bpy.data.images) == 3
 
 
+def test_unwrap_uses_the_librarys_xatlas_and_keeps_smart_uv_project_as_a_choice(addon, capfd):
+    import bpy
+
+    head = suzanne_scene()
+    assert bpy.context.scene.sssbake.unwrap_method == "XATLAS"
+    assert bake(unwrap=True, resolution=64, outputs={"AREA"}) == {"FINISHED"}
+    # The library finds the map usable at this resolution: no overlap, mirror or stretch.
+    assert "UV map `sssbake` has" not in capfd.readouterr().out
+    mesh = head.data
+    layer = mesh.uv_layers["sssbake"]
+    uv = np.array([loop.uv[:] for loop in layer.data])
+    assert ((uv >= 0) & (uv <= 1)).all()
+    # Faces counter-clockwise (xatlas may hand charts back mirrored), each face's corners
+    # one UV each; a face xatlas cut in two is placed by its larger triangle's mapping,
+    # which may fold a sliver of the other: at most 1% of the triangles.
+    mesh.calc_loop_triangles()
+    signed = np.array(
+        [
+            np.cross(uv[t.loops[1]] - uv[t.loops[0]], uv[t.loops[2]] - uv[t.loops[0]])
+            for t in mesh.loop_triangles
+        ]
+    )
+    assert (signed < 0).mean() <= 0.01 and np.abs(signed[signed < 0]).max(initial=0) < np.median(
+        np.abs(signed)
+    )
+    xatlas = uv.copy()
+    assert bake(unwrap=True, unwrap_method="SMART", redo_unwrap=True, outputs={"AREA"}) == {"FINISHED"}
+    smart = np.array([loop.uv[:] for loop in layer.data])
+    assert not np.allclose(smart, xatlas)
+
+
 def test_a_bake_from_edit_mode_returns_to_edit_mode_with_the_edits(addon):
     import bpy
 

@@ -125,6 +125,8 @@ class ImageState:
             if self.pixels is not None and len(image.pixels) == len(self.pixels):
                 image.pixels.foreach_set(self.pixels)
         else:
+            # reload() only drops the cached pixels: they are read when next used, after
+            # the folder's own rollback has put the old file back.
             image.filepath = self.filepath
             image.source = self.source
             image.reload()

@@ -13,6 +13,8 @@ from .properties import QUALITY_SAMPLES
 
 
 class Job:
+    """One bake of the selected objects with `settings` (the panel's, or the operator's)."""
+
     def __init__(self, context, settings):
         self.settings = settings
         self.targets = _targets(context, settings)
@@ -29,19 +31,27 @@ class Job:
         self.scene = None
         self.changes = changes.Changes()
         self.unwrapped = set()
+        self.unwrap_notes = []
         self.failures = []
         self.mode = EditorMode(context)
         self.native_settings = _native_settings(settings)
         try:
             self.mode.leave()
-            # The objects whose `sssbake` map this bake made (the others keep theirs).
-            self.unwrapped = {
-                obj.name
-                for obj in (self.targets if settings.unwrap else ())
-                if unwrap.ensure_map(
-                    context, obj, settings.redo_unwrap, settings.margin, settings.resolution, self.changes
+            # The objects whose `sssbake` map this bake made (the others keep theirs),
+            # with what the artist should know about each new map.
+            for obj in self.targets if settings.unwrap else ():
+                made = unwrap.ensure_map(
+                    context,
+                    obj,
+                    settings.unwrap_method,
+                    settings.redo_unwrap,
+                    settings.margin,
+                    settings.resolution,
+                    self.changes,
                 )
-            }
+                if made is not None:
+                    self.unwrapped.add(obj.name)
+                    self.unwrap_notes += [made] if made else []
             self.scene = scene_export.build_scene(context, self.uv_map)
             self.materials = [scene_export.material_struct(settings, o, self.keep) for o in self.targets]
             self.colour_warnings = [
@@ -75,7 +85,7 @@ class Job:
         """Writes the files and makes the images (main thread). Returns the names of the
         images and one line per object, and what the artist should know. On failure the
         scene and the folder are put back before the error goes on."""
-        made, lines, notes = [], [], list(self.colour_warnings)
+        made, lines, notes = [], [], self.unwrap_notes + self.colour_warnings
         staging = folder.Staging(self.folder) if self.folder else None
         try:
             planned = [_planned(result, name) for result, name in zip(self.results, self.names, strict=True)]

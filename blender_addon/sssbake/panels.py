@@ -21,6 +21,7 @@ def draw_settings(layout, context, settings):
     column.prop(settings, "outputs")
     layout.prop(settings, "unwrap")
     if settings.unwrap:
+        layout.prop(settings, "unwrap_method")
         layout.prop(settings, "redo_unwrap")
     elif context.active_object is not None and context.active_object.type == "MESH":
         layout.prop_search(settings, "uv_map", context.active_object.data, "uv_layers")

@@ -54,6 +54,14 @@ OUTPUTS = [
     ("STRETCH", "Stretch", "Surface length per texel along u and v, mm"),
     ("AREA", "Area", "Surface area per texel, mm²"),
 ]
+UNWRAP_METHODS = [
+    (
+        "XATLAS",
+        "xatlas",
+        "The library's xatlas, as `sssbake bake` unwraps: charts cut at creases and packed tight",
+    ),
+    ("SMART", "Smart UV Project", "Blender's Smart UV Project"),
+]
 DESTINATIONS = [
     ("PACK", "Packed", "Pack the images into the .blend, kept by a fake user"),
     ("FOLDER", "Folder", "Save the images as OpenEXR files in a folder; the images read them"),
@@ -164,14 +172,19 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
         ),
         "unwrap": bpy.props.BoolProperty(
             name="Unwrap",
-            description="Bake into a UV map `sssbake` of its own, made once by Smart UV Project "
-            "with gaps wide enough for the margin and then kept, with any fixes made to it; "
-            "the active UV map stays as it is",
+            description="Bake into a UV map `sssbake` of its own, made once (charts apart by twice "
+            "the margin) and then kept, with any fixes made to it; the active UV map stays as it is",
+        ),
+        "unwrap_method": bpy.props.EnumProperty(
+            name="Unwrap With",
+            description="What makes the `sssbake` UV map",
+            items=UNWRAP_METHODS,
+            default="XATLAS",
         ),
         "redo_unwrap": bpy.props.BoolProperty(
             name="Unwrap Again",
-            description="Make the `sssbake` UV map afresh with Smart UV Project, replacing the one "
-            "an earlier bake made (and any fixes made to it)",
+            description="Make the `sssbake` UV map afresh, replacing the one an earlier bake made "
+            "(and any fixes made to it)",
         ),
         "destination": bpy.props.EnumProperty(
             name="Results",

@@ -1,27 +1,30 @@
-"""The UV map `sssbake` the bake unwraps into: made once by Smart UV Project and then
-kept, so the artist's fixes to it survive later bakes unless they ask to unwrap again.
-The active UV map stays the artist's."""
+"""The UV map `sssbake` the bake unwraps into: made once, by the library's xatlas (as
+`sssbake bake` unwraps) or by Smart UV Project, and then kept, so the artist's fixes to it
+survive later bakes unless they ask to unwrap again. Charts are kept apart by twice the
+bake's margin. The active UV map and the mesh's selection stay the artist's."""
 
 import bpy
 import numpy as np
 
+from . import native
+
 UV_MAP = "sssbake"
 
 
-def island_margin(margin, resolution):
-    """Smart UV Project's gap between islands, as a fraction of the map, wide enough that
-    the bake's margin (texels grown around each island) never reaches the next island."""
-    return min(2.0 * margin / max(resolution, 1), 0.25)
+def padding(margin):
+    """Texels between charts: each grows by the margin, so twice the margin."""
+    return 2 * margin
 
 
-def ensure_map(context, obj, redo, margin, resolution, changes):
-    """Makes the map `sssbake` of `obj` by Smart UV Project when it is missing or `redo`;
-    an existing map is otherwise used as it is. Every change is recorded in `changes`.
-    True when the map was made now."""
+def ensure_map(context, obj, method, redo, margin, resolution, changes):
+    """Makes the map `sssbake` of `obj` by `method` (XATLAS or SMART) when it is missing
+    or `redo`; an existing map is otherwise used as it is. Every change is recorded in
+    `changes`. Returns None when the map was kept, else what the artist should know
+    about the new map ("" when nothing)."""
     layers = obj.data.uv_layers
     existing = layers.get(UV_MAP)
     if existing is not None and not redo:
-        return False
+        return None
     active = layers.active.name if layers.active is not None else None
     render = next((layer.name for layer in layers if layer.active_render), None)
     if existing is None:
@@ -31,6 +34,8 @@ def ensure_map(context, obj, redo, margin, resolution, changes):
         saved = np.empty(2 * len(existing.data), dtype=np.float32)
         existing.data.foreach_get("uv", saved)
         changes.record(lambda: obj.data.uv_layers[UV_MAP].data.foreach_set("uv", saved))
+    if method == "XATLAS":
+        return _xatlas(obj, layers[UV_MAP], margin, resolution)
     # Smart UV Project writes into the active map; the artist's active one comes back after.
     layers.active = layers[UV_MAP]
     flags = _selection(obj.data)
@@ -44,14 +49,80 @@ def ensure_map(context, obj, redo, margin, resolution, changes):
                 bpy.ops.mesh.reveal(select=True)
                 bpy.ops.mesh.select_all(action="SELECT")
                 bpy.ops.uv.smart_project(
-                    island_margin=island_margin(margin, resolution), margin_method="FRACTION"
+                    island_margin=padding(margin) / max(resolution, 1), margin_method="FRACTION"
                 )
             finally:
                 bpy.ops.object.mode_set(mode="OBJECT")
     finally:
         _set_selection(obj.data, flags)
         _activate(obj, active, render)
-    return True
+    return ""
+
+
+def _xatlas(obj, layer, margin, resolution):
+    """Charts by the library's xatlas of the object's own mesh (the modifiers then
+    interpolate the map, as they do any UV map), in world proportions. xatlas charts
+    triangles; a face whose triangles it put in different charts keeps the chart of its
+    largest triangle, its other corners placed by that triangle's own mapping."""
+    mesh = obj.data
+    mesh.calc_loop_triangles()
+    count = len(mesh.loop_triangles)
+    loops = np.empty(3 * count, dtype=np.int32)
+    vertices = np.empty(3 * count, dtype=np.int32)
+    faces = np.empty(count, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    mesh.loop_triangles.foreach_get("vertices", vertices)
+    mesh.loop_triangles.foreach_get("polygon_index", faces)
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    linear = np.array(obj.matrix_world, dtype=np.float64)[:3, :3]
+    corners = co.reshape(-1, 3)[vertices] @ linear.T
+    positions = np.ascontiguousarray(corners, dtype=np.float32).reshape(-1)
+    indices = np.arange(3 * count, dtype=np.uint32)
+    # Charts that do not fit the map this far apart are packed closer, and the artist told.
+    wanted = gap = padding(margin)
+    while True:
+        try:
+            uvs, charts = native.unwrap(obj.name, positions, indices, resolution, gap)
+            break
+        except native.NativeError:
+            if gap == 0:
+                raise
+            gap //= 2
+    note = (
+        f"{obj.name}: the charts of UV map `{UV_MAP}` fit a {resolution}² map only {gap} texels "
+        f"apart, not {wanted} (twice the margin), so margins may meet; raise Resolution and "
+        "tick Unwrap Again"
+        if gap < wanted
+        else ""
+    )
+    uvs, corners = uvs.reshape(-1, 3, 2).astype(np.float64), corners.reshape(-1, 3, 3)
+    areas = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+    # Each face's largest triangle (the last written wins, in order of area).
+    largest = np.empty(len(mesh.polygons), dtype=np.int64)
+    order = np.argsort(areas, kind="stable")
+    largest[faces[order]] = order
+    home = charts[largest[faces]] == charts
+    data = np.zeros((len(mesh.loops), 2), dtype=np.float64)
+    placed = np.zeros(len(mesh.loops), dtype=bool)
+    data[loops.reshape(-1, 3)[home]] = uvs[home]
+    placed[loops.reshape(-1, 3)[home].reshape(-1)] = True
+    for t in np.flatnonzero(~home):
+        for corner in range(3):
+            loop = loops[3 * t + corner]
+            if not placed[loop]:
+                data[loop] = _extend(corners[largest[faces[t]]], uvs[largest[faces[t]]], corners[t, corner])
+                placed[loop] = True
+    layer.data.foreach_set("uv", data.astype(np.float32).reshape(-1))
+    return note
+
+
+def _extend(triangle, uvs, point):
+    """The UV of `point` by the affine map that takes `triangle`'s corners to `uvs`
+    (the point projected onto the triangle's plane)."""
+    edges = np.stack([triangle[1] - triangle[0], triangle[2] - triangle[0]], axis=1)
+    weights, *_ = np.linalg.lstsq(edges, point - triangle[0], rcond=None)
+    return uvs[0] + weights[0] * (uvs[1] - uvs[0]) + weights[1] * (uvs[2] - uvs[0])
 
 
 def _selection(mesh):

@@ -15,6 +15,7 @@ mod folder;
 mod lights;
 mod material;
 mod scene;
+mod unwrap;
 
 pub use bake::*;
 pub use errors::*;
@@ -22,9 +23,10 @@ pub use folder::*;
 pub use lights::*;
 pub use material::*;
 pub use scene::*;
+pub use unwrap::*;
 
 /// The version of this ABI: hosts refuse a library of another version.
-pub const SSSBAKE_ABI_VERSION: u32 = 4;
+pub const SSSBAKE_ABI_VERSION: u32 = 5;
 
 /// The version of this ABI ([`SSSBAKE_ABI_VERSION`]).
 #[unsafe(no_mangle)]
