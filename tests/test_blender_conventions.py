@@ -5,6 +5,7 @@ progress lines in background mode."""
 
 import re
 
+from conftest import ROOT
 from test_blender_addon import suzanne_scene
 
 TINY = {"resolution": 32, "method": "OCTREE", "margin": 2}
@@ -64,3 +65,12 @@ def test_the_report_says_how_each_object_was_baked_and_background_bakes_print_pr
         assert re.search(rf"{stage} [0-9.]+ s", line), line
     progress = re.findall(r"^sssbake: Head (\d+)%$", out, flags=re.MULTILINE)
     assert progress and progress[0] == "0" and progress[-1] == "100", out
+
+
+def test_the_guide_lists_every_setting(addon):
+    import bpy
+
+    guide = (ROOT / "docs" / "blender.md").read_text()
+    panel = bpy.context.scene.sssbake.bl_rna.properties
+    for name in addon.properties.SETTING_NAMES:
+        assert f"| {panel[name].name} |" in guide, panel[name].name

@@ -139,9 +139,9 @@ class Job:
         problems = warning.split(": ", 1)[-1]
         if self.settings.unwrap:
             remedy = (
-                "raise Resolution or Margin"
+                "it was just made; fix it in the UV Editor if those texels matter (later bakes keep it)"
                 if obj.name in self.unwrapped
-                else "it was kept from an earlier bake: tick Unwrap Again to make it afresh"
+                else "it was kept from an earlier bake: fix it in the UV Editor, or tick Unwrap Again"
             )
             return f"{obj.name}: UV map `{unwrap.UV_MAP}` has {problems}; {remedy}"
         uv_map = self.uv_map or obj.data.uv_layers.active.name

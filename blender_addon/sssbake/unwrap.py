@@ -34,11 +34,13 @@ def ensure_map(context, obj, method, redo, margin, resolution, changes):
         saved = np.empty(2 * len(existing.data), dtype=np.float32)
         existing.data.foreach_get("uv", saved)
         changes.record(lambda: obj.data.uv_layers[UV_MAP].data.foreach_set("uv", saved))
-    if method == "XATLAS":
-        return _xatlas(obj, layers[UV_MAP], margin, resolution)
-    # Smart UV Project writes into the active map; the artist's active one comes back after.
+    note, cut = _xatlas(obj, layers[UV_MAP], margin, resolution) if method == "XATLAS" else ("", False)
+    if method == "XATLAS" and not cut:
+        return note
+    # Blender's operators write into the active map; the artist's active one comes back after.
     layers.active = layers[UV_MAP]
     flags = _selection(obj.data)
+    gap = padding(margin) / max(resolution, 1)
     try:
         with context.temp_override(
             active_object=obj, object=obj, selected_objects=[obj], selected_editable_objects=[obj]
@@ -48,22 +50,29 @@ def ensure_map(context, obj, method, redo, margin, resolution, changes):
                 # Every face, hidden or not; the artist's selection comes back after.
                 bpy.ops.mesh.reveal(select=True)
                 bpy.ops.mesh.select_all(action="SELECT")
-                bpy.ops.uv.smart_project(
-                    island_margin=padding(margin) / max(resolution, 1), margin_method="FRACTION"
-                )
+                if method == "XATLAS":
+                    # Faces xatlas cut in two were made whole beside their chart, where
+                    # they may reach the next one: the charts are packed again (by their
+                    # bounds: the other shapes take seconds on a 1000-face mesh).
+                    bpy.ops.uv.pack_islands(
+                        margin=gap, margin_method="ADD", rotate=False, shape_method="AABB"
+                    )
+                else:
+                    bpy.ops.uv.smart_project(island_margin=gap, margin_method="ADD")
             finally:
                 bpy.ops.object.mode_set(mode="OBJECT")
     finally:
         _set_selection(obj.data, flags)
         _activate(obj, active, render)
-    return ""
+    return note
 
 
 def _xatlas(obj, layer, margin, resolution):
     """Charts by the library's xatlas of the object's own mesh (the modifiers then
     interpolate the map, as they do any UV map), in world proportions. xatlas charts
     triangles; a face whose triangles it put in different charts keeps the chart of its
-    largest triangle, its other corners placed by that triangle's own mapping."""
+    largest triangle, its other triangles unfolded beside it. Returns what the artist
+    should know ("" when nothing) and whether a face was cut."""
     mesh = obj.data
     mesh.calc_loop_triangles()
     count = len(mesh.loop_triangles)
@@ -107,14 +116,52 @@ def _xatlas(obj, layer, margin, resolution):
     placed = np.zeros(len(mesh.loops), dtype=bool)
     data[loops.reshape(-1, 3)[home]] = uvs[home]
     placed[loops.reshape(-1, 3)[home].reshape(-1)] = True
-    for t in np.flatnonzero(~home):
-        for corner in range(3):
-            loop = loops[3 * t + corner]
-            if not placed[loop]:
-                data[loop] = _extend(corners[largest[faces[t]]], uvs[largest[faces[t]]], corners[t, corner])
-                placed[loop] = True
+    # The rest of a face cut in two, triangle by triangle across an edge already placed,
+    # each unfolded flat beside it: its shape kept and not mirrored.
+    waiting = list(np.flatnonzero(~home))
+    while waiting:
+        left = []
+        for t in waiting:
+            corner_loops = loops[3 * t : 3 * t + 3]
+            missing = [c for c in range(3) if not placed[corner_loops[c]]]
+            if len(missing) == 1:
+                k = missing[0]
+                p, q = (k + 1) % 3, (k + 2) % 3
+                data[corner_loops[k]] = _unfold(
+                    corners[t, p], corners[t, q], corners[t, k], data[corner_loops[p]], data[corner_loops[q]]
+                )
+                placed[corner_loops[k]] = True
+            elif missing:
+                left.append(t)
+        if len(left) == len(waiting):
+            # Corners reached by no placed edge: by the largest triangle's affine map.
+            for t in left:
+                for c in range(3):
+                    if not placed[loops[3 * t + c]]:
+                        big = largest[faces[t]]
+                        data[loops[3 * t + c]] = _extend(corners[big], uvs[big], corners[t, c])
+                        placed[loops[3 * t + c]] = True
+            break
+        waiting = left
     layer.data.foreach_set("uv", data.astype(np.float32).reshape(-1))
-    return note
+    return note, not home.all()
+
+
+def _unfold(p, q, r, p_uv, q_uv):
+    """The UV of corner `r` of the triangle (p, q, r), counter-clockwise, given the UVs of
+    `p` and `q`: the triangle laid flat on its edge pq at the scale of that edge."""
+    edge = q - p
+    length = np.linalg.norm(edge)
+    uv_edge = q_uv - p_uv
+    uv_length = np.linalg.norm(uv_edge)
+    if length <= 0 or uv_length <= 0:
+        return (p_uv + q_uv) / 2
+    along = np.dot(r - p, edge) / length
+    across = np.linalg.norm(r - p - along * edge / length)
+    direction = uv_edge / uv_length
+    normal = np.array([-direction[1], direction[0]])
+    scale = uv_length / length
+    return p_uv + scale * (along * direction + across * normal)
 
 
 def _extend(triangle, uvs, point):
