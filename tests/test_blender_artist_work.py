@@ -139,6 +139,21 @@ def test_a_failure_at_any_stage_leaves_the_scene_as_it_was(addon, monkeypatch, c
     assert head.mode == "EDIT"
 
 
+def test_a_failed_bake_keeps_unsaved_painting_on_a_result(addon, monkeypatch):
+    import bpy
+
+    suzanne_scene()
+    assert bake(outputs={"DIFFUSE"}) == {"FINISHED"}
+    image = bpy.data.images["Head_diffuse"]
+    painted = np.linspace(0.0, 1.0, len(image.pixels), dtype=np.float32)
+    image.pixels.foreach_set(painted)  # as Texture Paint would: in memory, unsaved
+    assert image.is_dirty
+    _fail_at(addon, monkeypatch, "wiring")
+    assert bake(outputs={"DIFFUSE"}, resolution=48, wire_material=True) == {"CANCELLED"}
+    assert tuple(image.size) == (32, 32)
+    assert np.array_equal(pixels("Head_diffuse").reshape(-1), painted)
+
+
 def test_a_folder_that_cannot_be_made_leaves_the_scene_as_it_was(addon, tmp_path, capfd):
     head = suzanne_scene()
     blocker = tmp_path / "file"

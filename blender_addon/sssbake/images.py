@@ -101,8 +101,9 @@ class ImageState:
             tuple(image.generated_color),
         )
         self.pixels = None
-        if self.packed is None and self.source == "GENERATED" and image.has_data:
-            # An unsaved generated image lives only in memory: keep its pixels.
+        if image.has_data and (image.is_dirty or (self.packed is None and self.source == "GENERATED")):
+            # Pixels that live only in memory (a generated image, or unsaved painting).
+            self.size = tuple(image.size)
             self.pixels = np.empty(len(image.pixels), dtype=np.float32)
             image.pixels.foreach_get(self.pixels)
 
@@ -114,7 +115,8 @@ class ImageState:
             image.filepath = self.filepath
             image.source = "FILE"
             image.pack(data=self.packed, data_len=len(self.packed))
-            image.reload()
+            if self.pixels is None:  # else the unsaved pixels are put back below
+                image.reload()
         elif self.source == "GENERATED":
             image.source = "GENERATED"
             image.filepath = self.filepath
@@ -122,8 +124,6 @@ class ImageState:
             image.generated_width, image.generated_height = width, height
             image.use_generated_float, image.generated_type = use_float, kind
             image.generated_color = colour
-            if self.pixels is not None and len(image.pixels) == len(self.pixels):
-                image.pixels.foreach_set(self.pixels)
         else:
             # reload() only drops the cached pixels: they are read when next used, after
             # the folder's own rollback has put the old file back.
@@ -134,3 +134,8 @@ class ImageState:
         image.use_fake_user = self.fake_user
         image.file_format = self.file_format
         image.alpha_mode = self.alpha_mode
+        if self.pixels is not None:
+            # Last: a change of colour space reads the image again.
+            if tuple(image.size) != self.size:
+                image.scale(*self.size)
+            image.pixels.foreach_set(self.pixels)
