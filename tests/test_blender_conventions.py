@@ -32,6 +32,9 @@ def test_the_operator_is_in_the_object_menu_with_one_undo_step_and_no_redo_panel
     assert addon.operators.menu_entry in bpy.types.VIEW3D_MT_object._dyn_ui_initialize()
     options = bpy.types.SSSBAKE_OT_bake.bl_options
     assert "UNDO" in options and "REGISTER" not in options
+    # Never remembered between calls: a bake from the interface takes the panel's settings.
+    operator = bpy.ops.sssbake.bake.get_rna_type().properties
+    assert all(operator[name].is_skip_save for name in addon.properties.SETTING_NAMES)
 
 
 def test_a_blend_relative_folder_is_refused_until_the_file_is_saved(addon, tmp_path, capfd):

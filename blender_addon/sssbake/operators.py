@@ -10,7 +10,7 @@ import bpy
 
 from . import native, report
 from .job import Job
-from .properties import SETTING_NAMES, bake_properties
+from .properties import SETTING_NAMES, operator_properties
 
 _running = []
 
@@ -37,7 +37,7 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
     bl_idname = "sssbake.bake"
     bl_label = "Bake Subsurface"
     bl_options = {"UNDO"}  # noqa: RUF012 (Blender reads a set)
-    __annotations__ = bake_properties()
+    __annotations__ = operator_properties()
 
     @classmethod
     def poll(cls, context):
@@ -74,9 +74,6 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
         except Exception as error:  # noqa: BLE001 (reported: a bake never raises into Blender)
             self.report({level}, f"sssbake: {_message(error)}")
             return None
-        # The operator's properties become what is baked, for the Info log and Python.
-        for name in SETTING_NAMES:
-            setattr(self, name, getattr(settings, name))
         _running.append(job)
         return job
 

@@ -225,6 +225,18 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
     }
 
 
+def operator_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
+    """The settings as the operator's properties: as the panel's, but never remembered from
+    one call to the next (SKIP_SAVE), so a bake from the interface takes the panel's
+    settings and a script's keywords apply to its own call only."""
+    properties = {}
+    for name, definition in bake_properties(presets, defaults).items():
+        keywords = dict(definition.keywords)
+        keywords["options"] = set(keywords.get("options", {"ANIMATABLE"})) | {"SKIP_SAVE"}
+        properties[name] = definition.function(**keywords)
+    return properties
+
+
 SETTING_NAMES = tuple(bake_properties())
 
 
