@@ -5,7 +5,8 @@ the same head baked by the add-on and shown through Show in Material, rendered i
     cargo build --release -p sssbake-ffi
     .venv/bin/python scripts/blender_pictures.py   # writes docs/blender_cycles.png, docs/blender_eevee.png
 
-EEVEE compiles its shaders in software here, so the script takes a few minutes."""
+EEVEE compiles its shaders in software without a GPU; the whole script took about a minute
+on two cores."""
 
 import os
 import pathlib
