@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the native library and packages the Blender extension:
 # target/sssbake-<version>-<platform>.zip, installable with Blender's
-# "Install from Disk" (Blender 4.2 or later).
+# "Install from Disk" (Blender 4.2 or later), with the licenses and the
+# notices of the third-party code compiled into the library.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,6 +28,8 @@ with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
     manifest = re.sub(r'platforms = \[.*\]', f'platforms = ["{platform}"]', manifest)
     archive.writestr("blender_manifest.toml", manifest)
     archive.write(library, f"lib/{packaged}")
+    for notice in ("LICENSE-MIT", "LICENSE-APACHE", "THIRD-PARTY-NOTICES"):
+        archive.write(notice, notice)
 partial.replace(out)
 print(f"wrote {out}")
 PY

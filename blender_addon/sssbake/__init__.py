@@ -18,15 +18,17 @@ def register():
     # The preset list and the defaults are the library's when it loads; read here
     # rather than at import.
     presets, defaults = properties.preset_items(), properties.library_defaults()
-    for cls in (properties.SSSBAKE_PG_settings, operators.SSSBAKE_OT_bake):
-        cls.__annotations__ = properties.bake_properties(presets, defaults)
+    properties.SSSBAKE_PG_settings.__annotations__ = properties.bake_properties(presets, defaults)
+    operators.SSSBAKE_OT_bake.__annotations__ = properties.operator_properties(presets, defaults)
     for cls in CLASSES:
         bpy.utils.register_class(cls)
     bpy.types.Scene.sssbake = bpy.props.PointerProperty(type=properties.SSSBAKE_PG_settings)
+    bpy.types.VIEW3D_MT_object.append(operators.menu_entry)
 
 
 def unregister():
     operators.cancel_running()
+    bpy.types.VIEW3D_MT_object.remove(operators.menu_entry)
     del bpy.types.Scene.sssbake
     for cls in reversed(CLASSES):
         bpy.utils.unregister_class(cls)

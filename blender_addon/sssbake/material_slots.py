@@ -8,7 +8,10 @@ import dataclasses
 import numpy as np
 
 from . import colour_nodes
+from .wiring import NODES
 
+# The Material Output that Show in Material adds and makes active.
+SHOWN_OUTPUT = NODES["output"][1]
 # Nodes a value passes through unchanged.
 PASS_THROUGH = {"REROUTE"}
 # Principled inputs whose node links the bake does not follow (each read at its own value).
@@ -75,6 +78,16 @@ def principled_of(material):
     is reached through a mix or there is none."""
     tree = material.node_tree
     output = tree.get_output_node("CYCLES") if tree is not None else None
+    if output is not None and output.name == SHOWN_OUTPUT:
+        # Show in Material made its own output active; the material is the artist's.
+        artist = [
+            node
+            for node in tree.nodes
+            if node.type == "OUTPUT_MATERIAL"
+            and node.name != SHOWN_OUTPUT
+            and node.target in ("ALL", "CYCLES")
+        ]
+        output = artist[0] if artist else None
     if output is None:
         return None, "it has no active Material Output"
     node, _ = upstream(output.inputs["Surface"])

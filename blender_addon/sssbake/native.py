@@ -203,6 +203,15 @@ def library():
         ctypes.c_uint32,
     ]
     lib.sssbake_result_write_exr.restype = status
+    lib.sssbake_unwrap.argtypes = [
+        ctypes.POINTER(Mesh),
+        ctypes.c_uint32,
+        ctypes.c_uint32,
+        ctypes.POINTER(ctypes.c_float),
+        ctypes.c_size_t,
+        ctypes.POINTER(ctypes.c_uint32),
+    ]
+    lib.sssbake_unwrap.restype = status
     lib.sssbake_names.argtypes = [ctypes.c_uint32, ctypes.POINTER(ctypes.c_void_p)]
     lib.sssbake_names.restype = status
     lib.sssbake_string_free.argtypes = [ctypes.c_void_p]
@@ -313,6 +322,36 @@ class Scene:
 
     def set_world(self, colour, strength):
         check(library().sssbake_scene_set_world(self.handle, Vec3(*colour), strength))
+
+
+def unwrap(name, positions, indices, resolution, padding):
+    """UVs from the library's xatlas for a mesh of flat float32 `positions` and uint32
+    `indices`: charts for a `resolution`² map, `padding` texels apart. Returns the UVs
+    (2 floats per index) and each triangle's chart number."""
+    import numpy as np
+
+    uvs = np.empty(2 * len(indices), dtype=np.float32)
+    charts = np.empty(len(indices) // 3, dtype=np.uint32)
+    mesh = Mesh(
+        name.encode("utf-8"),
+        floats(positions),
+        None,
+        None,
+        len(positions) // 3,
+        indices.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32)),
+        len(indices),
+    )
+    check(
+        library().sssbake_unwrap(
+            ctypes.byref(mesh),
+            resolution,
+            padding,
+            floats(uvs),
+            uvs.size,
+            charts.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32)),
+        )
+    )
+    return uvs, charts
 
 
 def default_settings():

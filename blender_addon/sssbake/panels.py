@@ -3,7 +3,7 @@
 import bpy
 
 
-def draw_settings(layout, settings):
+def draw_settings(layout, context, settings):
     layout.use_property_split = True
     layout.use_property_decorate = False
     layout.prop(settings, "material_source")
@@ -20,14 +20,22 @@ def draw_settings(layout, settings):
     column = layout.column(heading="Outputs")
     column.prop(settings, "outputs")
     layout.prop(settings, "unwrap")
-    row = layout.row()
-    row.enabled = not settings.unwrap
-    row.prop(settings, "uv_map")
+    if settings.unwrap:
+        layout.prop(settings, "unwrap_method")
+        layout.prop(settings, "redo_unwrap")
+    elif context.active_object is not None and context.active_object.type == "MESH":
+        layout.prop_search(settings, "uv_map", context.active_object.data, "uv_layers")
+    else:
+        layout.prop(settings, "uv_map")
     layout.prop(settings, "destination")
     if settings.destination == "FOLDER":
         layout.prop(settings, "folder")
+        if settings.folder.startswith("//") and not bpy.data.filepath:
+            layout.label(text="Save the .blend first: // is relative to it", icon="ERROR")
     layout.prop(settings, "wire_material")
-    selected = [o.name for o in bpy.context.selected_objects if o.type == "MESH"]
+    if settings.wire_material:
+        layout.prop(settings, "copy_shared_materials")
+    selected = [o.name for o in context.selected_objects if o.type == "MESH"]
     layout.label(text=f"Targets: {', '.join(selected) or 'select mesh objects'}")
     layout.operator("sssbake.bake", icon="RENDER_STILL")
 
@@ -38,7 +46,7 @@ class SubsurfacePanel:
     bl_label = "Subsurface Bake"
 
     def draw(self, context):
-        draw_settings(self.layout, context.scene.sssbake)
+        draw_settings(self.layout, context, context.scene.sssbake)
 
 
 class SSSBAKE_PT_properties(SubsurfacePanel, bpy.types.Panel):

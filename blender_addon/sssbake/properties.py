@@ -42,12 +42,10 @@ METHODS = [
     ("TEXTURE", "Texture space", "Separable blurs: fastest, a few percent off"),
     ("IMPORTANCE", "Monte Carlo", "Probe rays: noisy at low quality"),
 ]
-QUALITIES = [
-    ("DRAFT", "Draft", "4 light samples"),
-    ("GOOD", "Good", "16 light samples"),
-    ("FINAL", "Final", "64 light samples"),
-]
 QUALITY_SAMPLES = {"DRAFT": 4, "GOOD": 16, "FINAL": 64}
+QUALITIES = [
+    (key, key.title(), f"{samples} light samples per texel") for key, samples in QUALITY_SAMPLES.items()
+]
 OUTPUTS = [
     ("SUBSURFACE", "Subsurface", "Exitance, W/m²"),
     ("IRRADIANCE", "Irradiance", "Transmitted irradiance, W/m²"),
@@ -56,9 +54,17 @@ OUTPUTS = [
     ("STRETCH", "Stretch", "Surface length per texel along u and v, mm"),
     ("AREA", "Area", "Surface area per texel, mm²"),
 ]
+UNWRAP_METHODS = [
+    (
+        "XATLAS",
+        "xatlas",
+        "The library's xatlas, as `sssbake bake` unwraps: charts cut at creases and packed tight",
+    ),
+    ("SMART", "Smart UV Project", "Blender's Smart UV Project"),
+]
 DESTINATIONS = [
-    ("PACK", "Packed", "Pack the images into the .blend"),
-    ("FOLDER", "Folder", "Save the images as OpenEXR files in a folder"),
+    ("PACK", "Packed", "Pack the images into the .blend, kept by a fake user"),
+    ("FOLDER", "Folder", "Save the images as OpenEXR files in a folder; the images read them"),
 ]
 
 
@@ -96,14 +102,32 @@ def library_defaults():
     }
 
 
+def _path_options():
+    # Blender 4.5 and later mark a path that may start with `//` (relative to the .blend).
+    return {"PATH_SUPPORTS_BLEND_RELATIVE"} if bpy.app.version >= (4, 5, 0) else set()
+
+
 def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
     """The settings as property definitions, shared by the panel and the operator;
     `presets` are the preset enum's items and `defaults` the library's defaults
     (register() passes both from the library)."""
     return {
-        "material_source": bpy.props.EnumProperty(name="Material", items=SOURCES, default="PRINCIPLED"),
-        "preset": bpy.props.EnumProperty(name="Preset", items=presets, default="skin1"),
-        "layers_file": bpy.props.StringProperty(name="Layers", subtype="FILE_PATH", default=""),
+        "material_source": bpy.props.EnumProperty(
+            name="Material",
+            description="Where the scattering medium comes from",
+            items=SOURCES,
+            default="PRINCIPLED",
+        ),
+        "preset": bpy.props.EnumProperty(
+            name="Preset", description="A measured material from the library", items=presets, default="skin1"
+        ),
+        "layers_file": bpy.props.StringProperty(
+            name="Layers",
+            description="A TOML file of layers (see the README); `//` is relative to the .blend file",
+            subtype="FILE_PATH",
+            options=_path_options(),
+            default="",
+        ),
         "albedo_mapping": bpy.props.EnumProperty(
             name="Colour to Albedo",
             description="How a Principled BSDF's Base Color becomes the medium's albedo",
@@ -111,29 +135,106 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
             default="CYCLES",
         ),
         "resolution": bpy.props.IntProperty(
-            name="Resolution", default=defaults["resolution"], min=1, soft_min=64, soft_max=8192
+            name="Resolution",
+            description="Size of each baked image, in texels per side (the images are square)",
+            default=defaults["resolution"],
+            min=1,
+            max=16384,
+            soft_min=64,
+            soft_max=8192,
+            subtype="PIXEL",
         ),
-        "method": bpy.props.EnumProperty(name="Method", items=METHODS, default="AUTO"),
-        "quality": bpy.props.EnumProperty(name="Quality", items=QUALITIES, default=defaults["quality"]),
+        "method": bpy.props.EnumProperty(
+            name="Method",
+            description="How the light under the skin is summed over the surface",
+            items=METHODS,
+            default="AUTO",
+        ),
+        "quality": bpy.props.EnumProperty(
+            name="Quality",
+            description="Light samples per texel for each light with a size and for the world ("
+            + ", ".join(f"{key.title()} {n}" for key, n in QUALITY_SAMPLES.items())
+            + ")",
+            items=QUALITIES,
+            default=defaults["quality"],
+        ),
         "outputs": bpy.props.EnumProperty(
             name="Outputs",
+            description="The maps to bake, each an image `<object>_<output>`",
             items=OUTPUTS,
             options={"ENUM_FLAG"},
             default=defaults["outputs"],
         ),
-        "uv_map": bpy.props.StringProperty(name="UV Map", description="Empty: the active UV map", default=""),
-        "unwrap": bpy.props.BoolProperty(
-            name="Unwrap", description="Make a new UV map `sssbake` (Smart UV Project) and bake into it"
+        "uv_map": bpy.props.StringProperty(
+            name="UV Map",
+            description="The UV map to bake into, as it is; empty: the active UV map",
+            default="",
         ),
-        "destination": bpy.props.EnumProperty(name="Results", items=DESTINATIONS, default="PACK"),
-        "folder": bpy.props.StringProperty(name="Folder", subtype="DIR_PATH", default="//sssbake"),
+        "unwrap": bpy.props.BoolProperty(
+            name="Unwrap",
+            description="Bake into a UV map `sssbake` of its own, made once (charts apart by twice "
+            "the margin) and then kept, with any fixes made to it; the active UV map stays as it is",
+        ),
+        "unwrap_method": bpy.props.EnumProperty(
+            name="Unwrap With",
+            description="What makes the `sssbake` UV map",
+            items=UNWRAP_METHODS,
+            default="XATLAS",
+        ),
+        "redo_unwrap": bpy.props.BoolProperty(
+            name="Unwrap Again",
+            description="Make the `sssbake` UV map afresh, replacing the one an earlier bake made "
+            "(and any fixes made to it)",
+        ),
+        "destination": bpy.props.EnumProperty(
+            name="Results",
+            description="Where the baked images are kept",
+            items=DESTINATIONS,
+            default="PACK",
+        ),
+        "folder": bpy.props.StringProperty(
+            name="Folder",
+            description="The folder for the OpenEXR files, made if missing; `//` is relative to "
+            "the .blend file, which must then be saved",
+            subtype="DIR_PATH",
+            options=_path_options(),
+            default="//sssbake",
+        ),
         "wire_material": bpy.props.BoolProperty(
             name="Show in Material",
-            description="Add an Image Texture and Emission feeding a new active Material Output; the original nodes stay",
+            description="Show the Diffuse map in the object's materials: an Image Texture and "
+            "Emission feeding a new active Material Output; the original nodes stay",
             default=False,
         ),
-        "margin": bpy.props.IntProperty(name="Margin", default=defaults["margin"], min=0, max=64),
+        "copy_shared_materials": bpy.props.BoolProperty(
+            name="Copy Shared Materials",
+            description="Show in Material on a material other objects also use: give the baked "
+            "object its own copy (the others keep the original); off: leave such materials "
+            "as they are and say so",
+            default=False,
+        ),
+        "margin": bpy.props.IntProperty(
+            name="Margin",
+            description="Texels grown around each UV island, in pixels, so filtering at the "
+            "island's edge does not show the background",
+            default=defaults["margin"],
+            min=0,
+            max=64,
+            subtype="PIXEL",
+        ),
     }
+
+
+def operator_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
+    """The settings as the operator's properties: as the panel's, but never remembered from
+    one call to the next (SKIP_SAVE), so a bake from the interface takes the panel's
+    settings and a script's keywords apply to its own call only."""
+    properties = {}
+    for name, definition in bake_properties(presets, defaults).items():
+        keywords = dict(definition.keywords)
+        keywords["options"] = set(keywords.get("options", {"ANIMATABLE"})) | {"SKIP_SAVE"}
+        properties[name] = definition.function(**keywords)
+    return properties
 
 
 SETTING_NAMES = tuple(bake_properties())

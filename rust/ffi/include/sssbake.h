@@ -719,6 +719,33 @@ enum SssbakeStatus sssbake_scene_set_world(struct SssbakeScene *scene,
                                            const float *colour,
                                            float strength);
 
+/**
+ * Unwraps `mesh` with xatlas into charts packed in [0, 1]² for a
+ * `resolution`² map with `padding` texels between charts (a bake grows
+ * each chart by its margin, so twice the margin keeps charts apart).
+ * Only the positions and indices are read; vertices at one position are
+ * joined, so a host may pass one vertex per triangle corner. On success
+ * `uvs_out` holds the UV (u, v with v running up, as the mesh's `uvs`
+ * would) of each index, 2 × `index_count` floats; a degenerate triangle
+ * gets UVs with no area. `uvs_len` is the length of `uvs_out` in floats.
+ * Every chart runs counter-clockwise in UV as its triangles do in 3-D
+ * (xatlas may hand a chart back mirrored; it is mirrored again in place).
+ * `charts_out`, unless null, gets each triangle's chart number
+ * (`index_count` / 3 values): a host whose faces have more than three
+ * corners sees there which triangles of a face were cut apart.
+ *
+ * # Safety
+ * `mesh` points to a mesh whose arrays hold the lengths it states;
+ * `uvs_out` points to `uvs_len` writable floats; `charts_out` is null or
+ * points to `index_count` / 3 writable values.
+ */
+enum SssbakeStatus sssbake_unwrap(const struct SssbakeMesh *mesh,
+                                  uint32_t resolution,
+                                  uint32_t padding,
+                                  float *uvs_out,
+                                  size_t uvs_len,
+                                  uint32_t *charts_out);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

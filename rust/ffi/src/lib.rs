@@ -16,6 +16,7 @@ mod lights;
 mod material;
 mod scene;
 mod slots;
+mod unwrap;
 
 pub use bake::*;
 pub use errors::*;
@@ -23,6 +24,7 @@ pub use folder::*;
 pub use lights::*;
 pub use material::*;
 pub use scene::*;
+pub use unwrap::*;
 
 /// The version of this ABI: hosts refuse a library of another version.
 pub const SSSBAKE_ABI_VERSION: u32 = 5;
