@@ -25,14 +25,15 @@ pub fn neighbours(texel_area_mm2: f64, d_max_mm: f64) -> f64 {
 const FALLBACK_PAIRS: f64 = 10.0 * BRUTE_PAIRS;
 
 /// The next more exact method after `method` missed its tolerance: the
-/// exact sum where it stays affordable, else the octree from texture
-/// space; `None` when nothing more exact is affordable.
+/// octree (over the texels, its error set by ε alone, and cheaper than the
+/// exact sum wherever the sum is not cheap), then the exact sum where it
+/// stays affordable; `None` when nothing more exact is affordable.
 pub fn more_exact(method: Method, texels: usize, neighbours: f64) -> Option<Method> {
     let brute_affordable = texels as f64 * neighbours <= FALLBACK_PAIRS;
     match method {
         Method::Brute | Method::Auto => None,
-        _ if brute_affordable => Some(Method::Brute),
         Method::Texture | Method::Importance => Some(Method::Octree),
+        Method::Octree if brute_affordable => Some(Method::Brute),
         Method::Octree => None,
     }
 }
@@ -83,14 +84,14 @@ mod tests {
     fn falling_back_stays_affordable() {
         assert_eq!(
             more_exact(Method::Texture, 1000, 100.0),
-            Some(Method::Brute)
+            Some(Method::Octree)
+        );
+        assert_eq!(
+            more_exact(Method::Importance, 1000, 100.0),
+            Some(Method::Octree)
         );
         assert_eq!(more_exact(Method::Octree, 1000, 100.0), Some(Method::Brute));
         let huge = FALLBACK_PAIRS;
-        assert_eq!(
-            more_exact(Method::Texture, 1_000_000, huge),
-            Some(Method::Octree)
-        );
         assert_eq!(more_exact(Method::Octree, 1_000_000, huge), None);
         assert_eq!(more_exact(Method::Brute, 10, 1.0), None);
     }

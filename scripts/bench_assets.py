@@ -1,0 +1,120 @@
+"""The default bake against the exact sum on the bundled assets, in one run.
+
+For each asset and material it bakes the subsurface map twice through the release
+binary, once with `--method auto` (the default) and once with `--method brute` (the exact
+sum), both with margin 0 so the covered texels are exactly those with area, and prints
+each one's wall time, their ratio, the method `auto` chose, its own error estimate and the
+error measured against the exact sum: relative RMSE over covered texels and channels, and
+the 99.9th percentile of |M - M_brute| over the 99th percentile of M_brute. `--scaling`
+adds the default bake of the head from 256² up, with its time over N log N.
+
+    cargo build --release -p sssbake-cli
+    .venv/bin/python scripts/bench_assets.py [--resolution 512] [--scaling 2048]
+"""
+
+import argparse
+import json
+import math
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy
+import OpenEXR
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+BINARY = ROOT / "target" / "release" / "sssbake"
+CASES = [
+    ("examples/head/head.gltf", None),
+    ("examples/ear/ear.gltf", None),
+    ("examples/marble/marble.gltf", None),
+    ("examples/head/head.gltf", "skin1"),
+    ("examples/head/head.gltf", "marble"),
+    ("examples/head/head.gltf", "skin3layer"),
+]
+
+
+def bake(scene, out, resolution, method, preset, outputs="subsurface,area"):
+    """Bakes and returns (wall seconds, summary)."""
+    command = [str(BINARY), "bake", str(ROOT / scene), "--out", str(out), "--force", "--json"]
+    command += ["--resolution", str(resolution), "--method", method, "--margin", "0", "--outputs", outputs]
+    if preset:
+        command += ["--preset", preset]
+    start = time.perf_counter()
+    done = subprocess.run(command, capture_output=True, text=True, check=False)
+    seconds = time.perf_counter() - start
+    if done.returncode != 0:
+        sys.exit(f"{' '.join(command)} failed:\n{done.stderr}")
+    return seconds, json.loads(done.stdout)
+
+
+def rgb(path):
+    return numpy.asarray(OpenEXR.File(str(path)).parts[0].channels["RGB"].pixels, dtype=numpy.float64)
+
+
+def errors(got, exact, covered):
+    """Relative RMSE and p99.9 |got - exact| / p99 exact over covered texels."""
+    g, e = got[covered], exact[covered]
+    rmse = math.sqrt(((g - e) ** 2).mean()) / math.sqrt((e**2).mean())
+    tail = numpy.percentile(numpy.abs(g - e), 99.9) / numpy.percentile(e, 99)
+    return rmse, tail
+
+
+def compare(resolution):
+    print(f"default (auto) against the exact sum at {resolution}², margin 0, wall seconds of the whole bake")
+    print(
+        "| asset | material | texels | auto chose | estimate | rel. RMSE | p99.9 | auto s | brute s | brute/auto |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for scene, preset in CASES:
+        with tempfile.TemporaryDirectory() as folder:
+            folder = pathlib.Path(folder)
+            auto_s, summary = bake(scene, folder / "auto", resolution, "auto", preset)
+            brute_s, _ = bake(scene, folder / "brute", resolution, "brute", preset)
+            for obj in summary["objects"]:
+                stem = obj["file_stem"]
+                covered = rgb(folder / "brute" / f"{stem}_area.exr")[..., 0] > 0
+                exact = rgb(folder / "brute" / f"{stem}_subsurface.exr")
+                got = rgb(folder / "auto" / f"{stem}_subsurface.exr")
+                rmse, tail = errors(got, exact, covered)
+                accuracy = obj["accuracy"]
+                print(
+                    f"| {pathlib.Path(scene).stem} | {preset or 'own'} | {obj['texels']} | {accuracy['method']} "
+                    f"| {100 * accuracy['estimated_error']:.2f}% | {100 * rmse:.2f}% | {100 * tail:.2f}% "
+                    f"| {auto_s:.1f} | {brute_s:.1f} | {brute_s / auto_s:.1f}× |"
+                )
+
+
+def scaling(largest):
+    print(f"\nthe default bake of the head (read → maps written), 256² to {largest}²")
+    print("| resolution | texels | method | seconds | seconds / (N log₂ N) relative to 256² |")
+    print("|---|---|---|---|---|")
+    base = None
+    resolution = 256
+    while resolution <= largest:
+        with tempfile.TemporaryDirectory() as folder:
+            seconds, summary = bake("examples/head/head.gltf", folder, resolution, "auto", None, "subsurface")
+        texels = summary["objects"][0]["texels"]
+        cost = seconds / (texels * math.log2(texels))
+        base = base or cost
+        method = summary["objects"][0]["accuracy"]["method"]
+        print(f"| {resolution}² | {texels} | {method} | {seconds:.1f} | {cost / base:.2f} |")
+        resolution *= 2
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--resolution", type=int, default=512)
+    parser.add_argument("--scaling", type=int, default=0, help="largest resolution of the scaling table")
+    args = parser.parse_args()
+    if not BINARY.exists():
+        sys.exit(f"{BINARY} is missing: cargo build --release -p sssbake-cli")
+    compare(args.resolution)
+    if args.scaling:
+        scaling(args.scaling)
+
+
+if __name__ == "__main__":
+    main()
