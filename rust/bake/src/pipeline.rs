@@ -322,15 +322,29 @@ impl Prepared {
     /// The texels as sources of light.
     pub fn texel_sources(&self) -> Sources {
         let n = self.surfels.resolution as f32;
+        // Each texel's covered rectangle, from texel units onto its
+        // triangle's plane, scaled to the area it stands for (which adds
+        // the shares of every triangle in the texel, at their own scale):
+        // a texel's own light then returns exactly R_total where the
+        // profile is sharper than the texel, neither more nor less.
         let footprint = self
             .surfels
             .triangle
             .iter()
-            .map(|&t| {
-                uv_jacobian(&self.mesh, &self.uvs, t as usize)
-                    .map_or([Vec3::ZERO; 2], |(du, dv)| {
-                        [du.as_vec3() / n, dv.as_vec3() / n]
-                    })
+            .zip(&self.surfels.extent)
+            .zip(&self.surfels.area)
+            .map(|((&t, extent), &area)| {
+                let Some((du, dv)) = uv_jacobian(&self.mesh, &self.uvs, t as usize) else {
+                    return [Vec3::ZERO; 2];
+                };
+                let (du, dv) = (du.as_vec3() / n, dv.as_vec3() / n);
+                let edges = extent.map(|e| du * e.x + dv * e.y);
+                let spanned = edges[0].cross(edges[1]).length();
+                if spanned > 0.0 && area > 0.0 {
+                    edges.map(|e| e * (area / spanned).sqrt())
+                } else {
+                    [Vec3::ZERO; 2]
+                }
             })
             .collect();
         Sources {

@@ -61,18 +61,104 @@ pub fn coverage(t: &TexelTriangle, x: u32, y: u32) -> f64 {
     coverage_with(&edge_functions(t), x, y)
 }
 
-/// [`coverage`] from precomputed edge functions. Texels wholly inside or
-/// outside are decided from their corners; for the rest the texel square
-/// is clipped by the edges that cross it (usually one), which is exact:
-/// outside those edges nothing of the square is lost.
+/// [`coverage`] from precomputed edge functions.
 pub fn coverage_with(edges: &EdgeFunctions, x: u32, y: u32) -> f64 {
+    moments_with(edges, x, y).area
+}
+
+/// The part of a texel a triangle covers, by its moments in texel-local
+/// coordinates (origin at the texel's corner, one texel = 1): area ∫dA,
+/// first moments ∫(x, y) dA and second moments ∫(x², xy, y²) dA. They add
+/// over the triangles covering a texel, and give the centroid and the
+/// spread of the surface the texel stands for.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TexelMoments {
+    /// Covered area, texel units (0..=1).
+    pub area: f64,
+    /// ∫x dA and ∫y dA.
+    pub first: DVec2,
+    /// ∫x² dA, ∫xy dA and ∫y² dA.
+    pub second: [f64; 3],
+}
+
+impl TexelMoments {
+    /// The whole texel.
+    pub const WHOLE: TexelMoments = TexelMoments {
+        area: 1.0,
+        first: DVec2::new(0.5, 0.5),
+        second: [1.0 / 3.0, 0.25, 1.0 / 3.0],
+    };
+
+    /// Adds `other` (another triangle's share of the same texel).
+    pub fn add(&mut self, other: &TexelMoments) {
+        self.area += other.area;
+        self.first += other.first;
+        for k in 0..3 {
+            self.second[k] += other.second[k];
+        }
+    }
+
+    /// The centroid of the covered part, texel-local; the texel's centre
+    /// when nothing is covered.
+    pub fn centroid(&self) -> DVec2 {
+        if self.area > 0.0 {
+            self.first / self.area
+        } else {
+            DVec2::splat(0.5)
+        }
+    }
+
+    /// The edges (texel units) of the rectangle centred on the centroid
+    /// with the covered part's area and the directions and aspect of its
+    /// second moments about the centroid: the whole texel gives (1, 0) and
+    /// (0, 1), a strip along an edge a rectangle of its width and length.
+    pub fn rectangle(&self) -> [DVec2; 2] {
+        if *self == Self::WHOLE {
+            return [DVec2::X, DVec2::Y];
+        }
+        if self.area <= 0.0 {
+            return [DVec2::ZERO; 2];
+        }
+        let c = self.centroid();
+        let xx = (self.second[0] / self.area - c.x * c.x).max(0.0);
+        let xy = self.second[1] / self.area - c.x * c.y;
+        let yy = (self.second[2] / self.area - c.y * c.y).max(0.0);
+        // Eigen-decomposition of the 2 × 2 covariance.
+        let mean = 0.5 * (xx + yy);
+        let spread = (0.25 * (xx - yy) * (xx - yy) + xy * xy).sqrt();
+        let (large, small) = (mean + spread, (mean - spread).max(0.0));
+        let major = if xy.abs() > 1e-300 {
+            DVec2::new(large - yy, xy).normalize()
+        } else if xx >= yy {
+            DVec2::X
+        } else {
+            DVec2::Y
+        };
+        let minor = major.perp();
+        // A rectangle of sides a has variance a²/12 along each side; the
+        // sides are then scaled so its area is the covered area.
+        let (a, b) = ((12.0 * large).sqrt(), (12.0 * small).sqrt());
+        if a * b <= 0.0 {
+            return [DVec2::ZERO; 2];
+        }
+        let scale = (self.area / (a * b)).sqrt();
+        [major * (a * scale), minor * (b * scale)]
+    }
+}
+
+/// [`TexelMoments`] of the part of texel (x, y) inside the triangle of
+/// `edges`. Texels wholly inside or outside are decided from their
+/// corners; for the rest the texel square is clipped by the edges that
+/// cross it (usually one), which is exact: outside those edges nothing of
+/// the square is lost.
+pub fn moments_with(edges: &EdgeFunctions, x: u32, y: u32) -> TexelMoments {
     let (x0, y0) = (x as f64, y as f64);
     let mut polygon = [DVec2::ZERO; 8];
     polygon[..4].copy_from_slice(&[
-        DVec2::new(x0, y0),
-        DVec2::new(x0 + 1.0, y0),
-        DVec2::new(x0 + 1.0, y0 + 1.0),
-        DVec2::new(x0, y0 + 1.0),
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(1.0, 1.0),
+        DVec2::new(0.0, 1.0),
     ]);
     let mut len = 4;
     let mut clipped_any = false;
@@ -81,13 +167,13 @@ pub fn coverage_with(edges: &EdgeFunctions, x: u32, y: u32) -> f64 {
         let corners = [base, base + a, base + a + b, base + b];
         let outside = corners.iter().filter(|&&e| e < 0.0).count();
         if outside == 4 {
-            return 0.0;
+            return TexelMoments::default();
         }
         if outside == 0 {
             continue;
         }
         clipped_any = true;
-        let side = |p: DVec2| a * p.x + b * p.y + c;
+        let side = |p: DVec2| a * p.x + b * p.y + base;
         // Keep the part of the polygon on the inner side of this edge.
         let mut clipped = [DVec2::ZERO; 8];
         let mut count = 0;
@@ -106,16 +192,38 @@ pub fn coverage_with(edges: &EdgeFunctions, x: u32, y: u32) -> f64 {
         polygon = clipped;
         len = count;
         if len < 3 {
-            return 0.0;
+            return TexelMoments::default();
         }
     }
     if !clipped_any {
-        return 1.0;
+        return TexelMoments::WHOLE;
     }
-    let twice: f64 = (0..len)
-        .map(|k| polygon[k].perp_dot(polygon[(k + 1) % len]))
-        .sum();
-    (0.5 * twice).abs().min(1.0)
+    polygon_moments(&polygon[..len])
+}
+
+/// Area, first and second moments of a simple polygon (either winding),
+/// by the shoelace sums over its edges.
+fn polygon_moments(polygon: &[DVec2]) -> TexelMoments {
+    let mut m = TexelMoments::default();
+    let mut second = [0.0f64; 3];
+    for k in 0..polygon.len() {
+        let (p, q) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+        let cross = p.perp_dot(q);
+        m.area += cross;
+        m.first += (p + q) * cross;
+        second[0] += cross * (p.x * p.x + p.x * q.x + q.x * q.x);
+        second[1] += cross * (p.x * q.y + 2.0 * p.x * p.y + 2.0 * q.x * q.y + q.x * p.y);
+        second[2] += cross * (p.y * p.y + p.y * q.y + q.y * q.y);
+    }
+    let sign = m.area.signum();
+    m.area = (0.5 * m.area).abs().min(1.0);
+    m.first *= sign / 6.0;
+    m.second = [
+        second[0] * sign / 12.0,
+        second[1] * sign / 24.0,
+        second[2] * sign / 12.0,
+    ];
+    m
 }
 
 /// True when the point is inside or on the triangle of `edges`.
@@ -153,5 +261,66 @@ mod tests {
             .map(|(x, y)| coverage(&t, x, y))
             .sum();
         assert!((total - 0.5 * signed_area2(&t).abs()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn moments_of_a_texel_cut_in_two_add_up_to_the_whole() {
+        // The diagonal x + y = 1.3 of texel (2, 3) cuts it into two parts.
+        let below = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(3.3, 0.0),
+            DVec2::new(0.0, 3.3),
+        ]
+        .map(|p| p + DVec2::new(1.0, 2.0));
+        let above = [below[1], DVec2::new(9.0, 9.0), below[2]];
+        let (a, b) = (
+            moments_with(&edge_functions(&below), 2, 3),
+            moments_with(&edge_functions(&above), 2, 3),
+        );
+        assert!(a.area > 0.1 && b.area > 0.1);
+        let mut sum = a;
+        sum.add(&b);
+        assert!((sum.area - 1.0).abs() < 1e-12);
+        assert!((sum.first - TexelMoments::WHOLE.first).length() < 1e-12);
+        for k in 0..3 {
+            assert!((sum.second[k] - TexelMoments::WHOLE.second[k]).abs() < 1e-12);
+        }
+        // The polygon sums give the whole texel's moments too.
+        let square = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
+        let whole = polygon_moments(&square);
+        assert!((whole.area - 1.0).abs() < 1e-12);
+        assert!((whole.second[1] - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_strip_along_an_edge_is_a_rectangle_of_its_width_and_length() {
+        // The left 0.3 of texel (0, 0), cut by the line x = 0.3.
+        let left = [
+            DVec2::new(-1.0, -1.0),
+            DVec2::new(0.3, -1.0),
+            DVec2::new(0.3, 5.0),
+        ];
+        let left = [left[0], left[1], left[2], DVec2::new(-1.0, 5.0)];
+        let strip = moments_with(&edge_functions(&[left[0], left[1], left[2]]), 0, 0);
+        let rest = moments_with(&edge_functions(&[left[0], left[2], left[3]]), 0, 0);
+        let mut m = strip;
+        m.add(&rest);
+        assert!((m.area - 0.3).abs() < 1e-12);
+        assert!((m.centroid() - DVec2::new(0.15, 0.5)).length() < 1e-12);
+        let [u, v] = m.rectangle();
+        let (long, short) = if u.length() > v.length() {
+            (u, v)
+        } else {
+            (v, u)
+        };
+        assert!((long.length() - 1.0).abs() < 1e-9, "{long}");
+        assert!((short.length() - 0.3).abs() < 1e-9, "{short}");
+        assert!(long.x.abs() < 1e-9);
+        assert_eq!(TexelMoments::WHOLE.rectangle(), [DVec2::X, DVec2::Y]);
+        // A corner triangle: the rectangle keeps its area.
+        let corner = [DVec2::ZERO, DVec2::X, DVec2::Y].map(|p| p * 0.8);
+        let m = moments_with(&edge_functions(&corner), 0, 0);
+        let [u, v] = m.rectangle();
+        assert!((u.perp_dot(v).abs() - 0.32).abs() < 1e-9);
     }
 }

@@ -3,8 +3,8 @@
 
 use crate::mesh::Mesh;
 use crate::surface::raster::{
-    EdgeFunctions, TexelTriangle, barycentric, contains, coverage_with, edge_functions,
-    signed_area2, texel_bounds,
+    EdgeFunctions, TexelMoments, TexelTriangle, barycentric, contains, edge_functions,
+    moments_with, signed_area2, texel_bounds,
 };
 use glam::{DVec2, Vec2, Vec3};
 use rayon::prelude::*;
@@ -24,7 +24,8 @@ pub struct TexelSurfels {
     pub index: Vec<u32>,
     /// Texel (y·N + x) of each surfel.
     pub texel: Vec<u32>,
-    /// Surface point at the texel centre, mm.
+    /// Surface point at the centroid of the part of the texel the layout
+    /// covers (the texel's centre when it covers all of it), mm.
     pub position: Vec<Vec3>,
     /// Unit interpolated normal.
     pub normal: Vec<Vec3>,
@@ -36,6 +37,12 @@ pub struct TexelSurfels {
     /// Surface length of one texel step along u and along v, mm
     /// (|σs|/N and |σt|/N of Mikkelsen eq. 43–44).
     pub stretch: Vec<Vec2>,
+    /// The covered part of the texel as a rectangle about `position` with
+    /// its area and second moments, edges in texel units: (1, 0) and
+    /// (0, 1) for a whole texel, a strip's width and length at a chart's
+    /// edge, so the light a part-covered texel stands for is spread over
+    /// the surface it covers and not over the next chart's.
+    pub extent: Vec<[Vec2; 2]>,
 }
 
 impl TexelSurfels {
@@ -71,6 +78,7 @@ struct Prepared {
 struct Claim {
     owner: Option<(bool, f64, u32)>,
     area: f64,
+    moments: TexelMoments,
 }
 
 /// Rasterises `mesh` with texture coordinates `uvs` at `resolution`²
@@ -132,6 +140,7 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
         triangle: vec![0; total],
         area: vec![0.0; total],
         stretch: vec![Vec2::ZERO; total],
+        extent: vec![[Vec2::ZERO; 2]; total],
     };
     let mut parts = Vec::with_capacity(counts.len());
     let (mut texel, mut position, mut normal) = (
@@ -139,10 +148,11 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
         &mut out.position[..],
         &mut out.normal[..],
     );
-    let (mut triangle, mut area, mut stretch) = (
+    let (mut triangle, mut area, mut stretch, mut extent) = (
         &mut out.triangle[..],
         &mut out.area[..],
         &mut out.stretch[..],
+        &mut out.extent[..],
     );
     for &count in &counts {
         let (a, rest) = std::mem::take(&mut texel).split_at_mut(count);
@@ -157,29 +167,34 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
         area = rest;
         let (f, rest) = std::mem::take(&mut stretch).split_at_mut(count);
         stretch = rest;
-        parts.push((a, b, c, d, e, f));
+        let (g, rest) = std::mem::take(&mut extent).split_at_mut(count);
+        extent = rest;
+        parts.push((a, b, c, d, e, f, g));
     }
     parts
         .into_par_iter()
         .zip(claims.par_iter())
         .enumerate()
         .for_each(|(band, (part, claims))| {
-            let (texels, positions, normals, triangles, areas, stretches) = part;
+            let (texels, positions, normals, triangles, areas, stretches, extents) = part;
             let first_texel = band as u32 * BAND * n;
             let owned = claims
                 .iter()
                 .enumerate()
-                .filter_map(|(offset, c)| c.owner.map(|(_, _, t)| (offset, c.area, t)));
-            for (k, (offset, covered_area, t)) in owned.enumerate() {
+                .filter_map(|(offset, c)| c.owner.map(|(_, _, t)| (offset, c, t)));
+            for (k, (offset, claim, t)) in owned.enumerate() {
                 let texel = first_texel + offset as u32;
                 let p = &prepared[t as usize];
-                let (position, normal) = interpolate(mesh, &p.uv, t, texel % n, texel / n);
+                let corner = DVec2::new((texel % n) as f64, (texel / n) as f64);
+                let at = corner + claim.moments.centroid();
+                let (position, normal) = interpolate(mesh, &p.uv, t, at);
                 texels[k] = texel;
                 positions[k] = position;
                 normals[k] = normal;
                 triangles[k] = t;
-                areas[k] = covered_area as f32;
+                areas[k] = claim.area as f32;
                 stretches[k] = p.stretch;
+                extents[k] = claim.moments.rectangle().map(|e| e.as_vec2());
             }
         });
     for (surfel, &texel) in out.texel.iter().enumerate() {
@@ -197,7 +212,8 @@ fn rasterize_band(prepared: &[Prepared], triangles: &[u32], band: u32, n: u32) -
         let (x0, x1, y0, y1) = p.bounds;
         for y in y0.max(row0)..y1.min(row0 + rows) {
             for x in x0..x1 {
-                let covered = coverage_with(&p.edges, x, y);
+                let moments = moments_with(&p.edges, x, y);
+                let covered = moments.area;
                 if covered <= 0.0 {
                     continue;
                 }
@@ -206,6 +222,7 @@ fn rasterize_band(prepared: &[Prepared], triangles: &[u32], band: u32, n: u32) -
                 let holds_centre = covered >= 1.0 || contains(&p.edges, centre);
                 let claim = &mut claims[((y - row0) * n + x) as usize];
                 claim.area += covered * p.density;
+                claim.moments.add(&moments);
                 let better = match claim.owner {
                     None => true,
                     Some((centre_held, best, _)) => (holds_centre, covered) > (centre_held, best),
@@ -219,11 +236,10 @@ fn rasterize_band(prepared: &[Prepared], triangles: &[u32], band: u32, n: u32) -
     claims
 }
 
-/// Position and normal at the centre of texel (x, y) on triangle `t`, the
-/// centre pulled onto the triangle when it lies just outside.
-fn interpolate(mesh: &Mesh, uv: &TexelTriangle, t: u32, x: u32, y: u32) -> (Vec3, Vec3) {
-    let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
-    let mut w = barycentric(centre, uv)
+/// Position and normal at `at` (texel units) on triangle `t`, pulled onto
+/// the triangle when it lies just outside.
+fn interpolate(mesh: &Mesh, uv: &TexelTriangle, t: u32, at: DVec2) -> (Vec3, Vec3) {
+    let mut w = barycentric(at, uv)
         .unwrap_or([1.0 / 3.0; 3])
         .map(|w| w.max(0.0));
     let sum: f64 = w.iter().sum();

@@ -17,11 +17,9 @@ pub(super) struct SourceTable {
     pub normal: Vec<Vec3>,
     pub slot: Vec<Slot>,
     pub flux: Vec<[f32; 3]>,
-    /// Each source's weight for its own light: the reflectance within its
-    /// parallelogram (a disk of its area when it has none) over its area,
-    /// 1/mm², computed exactly rather than read between the table's sizes,
-    /// which for a profile sharper than a texel would misstate all of it.
-    pub own: Vec<[f32; 3]>,
+    /// Each source's area, mm², for the weight of its own light when it has
+    /// no parallelogram.
+    pub area: Vec<f32>,
     /// Each source's place in this order, by its index in the sources.
     pub rank: Vec<u32>,
     /// Texel parallelograms (empty for shapeless samples), with the slot of
@@ -49,19 +47,7 @@ impl SourceTable {
                     sources.irradiance[pick(i)].map(|e| e * a)
                 })
                 .collect(),
-            own: order
-                .iter()
-                .map(|i| match sources.footprint.get(pick(i)) {
-                    Some(&[u, v]) if u.cross(v).length() > 0.0 => {
-                        disks.kernel().parallelogram_mean(u, v)
-                    }
-                    _ => {
-                        let area = sources.area[pick(i)];
-                        let radius = (area.max(0.0) * std::f32::consts::FRAC_1_PI).sqrt();
-                        disks.kernel().disk_mean(0.0, radius)[0]
-                    }
-                })
-                .collect(),
+            area: order.iter().map(|i| sources.area[pick(i)]).collect(),
             rank: {
                 let mut rank = vec![0u32; order.len()];
                 for (sorted, &i) in order.iter().enumerate() {
@@ -106,7 +92,7 @@ impl SourceTable {
         own: Option<usize>,
     ) -> [f32; 3] {
         let w = match self.footprint.get(j) {
-            _ if own == Some(j) => self.own[j],
+            _ if own == Some(j) => self.own_weight(disks, j),
             Some(&(edges, sub_slot, near2)) if d2 < near2 => {
                 self.footprint_weight(disks, j, edges, sub_slot, p, n)
             }
@@ -119,6 +105,24 @@ impl SourceTable {
         };
         let f = self.flux[j];
         [w[0] * f[0], w[1] * f[1], w[2] * f[2]]
+    }
+
+    /// Source `j`'s weight for its own light: the reflectance within its
+    /// parallelogram (a disk of its area when it has none) over its area,
+    /// 1/mm², computed exactly rather than read between the table's sizes,
+    /// which for a profile sharper than a texel would misstate all of it.
+    /// Computed when asked (once per target), so a check of a few texels
+    /// does not pay for every texel's.
+    fn own_weight(&self, disks: &DiskKernel, j: usize) -> [f32; 3] {
+        match self.footprint.get(j) {
+            Some(&([u, v], _, _)) if u.cross(v).length() > 0.0 => {
+                disks.kernel().parallelogram_mean(u, v)
+            }
+            _ => {
+                let radius = (self.area[j].max(0.0) * std::f32::consts::FRAC_1_PI).sqrt();
+                disks.kernel().disk_mean(0.0, radius)[0]
+            }
+        }
     }
 
     /// The mean weight over source `j`'s parallelogram `edges`, from

@@ -14,8 +14,10 @@ pub struct Sources {
     pub area: Vec<f32>,
     /// Transmitted irradiance E_t, W/m² per channel.
     pub irradiance: Vec<[f32; 3]>,
-    /// For texels: the surface steps of one texel along u and v, mm (the
-    /// parallelogram each stands for); empty for samples without a shape.
+    /// For texels: the edges of the parallelogram of surface each stands
+    /// for, mm (one texel step along u and along v for a whole texel; the
+    /// covered part's rectangle for a texel at a chart's edge); empty for
+    /// samples without a shape.
     pub footprint: Vec<[Vec3; 2]>,
 }
 
