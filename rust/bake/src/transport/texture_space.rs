@@ -14,13 +14,15 @@
 //! integrators do that.
 
 use super::Method;
+use super::brute;
 use super::integrator::{Integrated, Integrator};
+use super::sources::{OwnSource, Targets};
 use crate::control::{Cancelled, Control};
 use crate::error::Error;
 use crate::pipeline::Prepared;
 use crate::scattering::Scattering;
 use crate::surface::dilation::{ImageSides, SeamAwareDilation};
-use crate::surface::texels::TexelSurfels;
+use crate::surface::texels::{EMPTY, TexelSurfels};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sssbake_profile::gaussians::SumOfGaussians;
@@ -32,6 +34,10 @@ const SHARP: f32 = 0.2;
 
 /// The widest blur, in texels either side; wider Gaussians are truncated.
 pub const MAX_REACH: u32 = 512;
+
+/// Texels within this many steps (in any of the 8 directions) of a texel
+/// the layout leaves empty take the exact sum.
+const EDGE_RING: usize = 2;
 
 /// Radiant exitance (W/m²) at each surfel by texture-space blurs of its
 /// irradiance. `dilation` lists (empty texel, covered texel it copies) and
@@ -102,6 +108,28 @@ pub fn integrate(
         }
     }
     Ok(out)
+}
+
+/// The surfels within `ring` texel steps of an empty texel or of the
+/// image's edge, in surfel order.
+fn near_chart_edges(surfels: &TexelSurfels, ring: usize) -> Vec<usize> {
+    let n = surfels.resolution as usize;
+    let empty = |x: isize, y: isize| {
+        x < 0
+            || y < 0
+            || x >= n as isize
+            || y >= n as isize
+            || surfels.index[y as usize * n + x as usize] == EMPTY
+    };
+    let r = ring as isize;
+    (0..surfels.len())
+        .into_par_iter()
+        .filter(|&s| {
+            let t = surfels.texel[s] as usize;
+            let (x, y) = ((t % n) as isize, (t / n) as isize);
+            (-r..=r).any(|dy| (-r..=r).any(|dx| empty(x + dx, y + dy)))
+        })
+        .collect()
 }
 
 /// Texels of border the widest blur (σ `widest`, mm) needs beyond the
@@ -324,16 +352,34 @@ impl Integrator for TextureIntegrator {
         control: &Control,
     ) -> Result<Integrated, Error> {
         let fit = fit_gaussians(scattering.profile.as_ref(), self.gaussians);
-        let exitance = integrate(
+        let mut exitance = integrate(
             &fit.gaussians,
             &prepared.surfels,
             &prepared.entering(),
             prepared.dilation(),
             control,
         )?;
-        Ok(Integrated {
-            exitance,
-            sources: 0,
-        })
+        // Where a chart's edge is near, a texel's blur reads copies across
+        // the seam or nothing past an open border, and its own texel is only
+        // partly surface: most of the blurs' error lives in those few
+        // texels, so they take the exact sum instead.
+        let edge = near_chart_edges(&prepared.surfels, EDGE_RING);
+        let mut sources = 0;
+        if !edge.is_empty() {
+            let texels = prepared.texel_sources();
+            let position: Vec<_> = edge.iter().map(|&s| prepared.surfels.position[s]).collect();
+            let normal: Vec<_> = edge.iter().map(|&s| prepared.surfels.normal[s]).collect();
+            let targets = Targets {
+                position: &position,
+                normal: &normal,
+                own: OwnSource::Listed(&edge),
+            };
+            let exact = brute::integrate(&scattering.kernel, &texels, targets, control)?;
+            for (&s, m) in edge.iter().zip(exact) {
+                exitance[s] = m;
+            }
+            sources = texels.len();
+        }
+        Ok(Integrated { exitance, sources })
     }
 }
