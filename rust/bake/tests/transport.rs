@@ -170,6 +170,7 @@ fn head_skin() -> Material {
         specular_ior_level: 0.5,
         subsurface_ior: 1.4,
         anisotropy: 0.0,
+        roughness: 0.0,
         albedo: sssbake::materials::AlbedoMapping::Cycles,
     }
     .to_material()
@@ -339,6 +340,7 @@ fn grey(albedo: f64, sigma_t: f64, ior: f64, thickness_mm: Option<f64>) -> Mater
             thickness_mm,
         }]),
         coat_ior: None,
+        roughness: 0.0,
     }
 }
 

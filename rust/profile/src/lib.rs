@@ -50,6 +50,7 @@ pub mod profile;
 pub mod quadrature;
 pub mod rng;
 pub mod roots;
+pub mod rough;
 pub mod slab;
 pub mod split;
 pub mod tabulated;

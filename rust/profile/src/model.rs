@@ -105,14 +105,22 @@ pub fn build_profile(
         return Err(error("the material has no layers"));
     };
     Ok(match model {
-        Model::Dipole => Box::new(Dipole::new([0, 1, 2].map(|c| top.medium(c)), top.ior)),
-        Model::Multipole if layers.len() == 1 => Box::new(Multipole::new(top, DEFAULT_ACCURACY)),
+        Model::Dipole => Box::new(Dipole::with_roughness(
+            [0, 1, 2].map(|c| top.medium(c)),
+            top.ior,
+            material.roughness,
+        )),
+        Model::Multipole if layers.len() == 1 => Box::new(Multipole::with_roughness(
+            top,
+            material.roughness,
+            DEFAULT_ACCURACY,
+        )),
         Model::Multipole => {
             return Err(error(
                 "the multipole describes one slab; this material has several layers (use layered)",
             ));
         }
-        Model::Layered => Box::new(Layered::new(layers)),
+        Model::Layered => Box::new(Layered::with_roughness(layers, material.roughness)),
         Model::Gaussians | Model::Burley => {
             let reference = build_profile(material, Model::default_for(material), gaussians)?;
             if model == Model::Burley {
