@@ -6,7 +6,7 @@ import os
 import pathlib
 import sys
 
-ABI_VERSION = 5
+ABI_VERSION = 6
 
 LIGHT_SUN, LIGHT_POINT, LIGHT_SPOT, LIGHT_RECTANGLE, LIGHT_DISK = range(5)
 MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML, MATERIAL_SCENE, MATERIAL_SIDECAR, MATERIAL_NONE = range(
@@ -93,6 +93,7 @@ class Material(ctypes.Structure):
         ("image_extension", ctypes.c_uint32),
         ("image_nearest", ctypes.c_uint32),
         ("image_name", ctypes.c_char_p),
+        ("roughness", ctypes.c_float),
     ]
 
 

@@ -199,6 +199,7 @@ def principled_struct(settings, slot, uv_keys, keep):
     material.specular_ior_level = value_of(inputs, "Specular IOR Level", 0.5)
     material.subsurface_ior = value_of(inputs, "Subsurface IOR", 1.4)
     material.anisotropy = value_of(inputs, "Subsurface Anisotropy", 0.0)
+    material.roughness = value_of(inputs, "Roughness", 0.5)
     material.albedo_mapping = (
         native.ALBEDO_PHYSICAL if settings.albedo_mapping == "PHYSICAL" else native.ALBEDO_CYCLES
     )

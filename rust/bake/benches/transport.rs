@@ -101,7 +101,7 @@ fn main() {
         0,
         planned.layout.clone(),
         &plan.request,
-        skin.entry_index(),
+        skin,
         true,
         &control,
     )

@@ -260,7 +260,7 @@ fn bake_object(
         object.index,
         object.layout.clone(),
         request,
-        scattering.entry_index(),
+        scattering,
         object.lighting.run,
         control,
     )?;
@@ -321,6 +321,7 @@ impl BakedObject {
             &self.prepared,
             &self.exitance,
             self.plan.material.ior,
+            self.plan.material.roughness,
             output,
             &self.fill,
         ))

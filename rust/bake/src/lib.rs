@@ -83,6 +83,7 @@ pub mod irradiance;
 pub mod maps;
 pub mod materials;
 pub mod mesh;
+pub mod monte_carlo_cache;
 pub mod pipeline;
 pub mod plan;
 pub mod rays;

@@ -5,7 +5,7 @@
 //! |---|---|
 //! | `subsurface` | M, the radiant exitance (W/m²) after the colour split |
 //! | `irradiance` | E_t, the irradiance transmitted through the surface (W/m²) |
-//! | `diffuse` | M·ρt(0)/π: the diffuse radiance leaving towards the normal through the exit Fresnel (W/(m²·sr)) |
+//! | `diffuse` | M·ρt(0)/π: the diffuse radiance leaving towards the normal through the exit Fresnel, or a rough surface's ρdt(0) (W/(m²·sr)) |
 //! | `thickness` | distance through the object along the inward normal (mm; 0 where a ray leaves it) |
 //! | `stretch` | surface length of one texel along u (red) and v (green), mm |
 //! | `area` | surface area the texel stands for, mm² |
@@ -100,12 +100,14 @@ pub fn margin_fill(prepared: &Prepared, margin: u32) -> Vec<(u32, u32)> {
 
 /// The map `output` of `prepared` as an image, rows top to bottom, with
 /// the empty texels of `fill` (from [`margin_fill`]) filled. `exitance` is
-/// the integration's result (zero where there is none); `eta` the
-/// material's index for the exit Fresnel.
+/// the integration's result (zero where there is none); `eta` and
+/// `roughness` the material's index and RMS facet slope for the exit
+/// transmittance ρdt(0) (Donner & Jensen 2005 eq. 25; 1 − F(0) when smooth).
 pub fn render(
     prepared: &Prepared,
     exitance: &[[f32; 3]],
     eta: f64,
+    roughness: f64,
     output: Output,
     fill: &[(u32, u32)],
 ) -> Image {
@@ -114,7 +116,7 @@ pub fn render(
         Output::Subsurface => exitance.to_vec(),
         Output::Irradiance => prepared.irradiance.clone(),
         Output::Diffuse => {
-            let exit = EntryTransmittance::new(eta, Boundary::Smooth).at(1.0)
+            let exit = EntryTransmittance::new(eta, Boundary::of(roughness)).at(1.0)
                 * std::f32::consts::FRAC_1_PI;
             exitance.iter().map(|m| m.map(|v| v * exit)).collect()
         }

@@ -312,6 +312,11 @@ pub struct Principled {
     pub subsurface_ior: f32,
     /// Subsurface Anisotropy (Henyey–Greenstein g).
     pub anisotropy: f32,
+    /// Roughness of the specular layer over the subsurface, in [0, 1]:
+    /// Blender's GGX takes α = Roughness², which the bake uses as the
+    /// surface's Beckmann RMS facet slope m (the two lobes agree closely
+    /// for equal α and m).
+    pub roughness: f32,
     /// How the colour becomes an albedo.
     pub albedo: AlbedoMapping,
 }
@@ -333,7 +338,13 @@ impl Principled {
                 self.subsurface_weight
             )));
         }
-        PrincipledSubsurface {
+        if !(0.0..=1.0).contains(&self.roughness) {
+            return Err(at(format!(
+                "Roughness is {}; it must lie between 0 and 1",
+                self.roughness
+            )));
+        }
+        let mut material = PrincipledSubsurface {
             name: self.name.clone(),
             colour: self.base_colour.map(f64::from),
             radius_mm: self.radius.map(|r| f64::from(r) * self.scale_mm),
@@ -345,6 +356,8 @@ impl Principled {
             albedo: self.albedo,
         }
         .to_material()
-        .map_err(|e| at(e.to_string()))
+        .map_err(|e| at(e.to_string()))?;
+        material.roughness = f64::from(self.roughness).powi(2);
+        Ok(material)
     }
 }

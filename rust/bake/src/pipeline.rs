@@ -183,15 +183,15 @@ impl std::ops::Deref for Prepared {
 }
 
 /// Lights object `index` of `scene` laid out as `layout`: the irradiance
-/// entering each texel through a boundary of index `eta`, by the
-/// request's lighting. `lit` false leaves the light out (outputs that need
+/// entering each texel through the surface of `scattering`'s material (its
+/// entry index and roughness), by the request's lighting. `lit` false leaves the light out (outputs that need
 /// none).
 pub fn prepare(
     scene: &Scene,
     index: usize,
     layout: Arc<Layout>,
     request: &BakeRequest,
-    eta: f64,
+    scattering: &Scattering,
     lit: bool,
     control: &Control,
 ) -> Result<Prepared, Error> {
@@ -231,9 +231,7 @@ pub fn prepare(
                         Emitter::new(light, map)
                     })
                     .collect();
-                let boundary = request
-                    .roughness
-                    .map_or(Boundary::Smooth, |roughness| Boundary::Rough { roughness });
+                let boundary = Boundary::of(scattering.material.roughness);
                 let surfels = &layout.surfels;
                 transmitted_irradiance(
                     Receivers {
@@ -244,7 +242,7 @@ pub fn prepare(
                     },
                     &emitters,
                     &RayScene::new(&meshes),
-                    &EntryTransmittance::new(eta, boundary),
+                    &EntryTransmittance::new(scattering.entry_index(), boundary),
                     &IrradianceSettings {
                         samples: request.light_samples,
                         shadows: true,

@@ -131,6 +131,9 @@ pub struct MaterialPlan {
     pub model: String,
     /// Index of refraction light enters through.
     pub ior: f64,
+    /// RMS facet slope of the surface (0: smooth), the request's override
+    /// or the material's own.
+    pub roughness: f64,
     /// Radius holding all but the request's share of the reflectance, mm.
     pub d_max_mm: f32,
     /// The finest mean free path, mm.
@@ -223,12 +226,15 @@ fn plan_object(
     let (colour, ColourMap { relative, nominal }) =
         plan_colour(scene, index, &layout, request, &sourced)?;
     layout.relative_colour = relative;
-    let profile_material = match (&sourced.recipe, nominal) {
+    let mut profile_material = match (&sourced.recipe, nominal) {
         (Some(recipe), Some(m)) if m != recipe.colour() => recipe
             .with_colour(m)
             .map_err(|e| e.for_object(name.clone()).in_file(scene.source.clone()))?,
         _ => sourced.material,
     };
+    if let Some(roughness) = request.roughness {
+        profile_material.roughness = roughness;
+    }
     let scattering = Scattering::new(
         profile_material,
         request.model,
@@ -243,6 +249,7 @@ fn plan_object(
         source,
         model: scattering.model.name().to_string(),
         ior: scattering.entry_index(),
+        roughness: scattering.material.roughness,
         d_max_mm: scattering.kernel.d_max,
         mean_free_path_mm: scattering.material.finest_mean_free_path_mm(),
         transmits: scattering.kernel.transmits(),

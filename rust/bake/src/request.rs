@@ -12,6 +12,7 @@ use crate::transport::Method;
 use crate::transport::integrator::IntegratorSettings;
 use serde::{Deserialize, Serialize};
 use sssbake_profile::model::Model;
+use sssbake_profile::rough::MAX_ROUGHNESS;
 
 /// The largest map side, texels.
 pub const MAX_RESOLUTION: u32 = 16384;
@@ -74,8 +75,9 @@ pub struct BakeRequest {
     pub lighting: Lighting,
     /// Samples per soft light and for the environment, per texel.
     pub light_samples: u32,
-    /// RMS slope of a rough boundary (Donner & Jensen 2005 §2.4); `None`
-    /// for a smooth one.
+    /// RMS facet slope of every material's surface (Donner & Jensen 2005
+    /// §2.4), in [0, 1] (0 smooth); `None` keeps each material's own
+    /// ([`Material::roughness`](sssbake_profile::Material::roughness)).
     pub roughness: Option<f64>,
     /// A base colour map in the objects' UVs, applied as C^α before
     /// scattering and C^(1−α) after (Mikkelsen §3.5).
@@ -140,8 +142,14 @@ impl BakeRequest {
                 format!("{} must be between 0 and 1", self.d_max_epsilon),
             ));
         }
-        if let Some(m) = self.roughness.filter(|m| !(m.is_finite() && *m > 0.0)) {
-            return Err(Error::field("roughness", format!("{m} must be positive")));
+        if let Some(m) = self
+            .roughness
+            .filter(|m| !(0.0..=MAX_ROUGHNESS).contains(m))
+        {
+            return Err(Error::field(
+                "roughness",
+                format!("{m} must be an RMS facet slope between 0 (smooth) and {MAX_ROUGHNESS}"),
+            ));
         }
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
             return Err(Error::field(

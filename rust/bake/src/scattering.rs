@@ -2,9 +2,11 @@
 //! built once and together, so every stage sees the same reach.
 
 use crate::error::Error;
+use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::transport::kernel::Kernel;
 use sssbake_profile::Material;
 use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::monte_carlo_profile::ProfileSettings;
 use sssbake_profile::profile::Profile;
 
 /// Share of the reflectance left outside d_max when none is asked for.
@@ -43,7 +45,21 @@ impl Scattering {
         d_max_epsilon: f64,
     ) -> Result<Self, Error> {
         let model = model.unwrap_or_else(|| Model::default_for(&material));
-        let profile = build_profile(&material, model, gaussians)?;
+        let profile = if model == Model::MonteCarlo {
+            // Simulated once per material and kept on disk.
+            let cached = monte_carlo_profile(
+                &material,
+                &ProfileSettings::default(),
+                cache_dir().as_deref(),
+            );
+            match cached {
+                Some(profile) => Box::new(profile) as Box<dyn Profile>,
+                // A material without layers: the library says why.
+                None => build_profile(&material, model, gaussians)?,
+            }
+        } else {
+            build_profile(&material, model, gaussians)?
+        };
         Ok(Scattering::from_profile(
             material,
             model,

@@ -98,7 +98,7 @@ pub fn prepare_with(
         planned.index,
         planned.layout.clone(),
         &plan.request,
-        planned.scattering_profile.entry_index(),
+        &planned.scattering_profile,
         true,
         control,
     )

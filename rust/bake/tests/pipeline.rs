@@ -57,6 +57,7 @@ fn slab(thickness_mm: f64) -> Material {
             thickness_mm: Some(thickness_mm),
         }]),
         coat_ior: None,
+        roughness: 0.0,
     }
 }
 
@@ -339,4 +340,60 @@ fn a_request_out_of_range_names_its_setting() {
             other => panic!("{field}: {:?}", other.map(|p| p.objects.len())),
         }
     }
+}
+
+/// A material's roughness sets the light crossing in (ρdt of Donner &
+/// Jensen 2005 eq. 26) and out (eq. 25, the `diffuse` map's ρdt(0)/π);
+/// the request's roughness overrides every material's.
+#[test]
+fn a_rough_surface_sets_entry_and_exit_and_the_request_overrides_it() {
+    use sssbake_profile::rough::diffuse_transmittance;
+    let scene = scene(
+        vec![centred_square(60.0, "square")],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let rough = Material {
+        roughness: 0.8,
+        ..slab(5.0)
+    };
+    let bake_with = |override_roughness: Option<f64>| {
+        let request = BakeRequest {
+            materials: MaterialAssignment::everywhere(rough.clone(), "test"),
+            outputs: vec![Output::Irradiance, Output::Subsurface, Output::Diffuse],
+            roughness: override_roughness,
+            ..request(32)
+        };
+        let plan = plan(&scene, &request).unwrap();
+        let (mut objects, _) = bake(&scene, &plan, &Control::new()).unwrap();
+        objects.remove(0)
+    };
+    let centre = |image: &Image| image.sample(Vec2::new(0.5, 0.5))[0] as f64;
+    let (own, smooth) = (bake_with(None), bake_with(Some(0.0)));
+    assert_eq!(own.plan.material.roughness, 0.8);
+    assert_eq!(smooth.plan.material.roughness, 0.0);
+    let entry = |object: &sssbake::BakedObject| centre(&object.render(Output::Irradiance).unwrap());
+    let expected = diffuse_transmittance(1.0, 1.3, 0.8) / diffuse_transmittance(1.0, 1.3, 0.0);
+    assert!(
+        (entry(&own) / entry(&smooth) / expected - 1.0).abs() < 1e-3,
+        "entry: {} / {} against ρdt ratio {expected}",
+        entry(&own),
+        entry(&smooth)
+    );
+    for (object, m) in [(&own, 0.8), (&smooth, 0.0)] {
+        let exit = centre(&object.render(Output::Diffuse).unwrap())
+            / centre(&object.render(Output::Subsurface).unwrap());
+        let expected = diffuse_transmittance(1.0, 1.3, m) / std::f64::consts::PI;
+        assert!(
+            (exit / expected - 1.0).abs() < 1e-3,
+            "{m}: exit {exit} vs {expected}"
+        );
+    }
+    let out_of_range = BakeRequest {
+        roughness: Some(1.5),
+        ..request(32)
+    };
+    assert!(matches!(
+        plan(&scene, &out_of_range),
+        Err(Error::Setting { field, .. }) if field == "roughness"
+    ));
 }

@@ -170,6 +170,7 @@ fn head_skin() -> Material {
         specular_ior_level: 0.5,
         subsurface_ior: 1.4,
         anisotropy: 0.0,
+        roughness: 0.0,
         albedo: sssbake::materials::AlbedoMapping::Cycles,
     }
     .to_material()
@@ -200,9 +201,9 @@ fn half_plane(profile: &dyn Profile, s: f64, channel: usize, reach: f64) -> f64 
         .sum()
 }
 
-#[test]
-fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
-    // A blocker 10 mm above the half x < 0 shadows it from a sun overhead.
+/// A square 120 mm wide whose half x < 0 a blocker 10 mm above shadows
+/// from a sun overhead, lit at `resolution`².
+fn half_shadowed_square(resolution: u32) -> Prepared {
     let mut blocker = centred_square(200.0, "blocker");
     for p in &mut blocker.positions {
         p.x = p.x.min(0.0);
@@ -212,9 +213,19 @@ fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
         vec![centred_square(120.0, "square"), blocker],
         vec![sun_from(Vec3::NEG_Z)],
     );
-    let skin = scattering_of("skin1", Model::Dipole);
-    let (profile, kernel) = (&skin.profile, &skin.kernel);
-    let prepared = prepared(&scene, "square", 256);
+    prepared(&scene, "square", resolution)
+}
+
+/// Asserts that each method's exitance across the shadow edge of
+/// `prepared` (columns of a band averaged to tame noise) is the lit
+/// irradiance times the half-plane integral of `scattering`'s own profile,
+/// within `tolerance` of the lit level.
+fn assert_follows_the_half_plane(
+    prepared: &Prepared,
+    scattering: &sssbake::scattering::Scattering,
+    methods: &[(Method, f64)],
+) {
+    let (profile, kernel) = (&scattering.profile, &scattering.kernel);
     let lit = prepared.irradiance.iter().map(|e| e[1]).fold(0.0, f32::max) as f64;
     let band: Vec<usize> = (0..prepared.surfels.len())
         .filter(|&s| {
@@ -223,17 +234,9 @@ fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
         })
         .collect();
     let total = profile.total_reflectance();
-    for (method, tolerance) in [
-        (Method::Brute, 0.01),
-        // Turk points carry the irradiance of their centres, so the edge is
-        // resolved only to their spacing.
-        (Method::Octree, 0.03),
-        (Method::Texture, 0.03),
-        (Method::Importance, 0.04),
-    ] {
+    for &(method, tolerance) in methods {
         // Enough probes that Monte Carlo noise sits well inside the bound.
-        let exitance = exitance(&prepared, &skin, method, &with(256, 6, 1));
-        // Average each column of the band (same x) to tame Monte Carlo noise.
+        let exitance = exitance(prepared, scattering, method, &with(256, 6, 1));
         let mut columns: std::collections::BTreeMap<i32, (f64, [f64; 3], usize)> =
             Default::default();
         for &s in &band {
@@ -256,6 +259,77 @@ fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
             }
         }
     }
+}
+
+#[test]
+fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
+    let skin = scattering_of("skin1", Model::Dipole);
+    assert_follows_the_half_plane(
+        &half_shadowed_square(256),
+        &skin,
+        &[
+            (Method::Brute, 0.01),
+            // Turk points carry the irradiance of their centres, so the edge is
+            // resolved only to their spacing.
+            (Method::Octree, 0.03),
+            (Method::Texture, 0.03),
+            (Method::Importance, 0.04),
+        ],
+    );
+}
+
+/// The Monte Carlo bakes: its tallies, smoothed, are a profile like any
+/// other, simulated once and read back from the cache the second time.
+#[test]
+fn the_monte_carlo_profile_bakes_and_is_simulated_once() {
+    use sssbake::monte_carlo_cache::{cache_file, monte_carlo_profile};
+    use sssbake_profile::monte_carlo_profile::ProfileSettings;
+    let dir = std::env::temp_dir().join(format!("sssbake-mc-cache-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let material = sssbake::materials::preset("skin1").unwrap();
+    let settings = ProfileSettings {
+        photons: 20_000,
+        seed: 3,
+    };
+    let simulated = monte_carlo_profile(&material, &settings, Some(&dir)).unwrap();
+    let file = cache_file(&material, &settings, &dir).unwrap();
+    assert!(file.exists(), "{} was not written", file.display());
+    let cached = monte_carlo_profile(&material, &settings, Some(&dir)).unwrap();
+    assert_eq!(simulated.tallies(), cached.tallies());
+    // Another seed is another simulation, in another file.
+    let other = ProfileSettings {
+        seed: 4,
+        ..settings.clone()
+    };
+    assert_ne!(cache_file(&material, &other, &dir).unwrap(), file);
+    // The fit smooths the tallies without moving their total.
+    let fit = simulated.fit_error();
+    let mc = simulated.tallies();
+    let fitted = simulated.total_reflectance();
+    for (c, ((total, tallied), error)) in fitted
+        .iter()
+        .zip(mc.total_reflectance)
+        .zip(fit[0])
+        .enumerate()
+    {
+        assert!(
+            (total - tallied).abs() < 0.01 * tallied,
+            "channel {c}: fitted total {total}, simulated {tallied}"
+        );
+        assert!(error < 0.2, "channel {c}: fit error {error}");
+    }
+    let scattering = sssbake::scattering::Scattering::from_profile(
+        material,
+        Model::MonteCarlo,
+        Box::new(cached),
+        sssbake::scattering::D_MAX_EPSILON,
+    );
+    assert_follows_the_half_plane(
+        &half_shadowed_square(128),
+        &scattering,
+        &[(Method::Brute, 0.015)],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -339,6 +413,7 @@ fn grey(albedo: f64, sigma_t: f64, ior: f64, thickness_mm: Option<f64>) -> Mater
             thickness_mm,
         }]),
         coat_ior: None,
+        roughness: 0.0,
     }
 }
 

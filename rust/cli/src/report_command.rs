@@ -118,7 +118,7 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
             object.index,
             object.layout.clone(),
             &plan.request,
-            scattering.entry_index(),
+            scattering,
             true,
             &control,
         )?;

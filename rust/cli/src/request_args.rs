@@ -99,7 +99,8 @@ pub struct RequestArgs {
     /// Samples per soft light and for the environment, per texel.
     #[arg(long, default_value_t = DEFAULTS.light_samples)]
     pub light_samples: u32,
-    /// RMS slope of a rough surface (Donner & Jensen 2005 §2.4) [default: smooth].
+    /// RMS facet slope of every material's surface, in [0, 1] (Donner &
+    /// Jensen 2005 §2.4) [default: each material's own `roughness`].
     #[arg(long)]
     pub roughness: Option<f64>,
     /// Relative RMSE against the exact sum that `--method auto` holds each

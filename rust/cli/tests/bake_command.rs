@@ -424,3 +424,63 @@ fn a_failure_after_the_first_object_leaves_nothing_behind() {
     assert!(stderr.contains("Ball2"), "{stderr}");
     assert!(!out.exists(), "{:?}", files_in(&out));
 }
+
+/// `--model montecarlo` bakes from a simulation kept in the cache folder
+/// `SSSBAKE_CACHE_DIR` names; the second bake reads it back.
+#[test]
+fn the_monte_carlo_model_bakes_through_its_cache() {
+    let out = scratch("montecarlo");
+    let cache = scratch("montecarlo-cache");
+    let scene = example("marble");
+    let bake = || {
+        Command::new(env!("CARGO_BIN_EXE_sssbake"))
+            .args([
+                "bake",
+                scene.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--force",
+                "--resolution",
+                "32",
+                // Ketchup: a low albedo, where diffusion fails.
+                "--preset",
+                "ketchup",
+                "--model",
+                "montecarlo",
+            ])
+            .env("SSSBAKE_CACHE_DIR", &cache)
+            .output()
+            .expect("the binary runs")
+    };
+    let first = bake();
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let cached = files_in(&cache);
+    assert!(
+        cached.len() == 1 && cached[0].starts_with("montecarlo-") && cached[0].ends_with(".json"),
+        "{cached:?}"
+    );
+    let modified = std::fs::metadata(cache.join(&cached[0]))
+        .unwrap()
+        .modified()
+        .unwrap();
+    assert!(bake().status.success());
+    assert_eq!(
+        files_in(&cache),
+        cached,
+        "the second bake simulates nothing new"
+    );
+    assert_eq!(
+        std::fs::metadata(cache.join(&cached[0]))
+            .unwrap()
+            .modified()
+            .unwrap(),
+        modified,
+        "the second bake reads the cache and leaves it alone"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&cache);
+}

@@ -13,7 +13,7 @@
 /**
  * The version of this ABI: hosts refuse a library of another version.
  */
-#define SSSBAKE_ABI_VERSION 5
+#define SSSBAKE_ABI_VERSION 6
 
 /**
  * [`sssbake_bake_to_folder`] flag: replace files already in the folder.
@@ -338,6 +338,12 @@ typedef struct SssbakeMaterial {
    * The image's name for reports (UTF-8), or null.
    */
   const char *image_name;
+  /**
+   * Roughness of the Principled BSDF's specular layer, the surface over
+   * the subsurface, in [0, 1] (Principled kind; a TOML material gives
+   * its own `roughness`).
+   */
+  float roughness;
 } SssbakeMaterial;
 
 /**

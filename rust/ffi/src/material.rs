@@ -94,6 +94,10 @@ pub struct SssbakeMaterial {
     pub image_nearest: u32,
     /// The image's name for reports (UTF-8), or null.
     pub image_name: *const c_char,
+    /// Roughness of the Principled BSDF's specular layer, the surface over
+    /// the subsurface, in [0, 1] (Principled kind; a TOML material gives
+    /// its own `roughness`).
+    pub roughness: f32,
 }
 
 impl Default for SssbakeMaterial {
@@ -122,6 +126,7 @@ impl Default for SssbakeMaterial {
             image_extension: SSSBAKE_EXTENSION_REPEAT,
             image_nearest: 0,
             image_name: std::ptr::null(),
+            roughness: 0.5,
         }
     }
 }
@@ -191,6 +196,7 @@ pub(crate) unsafe fn assignment_from_host(
                 specular_ior_level: material.specular_ior_level,
                 subsurface_ior: material.subsurface_ior,
                 anisotropy: material.anisotropy,
+                roughness: material.roughness,
                 albedo: match material.albedo_mapping {
                     SSSBAKE_ALBEDO_CYCLES => AlbedoMapping::Cycles,
                     SSSBAKE_ALBEDO_PHYSICAL => AlbedoMapping::Physical,

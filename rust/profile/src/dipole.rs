@@ -1,11 +1,11 @@
 //! The dipole of Jensen et al. 2001 in the corrected form of Mikkelsen eq. 30,
 //! for a semi-infinite medium under a boundary of relative index η.
 
-use crate::fresnel::boundary_a;
 use crate::images::{pole, pole_enclosed};
 use crate::medium::Medium;
 use crate::profile::Profile;
 use crate::roots::radius_where;
+use crate::rough::boundary_a;
 use crate::{Rgb, rgb_map};
 
 /// One channel of a dipole.
@@ -31,7 +31,14 @@ impl Dipole {
     /// The dipole of a medium per channel below a boundary with relative
     /// index `eta` = n_medium / n_outside.
     pub fn new(media: [Medium; 3], eta: f64) -> Self {
-        let a = boundary_a(eta);
+        Self::with_roughness(media, eta, 0.0)
+    }
+
+    /// [`Self::new`] under a rough boundary of RMS facet slope `roughness`:
+    /// A from the boundary's diffuse reflectance ρd (Donner & Jensen 2005
+    /// eq. 24).
+    pub fn with_roughness(media: [Medium; 3], eta: f64, roughness: f64) -> Self {
+        let a = boundary_a(eta, roughness);
         Self {
             channels: media.map(|m| DipoleChannel {
                 albedo: m.albedo_reduced(),

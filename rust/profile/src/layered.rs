@@ -5,7 +5,7 @@
 use crate::hankel::inverse_hankel_many;
 use crate::material::Layer;
 use crate::profile::Profile;
-use crate::slab::{Incidence, SideResponse, SlabChannel, SlabResponse};
+use crate::slab::{Face, Incidence, SideResponse, SlabChannel, SlabResponse};
 use crate::split::{Split, SplitSlab, combine};
 use crate::tabulated::Tabulated;
 use crate::{Rgb, rgb_map};
@@ -23,19 +23,38 @@ pub struct Stack {
 impl Stack {
     /// Slabs for `layers` (top first) under air; a finite last layer has air below.
     pub fn new(layers: &[Layer]) -> Self {
+        Self::with_roughness(layers, 0.0)
+    }
+
+    /// [`Self::new`] with the faces against air (the top, and the bottom of
+    /// a finite stack) rough with RMS facet slope `roughness`; the faces
+    /// between layers stay smooth.
+    pub fn with_roughness(layers: &[Layer], roughness: f64) -> Self {
         let index_above = |i: usize| if i == 0 { 1.0 } else { layers[i - 1].ior };
         let index_below = |i: usize| layers.get(i + 1).map_or(1.0, |l| l.ior);
+        let last = layers.len().saturating_sub(1);
+        let faces: Vec<(Face, Face)> = layers
+            .iter()
+            .enumerate()
+            .map(|(i, layer)| {
+                let rough = |against_air: bool| if against_air { roughness } else { 0.0 };
+                (
+                    Face::new(layer.ior / index_above(i), rough(i == 0)),
+                    Face::new(layer.ior / index_below(i), rough(i == last)),
+                )
+            })
+            .collect();
         Self {
             channels: [0, 1, 2].map(|c| {
                 layers
                     .iter()
                     .enumerate()
                     .map(|(i, layer)| {
-                        SlabChannel::new(
+                        SlabChannel::with_faces(
                             layer.medium(c),
                             layer.thickness_mm.unwrap_or(f64::INFINITY),
-                            layer.ior / index_above(i),
-                            layer.ior / index_below(i),
+                            faces[i].0,
+                            faces[i].1,
                             if i == 0 {
                                 Incidence::Collimated
                             } else {
@@ -94,7 +113,13 @@ pub struct Layered {
 impl Layered {
     /// Profiles of `layers` (top first; only the last may be semi-infinite).
     pub fn new(layers: &[Layer]) -> Self {
-        let stack = Stack::new(layers);
+        Self::with_roughness(layers, 0.0)
+    }
+
+    /// [`Self::new`] under a rough surface of RMS facet slope `roughness`
+    /// ([`Stack::with_roughness`]).
+    pub fn with_roughness(layers: &[Layer], roughness: f64) -> Self {
+        let stack = Stack::with_roughness(layers, roughness);
         let table = tabulate("layered", stack.length_scales(), |c, k| {
             stack.split_response(c, k).map(|s| s.diffuse).down
         });

@@ -5,10 +5,14 @@
 use crate::Rgb;
 use crate::gaussians::SumOfGaussians;
 use crate::medium::Medium;
+use crate::rough::MAX_ROUGHNESS;
 use serde::Deserialize;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use std::fmt;
 use std::path::Path;
+
+/// The roughness of a material that gives none: a smooth surface.
+pub const DEFAULT_ROUGHNESS: f64 = 0.0;
 
 /// One homogeneous layer of a material.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,6 +71,12 @@ pub struct Material {
     /// crosses on entry (Blender's specular layer over an index-matched
     /// random walk); `None`: the top layer's own index.
     pub coat_ior: Option<f64>,
+    /// RMS slope m of the Beckmann facets of the material's surface, the
+    /// rough boundary of Donner & Jensen 2005 §2.4 (dimensionless, in
+    /// [0, [`MAX_ROUGHNESS`]]; 0 is smooth). It sets the light crossing in
+    /// and out (ρdt, eq. 25–26, through the coat when there is one) and
+    /// the diffusion boundary of the faces against air (A from ρd, eq. 24).
+    pub roughness: f64,
 }
 
 /// A material that could not be read or is not physical; says where.
@@ -114,6 +124,7 @@ impl Material {
     /// ```toml
     /// name = "two-layer skin"        # optional
     /// coat_ior = 1.4                 # optional: a coat light enters through
+    /// roughness = 0.3                # optional: RMS facet slope in [0, 1], default 0 (smooth)
     /// [[layers]]
     /// sigma_a = [0.032, 0.17, 0.48]  # 1/mm, a number or [r, g, b]
     /// sigma_s = 0.74                 # 1/mm
@@ -166,6 +177,7 @@ impl Material {
             name: file.name.unwrap_or_else(|| default_name.to_string()),
             optics: Optics::Layers(parsed),
             coat_ior: file.coat_ior.map(|n| n.0),
+            roughness: file.roughness.map_or(DEFAULT_ROUGHNESS, |n| n.0),
         };
         material.validate(source)?;
         Ok(material)
@@ -182,6 +194,15 @@ impl Material {
             return Err(error(
                 "coat_ior".into(),
                 format!("must be a positive finite index, got {coat}"),
+            ));
+        }
+        if !(0.0..=MAX_ROUGHNESS).contains(&self.roughness) {
+            return Err(error(
+                "roughness".into(),
+                format!(
+                    "must be an RMS facet slope between 0 (smooth) and {MAX_ROUGHNESS}, got {}",
+                    self.roughness
+                ),
             ));
         }
         let Optics::Layers(layers) = &self.optics else {
@@ -290,6 +311,8 @@ struct MaterialFile {
     name: Option<String>,
     /// Index of a coat over the top layer; absent, none.
     coat_ior: Option<Number>,
+    /// RMS facet slope of the surface; absent, smooth.
+    roughness: Option<Number>,
     /// The `[[layers]]` tables, top down; absent is an error said after
     /// parsing, with what a material needs.
     layers: Option<LayerList>,

@@ -5,6 +5,7 @@ use crate::dipole::Dipole;
 use crate::gaussians::fit_gaussians;
 use crate::layered::Layered;
 use crate::material::{Layer, Material, Optics};
+use crate::monte_carlo_profile::{MonteCarloProfile, ProfileSettings};
 use crate::multipole::{DEFAULT_ACCURACY, Multipole};
 use crate::profile::Profile;
 
@@ -33,7 +34,7 @@ pub enum Model {
     Gaussians,
     /// Christensen–Burley normalized diffusion matched to the material.
     Burley,
-    /// The Monte Carlo photon-transport reference.
+    /// The Monte Carlo photon-transport reference, smoothed into a profile.
     MonteCarlo,
 }
 
@@ -79,8 +80,9 @@ pub struct ModelError {
 }
 
 /// Builds `model` for `material`. Gaussians are fitted with `gaussians`
-/// terms to the material's default profile. Monte Carlo is not a closed
-/// profile; run [`crate::monte_carlo::simulate`] instead.
+/// terms to the material's default profile. Monte Carlo simulates the
+/// material with the default [`ProfileSettings`] (seconds; a bake caches
+/// it) and smooths the tallies ([`MonteCarloProfile`]).
 pub fn build_profile(
     material: &Material,
     model: Model,
@@ -105,14 +107,22 @@ pub fn build_profile(
         return Err(error("the material has no layers"));
     };
     Ok(match model {
-        Model::Dipole => Box::new(Dipole::new([0, 1, 2].map(|c| top.medium(c)), top.ior)),
-        Model::Multipole if layers.len() == 1 => Box::new(Multipole::new(top, DEFAULT_ACCURACY)),
+        Model::Dipole => Box::new(Dipole::with_roughness(
+            [0, 1, 2].map(|c| top.medium(c)),
+            top.ior,
+            material.roughness,
+        )),
+        Model::Multipole if layers.len() == 1 => Box::new(Multipole::with_roughness(
+            top,
+            material.roughness,
+            DEFAULT_ACCURACY,
+        )),
         Model::Multipole => {
             return Err(error(
                 "the multipole describes one slab; this material has several layers (use layered)",
             ));
         }
-        Model::Layered => Box::new(Layered::new(layers)),
+        Model::Layered => Box::new(Layered::with_roughness(layers, material.roughness)),
         Model::Gaussians | Model::Burley => {
             let reference = build_profile(material, Model::default_for(material), gaussians)?;
             if model == Model::Burley {
@@ -121,10 +131,9 @@ pub fn build_profile(
                 Box::new(fit_gaussians(reference.as_ref(), gaussians).gaussians)
             }
         }
-        Model::MonteCarlo => {
-            return Err(error(
-                "Monte Carlo is a simulation, not a closed profile; run it with monte_carlo::simulate",
-            ));
-        }
+        Model::MonteCarlo => Box::new(
+            MonteCarloProfile::simulate(material, &ProfileSettings::default())
+                .ok_or_else(|| error("the material has no layers to simulate"))?,
+        ),
     })
 }

@@ -54,7 +54,7 @@ impl Settings {
 }
 
 /// Tallies with their standard errors, per channel.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MonteCarlo {
     /// Bin edges, mm.
     pub edges_mm: Vec<f64>,

@@ -27,7 +27,13 @@ impl Multipole {
     /// The multipole of `layer` with pole counts chosen so that the summed
     /// totals are within `accuracy` (relative) of the exact ones.
     pub fn new(layer: &Layer, accuracy: f64) -> Self {
-        let stack = Stack::new(std::slice::from_ref(layer));
+        Self::with_roughness(layer, 0.0, accuracy)
+    }
+
+    /// [`Self::new`] with faces against air of RMS facet slope `roughness`
+    /// (Donner & Jensen 2005 eq. 24 sets their extrapolation distances).
+    pub fn with_roughness(layer: &Layer, roughness: f64, accuracy: f64) -> Self {
+        let stack = Stack::with_roughness(std::slice::from_ref(layer), roughness);
         let slabs = [0, 1, 2].map(|c| stack.channel(c)[0].clone());
         let pairs = [0, 1, 2].map(|c| slabs[c].pole_pairs_for(accuracy));
         let table = pairs.iter().any(Option::is_none).then(|| {

@@ -97,5 +97,6 @@ pub fn preset(name: &str) -> Option<Material> {
         name: name.to_string(),
         optics,
         coat_ior: None,
+        roughness: crate::material::DEFAULT_ROUGHNESS,
     })
 }

@@ -20,8 +20,9 @@
 //! is then the fluence at the face over h, which is never negative, so the
 //! layered profiles built from it are not either.
 
-use crate::fresnel::{boundary_a, dielectric_reflectance, diffuse_reflectance_exact};
+use crate::fresnel::dielectric_reflectance;
 use crate::medium::Medium;
+use crate::rough;
 use crate::split::{Split, SplitSlab};
 
 /// Reflectance and transmittance of a slab for light entering from one side.
@@ -51,6 +52,49 @@ pub enum Incidence {
     Collimated,
     /// Diffuse light.
     Diffuse,
+}
+
+/// One face of a slab, seen from inside: the relative index across it
+/// (n_slab / n_beyond) and the RMS slope of its facets, with the two
+/// reflectances the slab needs, computed once.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Face {
+    /// Relative index n_slab / n_beyond.
+    pub eta: f64,
+    /// RMS facet slope m; 0 is smooth.
+    pub roughness: f64,
+    /// Internal diffuse reflectance: F_dr, or ρd when rough.
+    pub diffuse_reflectance: f64,
+    /// Internal reflectance at normal incidence.
+    pub normal_reflectance: f64,
+}
+
+impl Face {
+    /// A smooth face of relative index `eta`.
+    pub fn smooth(eta: f64) -> Self {
+        Self::new(eta, 0.0)
+    }
+
+    /// A face of relative index `eta` and RMS facet slope `roughness`.
+    pub fn new(eta: f64, roughness: f64) -> Self {
+        let normal_reflectance = if roughness > 0.0 {
+            rough::directional_albedo(1.0, eta, 1.0, roughness)
+        } else {
+            dielectric_reflectance(1.0, eta, 1.0)
+        };
+        Self {
+            eta,
+            roughness,
+            diffuse_reflectance: rough::diffuse_reflectance(eta, roughness),
+            normal_reflectance,
+        }
+    }
+
+    /// The boundary constant A = (1 + ρd)/(1 − ρd) (eq. 7, or eq. 24 rough).
+    pub fn boundary_a(&self) -> f64 {
+        let rho = self.diffuse_reflectance.min(1.0 - 1e-12);
+        (1.0 + rho) / (1.0 - rho)
+    }
 }
 
 /// One slab in one channel, ready to evaluate.
@@ -94,6 +138,26 @@ impl SlabChannel {
         eta_bottom: f64,
         from_above: Incidence,
     ) -> Self {
+        Self::with_faces(
+            medium,
+            thickness_mm,
+            Face::smooth(eta_top),
+            Face::smooth(eta_bottom),
+            from_above,
+        )
+    }
+
+    /// [`Self::new`] with faces that may be rough (Donner & Jensen 2005
+    /// §2.4): each face's diffuse reflectance ρd sets its boundary constant
+    /// A = (1 + ρd)/(1 − ρd) (eq. 24) and the bounces of the unscattered
+    /// light.
+    pub fn with_faces(
+        medium: Medium,
+        thickness_mm: f64,
+        top: Face,
+        bottom: Face,
+        from_above: Incidence,
+    ) -> Self {
         let sigma_t = medium.sigma_t_reduced();
         let diffusion = medium.diffusion();
         let ell = medium.mean_free_path();
@@ -106,19 +170,10 @@ impl SlabChannel {
         let b = 1.0 - share;
         let (down_faces, up_faces) = (
             match from_above {
-                Incidence::Collimated => (
-                    dielectric_reflectance(1.0, eta_bottom, 1.0),
-                    dielectric_reflectance(1.0, eta_top, 1.0),
-                ),
-                Incidence::Diffuse => (
-                    diffuse_reflectance_exact(eta_bottom),
-                    diffuse_reflectance_exact(eta_top),
-                ),
+                Incidence::Collimated => (bottom.normal_reflectance, top.normal_reflectance),
+                Incidence::Diffuse => (bottom.diffuse_reflectance, top.diffuse_reflectance),
             },
-            (
-                diffuse_reflectance_exact(eta_top),
-                diffuse_reflectance_exact(eta_bottom),
-            ),
+            (top.diffuse_reflectance, bottom.diffuse_reflectance),
         );
         Self {
             strength: medium.albedo_reduced() * share,
@@ -129,8 +184,8 @@ impl SlabChannel {
             sigma_tr: medium.sigma_tr(),
             thickness: thickness_mm,
             source_depth,
-            zb_top: 2.0 * boundary_a(eta_top) * diffusion,
-            zb_bottom: 2.0 * boundary_a(eta_bottom) * diffusion,
+            zb_top: 2.0 * top.boundary_a() * diffusion,
+            zb_bottom: 2.0 * bottom.boundary_a() * diffusion,
         }
     }
 

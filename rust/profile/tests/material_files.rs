@@ -144,7 +144,7 @@ fn assert_message(text: &str, expected: &str) {
 fn an_unknown_key_at_the_top_is_named() {
     assert_message(
         "sigma_z = 1\n[[layers]]\nsigma_a = 0.1\nsigma_s = 1\n",
-        "skin.toml: sigma_z: unknown field `sigma_z`, expected one of `name`, `coat_ior`, `layers`",
+        "skin.toml: sigma_z: unknown field `sigma_z`, expected one of `name`, `coat_ior`, `roughness`, `layers`",
     );
 }
 
@@ -191,4 +191,22 @@ fn a_coat_is_read_and_checked() {
         &format!("coat_ior = -1.0\n{layer}"),
         "skin.toml: coat_ior: must be a positive finite index, got -1",
     );
+}
+
+#[test]
+fn a_roughness_is_read_defaulted_and_checked() {
+    let layer = "[[layers]]\nsigma_a = 0.1\nsigma_s = 1.0\n";
+    let rough = load(&format!("roughness = 0.4\n{layer}")).unwrap();
+    assert_eq!(rough.roughness, 0.4);
+    assert_eq!(
+        load(layer).unwrap().roughness,
+        sssbake_profile::material::DEFAULT_ROUGHNESS
+    );
+    for bad in ["-0.1", "1.5", "nan"] {
+        assert_error(
+            &format!("roughness = {bad}\n{layer}"),
+            "roughness",
+            "between 0 (smooth) and 1",
+        );
+    }
 }

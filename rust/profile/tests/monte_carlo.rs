@@ -162,8 +162,18 @@ fn the_layered_model_matches_monte_carlo_for_mikkelsen_table_3() {
 
 #[test]
 fn the_multipole_matches_monte_carlo_for_thin_and_thick_slabs() {
-    // Donner & Jensen 2005 table 1: a 1 mm mean free path, 2 to 20 of them thick.
-    for thickness in [2.0, 10.0, 20.0] {
+    // Donner & Jensen 2005 table 1: a 1 mm mean free path, 2 to 20 of them
+    // thick. The Monte Carlo agrees with van de Hulst's slab to 0.1%
+    // (published_tables.rs), so what remains is diffusion's own error:
+    // about 3.5% at 2 mfp, where the source sits at mid-depth and diffusion
+    // splits R and T evenly while transport favours R, and under 1% from
+    // 10 mfp (tolerances: those plus half a point of margin, and three
+    // standard errors).
+    for (thickness, r_tolerance, t_tolerance) in [
+        (2.0, 0.04, 0.04),
+        (10.0, 0.015, 0.015),
+        (20.0, 0.015, 0.015),
+    ] {
         let layer = grey_layer(0.001, 0.999, 0.0, 1.0, Some(thickness));
         let model = Multipole::new(&layer, 1e-8);
         let mc = run(std::slice::from_ref(&layer), 10_000, &[1.0]);
@@ -172,14 +182,14 @@ fn the_multipole_matches_monte_carlo_for_thin_and_thick_slabs() {
             model.total_reflectance()[0],
             mc.total_reflectance[0],
             mc.total_reflectance_stderr[0],
-            0.06,
+            r_tolerance,
             &what,
         );
         compare_total(
             model.total_transmittance()[0],
             mc.total_transmittance[0] + mc.unscattered_transmittance[0],
             mc.total_transmittance_stderr[0],
-            0.08,
+            t_tolerance,
             &what,
         );
     }
