@@ -293,3 +293,56 @@ fn write_report(path: &Path, report: &impl serde::Serialize) -> Result<(), Error
     write_atomically(path, &bytes)
         .map_err(|e| Error::output(path.display(), format!("cannot write: {e}")))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(folder: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn a_placed_folder_replaces_the_old_one_whole_and_leaves_nothing_aside() {
+        let out = tempfile::tempdir().unwrap();
+        let folder = out.path().join("head");
+        std::fs::create_dir(&folder).unwrap();
+        std::fs::write(folder.join("old_only.exr"), "old").unwrap();
+        std::fs::write(folder.join("both.exr"), "old").unwrap();
+        let staged = out.path().join(".head.partial-1");
+        std::fs::create_dir(&staged).unwrap();
+        std::fs::write(staged.join("both.exr"), "new").unwrap();
+        place(staged.clone(), &folder).unwrap();
+        assert_eq!(
+            names(&folder),
+            ["both.exr"],
+            "no file of the old bake stays"
+        );
+        assert_eq!(
+            std::fs::read_to_string(folder.join("both.exr")).unwrap(),
+            "new"
+        );
+        assert_eq!(names(out.path()), ["head"], "nothing left aside");
+    }
+
+    #[test]
+    fn a_folder_that_cannot_be_placed_keeps_the_old_one() {
+        let out = tempfile::tempdir().unwrap();
+        let folder = out.path().join("head");
+        std::fs::create_dir(&folder).unwrap();
+        std::fs::write(folder.join("a.exr"), "old").unwrap();
+        let missing = out.path().join(".head.partial-gone");
+        let error = place(missing, &folder).unwrap_err();
+        assert!(matches!(error, Error::Output { .. }), "{error}");
+        assert_eq!(
+            std::fs::read_to_string(folder.join("a.exr")).unwrap(),
+            "old"
+        );
+        assert_eq!(names(out.path()), ["head"]);
+    }
+}
