@@ -6,6 +6,7 @@ import importlib.util
 import json
 import os
 import signal
+import subprocess
 import sys
 import threading
 import time
@@ -102,3 +103,22 @@ def test_a_worker_killed_mid_task_has_its_task_run_again(sssbake, client, tmp_pa
     local, _ = batch(sssbake, manifest, tmp_path / "local", "--asset", "ear")
     assert local.returncode == 0
     assert maps(out / "ear") == maps(tmp_path / "local" / "ear")
+
+
+def test_the_farm_runs_from_a_shell_against_a_scheduler_address(sssbake, client, tmp_path):
+    folder = examples(tmp_path)
+    manifest = folder / "batch.toml"
+    manifest.write_text('[defaults]\nresolution = 32\n[assets.marble]\nscene = "marble/marble.gltf"\n')
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "python" / "sssbake" / "farm.py"), str(manifest)]
+        + ["--out", str(tmp_path / "farm"), "--scheduler", client.scheduler.address]
+        + ["--sssbake", str(sssbake), "--threads-per-task", "1"],
+        check=False,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert report["counts"]["baked"] == 1
+    assert (tmp_path / "farm" / "marble" / "Ball_subsurface.exr").exists()

@@ -17,10 +17,17 @@ module, which is sent to them by value.
     from sssbake import farm
     report = farm.run("assets/batch.toml", "/shared/baked", Client("tcp://scheduler:8786"))
     assert report["counts"]["failed"] == 0
+
+or from a shell, printing the batch report (exit 0, or 5 when some asset
+failed):
+
+    python python/sssbake/farm.py assets/batch.toml --out /shared/baked \
+        --scheduler tcp://scheduler:8786
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import subprocess
@@ -109,3 +116,28 @@ def run(
         last = (result.stderr.strip().splitlines() or ["no message"])[-1]
         raise FarmError(f"collecting the reports failed: {last}")
     return json.loads(result.stdout)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """`farm.py MANIFEST --out DIR --scheduler ADDRESS`: runs the batch on the
+    cluster at ADDRESS and prints its report; the exit code is sssbake's."""
+    from distributed import Client
+
+    parser = argparse.ArgumentParser(description="Run an sssbake batch on a Dask cluster.")
+    parser.add_argument("manifest")
+    parser.add_argument("--out", required=True, help="the batch's folder, on storage every worker shares")
+    parser.add_argument("--scheduler", required=True, help="the Dask scheduler, such as tcp://host:8786")
+    parser.add_argument("--sssbake", default="sssbake", help="the sssbake binary on the workers")
+    parser.add_argument("--threads-per-task", type=int, help="threads of each bake [every core]")
+    args = parser.parse_args(argv)
+    with Client(args.scheduler) as client:
+        report = run(
+            args.manifest, args.out, client, sssbake=args.sssbake, threads_per_task=args.threads_per_task
+        )
+    print(json.dumps(report, indent=2))
+    counts = report["counts"]
+    return 0 if counts["failed"] == 0 and counts["missing"] == 0 else SOME_FAILED
+
+
+if __name__ == "__main__":
+    sys.exit(main())
