@@ -166,3 +166,22 @@ def test_a_manifest_with_an_unknown_key_is_refused_naming_it(sssbake, tmp_path):
     assert result.returncode == 1
     assert "assets.head" in result.stderr and "resolutoin" in result.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_an_asset_folder_that_holds_its_own_input_is_refused_and_the_input_kept(sssbake, tmp_path):
+    folder = examples(tmp_path)
+    before = {p: p.read_bytes() for p in (folder / "head").iterdir()}
+    # Baked into the assets' own folder, the asset `head` would replace head/.
+    result, report = batch(sssbake, folder / "batch.toml", folder, "--asset", "head")
+    assert result.returncode == SOME_FAILED
+    (head,) = report["assets"]
+    assert head["error"]["kind"] == "output" and "holds the asset's input" in head["error"]["message"]
+    assert {p: p.read_bytes() for p in (folder / "head").iterdir()} == before
+    # A folder the batch did not make is not replaced either.
+    out = tmp_path / "out"
+    (out / "marble").mkdir(parents=True)
+    (out / "marble" / "notes.txt").write_text("mine")
+    result, report = batch(sssbake, folder / "batch.toml", out, "--asset", "marble")
+    assert result.returncode == SOME_FAILED
+    assert "not a batch's folder" in report["assets"][0]["error"]["message"]
+    assert sorted(p.name for p in (out / "marble").iterdir()) == ["notes.txt"]

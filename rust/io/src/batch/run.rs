@@ -185,6 +185,7 @@ fn run_asset(asset: &Asset, options: &BatchOptions) -> AssetReport {
             report.files = files_in(&folder);
             return Ok(Status::Skipped);
         }
+        refuse_input_inside(&folder, &print)?;
         let summary = bake_into(asset, &folder, &options.out, &print)?;
         report.files = files_in(&folder);
         report.summary = serde_json::to_value(&summary).ok();
@@ -264,6 +265,35 @@ fn place(staged: PathBuf, folder: &Path) -> Result<(), Error> {
         return Err(cannot(e));
     }
     let _ = std::fs::remove_dir_all(&aside);
+    Ok(())
+}
+
+/// Refuses an asset folder that holds one of the asset's own inputs (an
+/// asset named as its scene's folder, baked into the folder above it), or
+/// that a batch did not make: replacing it would remove what is there.
+fn refuse_input_inside(folder: &Path, print: &Fingerprint) -> Result<(), Error> {
+    let Ok(folder) = folder.canonicalize() else {
+        return Ok(());
+    };
+    let inside = print.files.iter().find(|file| {
+        Path::new(file)
+            .canonicalize()
+            .is_ok_and(|file| file.starts_with(&folder))
+    });
+    if let Some(file) = inside {
+        return Err(Error::output(
+            folder.display(),
+            format!("holds the asset's input {file}; bake the batch into another --out"),
+        ));
+    }
+    // A batch replaces only folders it made (or empty ones).
+    let empty = std::fs::read_dir(&folder).is_ok_and(|mut entries| entries.next().is_none());
+    if !empty && !folder.join(RECORD).exists() {
+        return Err(Error::output(
+            folder.display(),
+            format!("exists without a {RECORD}: not a batch's folder, so it is left alone"),
+        ));
+    }
     Ok(())
 }
 
