@@ -7,8 +7,8 @@ cd "$(dirname "$0")/.."
 scripts/install-test-deps.sh
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --locked -- -D warnings
-.venv/bin/ruff format --check --quiet tests usd examples blender_addon
-.venv/bin/ruff check --quiet tests usd examples blender_addon
+.venv/bin/ruff format --check --quiet tests usd examples blender_addon python scripts
+.venv/bin/ruff check --quiet tests usd examples blender_addon python scripts
 cargo build --release --locked -p sssbake-cli -p sssbake-ffi
 cargo test --workspace --locked
 SSSBAKE_BIN="$PWD/target/release/sssbake" .venv/bin/python -m pytest tests -q

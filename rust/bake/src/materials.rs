@@ -260,6 +260,25 @@ impl Sidecar {
         })
     }
 
+    /// The material files the sidecar at `path` names (relative to it),
+    /// for a caller that records what a bake read; none when it cannot be
+    /// read or parsed ([`Sidecar::read`] says why).
+    pub fn material_files(path: &Path) -> Vec<PathBuf> {
+        let folder = path.parent().unwrap_or(Path::new("."));
+        std::fs::read_to_string(path)
+            .ok()
+            .and_then(|text| toml::from_str::<SidecarFile>(&text).ok())
+            .map(|parsed| {
+                parsed
+                    .objects
+                    .into_values()
+                    .filter(|name| name.ends_with(".toml"))
+                    .map(|name| folder.join(name))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
     /// Refuses entries naming objects not among `known`.
     pub fn check_objects(&self, known: &[&str]) -> Result<(), Error> {
         match self

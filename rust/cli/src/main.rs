@@ -3,10 +3,12 @@
 //! Exit codes: 0 success; 1 bad input (a scene or image that cannot be
 //! read, an unknown object or preset, an invalid material file, a model
 //! that does not fit the material, a value out of range); 2 bad command
-//! line; 3 an output could not be written; 4 cancelled; 70 an internal
-//! error (a bug: please report it).
+//! line; 3 an output could not be written; 4 cancelled; 5 a batch in
+//! which some assets failed (the others were baked); 70 an internal error
+//! (a bug: please report it).
 
 mod bake_command;
+mod batch_command;
 mod error_map;
 mod plan_command;
 mod plot;
@@ -35,6 +37,10 @@ struct Cli {
 enum Command {
     /// Bake subsurface scattering maps for the objects of a scene.
     Bake(bake_command::BakeArgs),
+    /// Bake the assets of a TOML manifest, each into its own folder,
+    /// skipping those unchanged since their last bake; or write the batch
+    /// as an Open Job Description job bundle.
+    Batch(batch_command::BatchArgs),
     /// Print and plot a material's diffusion reflectance profile.
     Profile(profile_command::ProfileArgs),
     /// Show what a bake with the same options would do, and what it would
@@ -73,7 +79,8 @@ fn main() -> ExitCode {
         Err(None)
     });
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(batch_command::SOME_FAILED),
         Err(None) => ExitCode::from(70),
         Err(Some(error)) => {
             eprintln!("error: {error}");
@@ -86,9 +93,14 @@ fn main() -> ExitCode {
     }
 }
 
-/// Runs the command; `Err(Some)` for a failure, as the exit codes say.
-fn run(cli: Cli) -> Result<(), Option<Error>> {
+/// Runs the command; `Ok(false)` when a batch finished with some assets
+/// failed, `Err(Some)` for a failure, as the exit codes say.
+fn run(cli: Cli) -> Result<bool, Option<Error>> {
+    if let Command::Batch(args) = &cli.command {
+        return batch_command::run(args).map_err(Some);
+    }
     let result = match cli.command {
+        Command::Batch(_) => Ok(()),
         Command::Bake(args) => bake_command::run(&args),
         Command::Profile(args) => profile_command::run(&args),
         Command::Plan(args) => plan_command::run(&args),
@@ -100,5 +112,5 @@ fn run(cli: Cli) -> Result<(), Option<Error>> {
             Ok(())
         }
     };
-    result.map_err(Some)
+    result.map(|()| true).map_err(Some)
 }

@@ -2,12 +2,10 @@
 //! and the library's [`BakeRequest`]. Every default comes from the library.
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
-use sssbake::materials::{MaterialAssignment, Sidecar, preset};
 use sssbake::request::MAX_RESOLUTION;
 use sssbake::transport::integrator::IntegratorSettings;
 use sssbake::{BakeRequest, Error, Method, Output, Scene, UvPolicy};
-use sssbake_io::{ReadOptions, read_image, read_scene, scene_lighting};
-use sssbake_profile::Material;
+use sssbake_io::BakeOptions;
 use sssbake_profile::model::Model;
 use std::path::PathBuf;
 use std::sync::LazyLock;
@@ -138,67 +136,44 @@ impl RequestArgs {
                 .num_threads(threads.max(1))
                 .build_global();
         }
-        let mut materials = MaterialAssignment::default();
-        if let Some(name) = &self.preset {
-            materials.every_object = Some(sourced(preset(name)?, "--preset"));
-        }
-        if let Some(path) = &self.material {
-            materials.every_object = Some(sourced(Material::from_file(path)?, "--material"));
-        }
-        if let Some(path) = &self.materials {
-            materials.sidecar = Some(Sidecar::read(path)?);
-        }
-        let options = ReadOptions {
-            uv_set: self.uv_set,
-            unit_scale: self.unit_scale,
-        };
-        let scene = read_scene(&self.input, &options)?;
-        let mut integrators = IntegratorSettings::default();
-        integrators.octree.epsilon = self.octree_epsilon;
-        integrators.texture.gaussians = self.gaussians;
-        integrators.importance.samples = self.samples;
-        integrators.seed(self.seed);
-        let base_colour = match &self.base_color {
-            Some(path) => Some(read_image(path)?),
-            None => None,
-        };
-        let request = BakeRequest {
-            objects: self.objects.clone(),
-            materials,
-            model: self.model,
-            resolution: self.resolution,
-            uvs: if self.unwrap {
+        self.options().load(&self.input)
+    }
+
+    /// These flags as the library's [`BakeOptions`] (the flags' defaults
+    /// are the library's own, so every option is given).
+    fn options(&self) -> BakeOptions {
+        BakeOptions {
+            objects: Some(self.objects.clone()),
+            preset: self.preset.clone(),
+            material: self.material.clone(),
+            materials: self.materials.clone(),
+            model: self.model.map(|m| m.to_string()),
+            resolution: Some(self.resolution),
+            uv_set: Some(self.uv_set),
+            uvs: Some(if self.unwrap {
                 UvPolicy::Unwrap
             } else if self.keep_uvs {
                 UvPolicy::Keep
             } else {
                 UvPolicy::Auto
-            },
-            margin: self.margin,
-            outputs: self.outputs.clone(),
-            method: self.method,
-            integrators,
-            lighting: scene_lighting(
-                &scene,
-                &self.input,
-                self.irradiance.as_deref(),
-                self.environment.as_deref(),
-            )?,
-            light_samples: self.light_samples,
+            }),
+            margin: Some(self.margin),
+            outputs: Some(self.outputs.iter().map(|o| o.to_string()).collect()),
+            method: Some(self.method.to_string()),
+            octree_epsilon: Some(self.octree_epsilon),
+            gaussians: Some(self.gaussians),
+            samples: Some(self.samples),
+            seed: Some(self.seed),
+            unit_scale: self.unit_scale,
+            irradiance: self.irradiance.clone(),
+            environment: self.environment.clone(),
+            base_color: self.base_color.clone(),
+            colour_split: Some(self.colour_split),
+            light_samples: Some(self.light_samples),
             roughness: self.roughness,
-            base_colour,
-            colour_split: self.colour_split,
-            tolerance: self.tolerance,
-            ..BakeRequest::default()
-        };
-        Ok((scene, request))
-    }
-}
-
-fn sourced(material: Material, flag: &str) -> sssbake::materials::Sourced {
-    sssbake::materials::Sourced {
-        material,
-        source: flag.to_string(),
-        recipe: None,
+            tolerance: Some(self.tolerance),
+            half: None,
+            exposure: None,
+        }
     }
 }

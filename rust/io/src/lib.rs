@@ -3,6 +3,7 @@
 
 pub mod assets;
 pub mod atomic_write;
+pub mod batch;
 pub mod colour_texture;
 pub mod folder;
 pub mod gltf_reader;
@@ -11,6 +12,7 @@ pub mod image_reader;
 pub mod image_writer;
 pub mod lighting;
 pub mod look;
+pub mod options;
 pub mod python;
 pub mod staging;
 pub mod usd_lights;
@@ -22,6 +24,7 @@ pub use folder::{FolderOptions, bake_to_folder};
 pub use gltf_reader::read_gltf;
 pub use image_reader::read_image;
 pub use lighting::scene_lighting;
+pub use options::BakeOptions;
 pub use usd_reader::read_usd;
 
 use sssbake::Scene;

@@ -1,0 +1,2 @@
+"""sssbake from Python: running batches of the `sssbake` binary on a Dask
+cluster (`sssbake.farm`)."""
