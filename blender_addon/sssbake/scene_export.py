@@ -199,7 +199,10 @@ def principled_struct(settings, slot, uv_keys, keep):
     material.specular_ior_level = value_of(inputs, "Specular IOR Level", 0.5)
     material.subsurface_ior = value_of(inputs, "Subsurface IOR", 1.4)
     material.anisotropy = value_of(inputs, "Subsurface Anisotropy", 0.0)
-    material.roughness = value_of(inputs, "Roughness", 0.5)
+    # Roughness is Cycles' GGX specular layer over the subsurface, not the rough boundary of
+    # Donner & Jensen that `roughness` describes, and the glTF and USD readers leave it out
+    # too: a smooth boundary keeps the three doors one bake (README, "Materials").
+    material.roughness = 0.0
     material.albedo_mapping = (
         native.ALBEDO_PHYSICAL if settings.albedo_mapping == "PHYSICAL" else native.ALBEDO_CYCLES
     )

@@ -320,7 +320,7 @@ impl Prepared {
     /// The texels as sources of light.
     pub fn texel_sources(&self) -> Sources {
         let n = self.surfels.resolution as f32;
-        // Each texel's covered rectangle, from texel units onto its
+        // Each texel's covered parallelogram, from texel units onto its
         // triangle's plane, scaled to the area it stands for (which adds
         // the shares of every triangle in the texel, at their own scale):
         // a texel's own light then returns exactly R_total where the

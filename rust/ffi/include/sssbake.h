@@ -339,9 +339,11 @@ typedef struct SssbakeMaterial {
    */
   const char *image_name;
   /**
-   * Roughness of the Principled BSDF's specular layer, the surface over
-   * the subsurface, in [0, 1] (Principled kind; a TOML material gives
-   * its own `roughness`).
+   * Roughness r in [0, 1] of a rough boundary over the subsurface, whose
+   * Beckmann RMS slope is m = r² (Donner & Jensen 2005 §2.4; README,
+   * "Materials"); 0, the default, is smooth (Principled kind; a TOML
+   * material gives its own `roughness`). A Principled BSDF's Roughness
+   * is Cycles' specular layer, not this boundary: the add-on passes 0.
    */
   float roughness;
 } SssbakeMaterial;

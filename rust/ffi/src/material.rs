@@ -94,9 +94,11 @@ pub struct SssbakeMaterial {
     pub image_nearest: u32,
     /// The image's name for reports (UTF-8), or null.
     pub image_name: *const c_char,
-    /// Roughness of the Principled BSDF's specular layer, the surface over
-    /// the subsurface, in [0, 1] (Principled kind; a TOML material gives
-    /// its own `roughness`).
+    /// Roughness r in [0, 1] of a rough boundary over the subsurface, whose
+    /// Beckmann RMS slope is m = r² (Donner & Jensen 2005 §2.4; README,
+    /// "Materials"); 0, the default, is smooth (Principled kind; a TOML
+    /// material gives its own `roughness`). A Principled BSDF's Roughness
+    /// is Cycles' specular layer, not this boundary: the add-on passes 0.
     pub roughness: f32,
 }
 
@@ -126,7 +128,7 @@ impl Default for SssbakeMaterial {
             image_extension: SSSBAKE_EXTENSION_REPEAT,
             image_nearest: 0,
             image_name: std::ptr::null(),
-            roughness: 0.5,
+            roughness: 0.0,
         }
     }
 }

@@ -108,12 +108,17 @@ impl TexelMoments {
         }
     }
 
-    /// The edges (texel units) of the rectangle centred on the centroid
-    /// with the covered part's area and the directions and aspect of its
-    /// second moments about the centroid: the whole texel gives (1, 0) and
-    /// (0, 1), a strip along an edge a rectangle of its width and length.
-    pub fn rectangle(&self) -> [DVec2; 2] {
-        if *self == Self::WHOLE {
+    /// The edges (texel units) of the parallelogram centred on the
+    /// centroid with the covered part's area and the shape of its second
+    /// moments about the centroid: the columns of S = √(12 C), C the
+    /// covariance, whose parallelogram has covariance S Sᵀ/12 = C; then
+    /// scaled to the covered area. The whole texel gives (1, 0) and (0, 1),
+    /// a strip along an edge a rectangle of its width and length. S is the
+    /// symmetric square root, which changes continuously with C (a basis
+    /// of eigenvectors would turn freely where C is nearly round, and with
+    /// it the samples a neighbour's light is spread over).
+    pub fn parallelogram(&self) -> [DVec2; 2] {
+        if self.area >= 1.0 - 1e-9 {
             return [DVec2::X, DVec2::Y];
         }
         if self.area <= 0.0 {
@@ -123,26 +128,22 @@ impl TexelMoments {
         let xx = (self.second[0] / self.area - c.x * c.x).max(0.0);
         let xy = self.second[1] / self.area - c.x * c.y;
         let yy = (self.second[2] / self.area - c.y * c.y).max(0.0);
-        // Eigen-decomposition of the 2 × 2 covariance.
-        let mean = 0.5 * (xx + yy);
-        let spread = (0.25 * (xx - yy) * (xx - yy) + xy * xy).sqrt();
-        let (large, small) = (mean + spread, (mean - spread).max(0.0));
-        let major = if xy.abs() > 1e-300 {
-            DVec2::new(large - yy, xy).normalize()
-        } else if xx >= yy {
-            DVec2::X
-        } else {
-            DVec2::Y
-        };
-        let minor = major.perp();
-        // A rectangle of sides a has variance a²/12 along each side; the
-        // sides are then scaled so its area is the covered area.
-        let (a, b) = ((12.0 * large).sqrt(), (12.0 * small).sqrt());
-        if a * b <= 0.0 {
+        // √ of the 2 × 2 symmetric positive semi-definite 12 C:
+        // (M + √det M · I) / √(tr M + 2 √det M).
+        let (a, b, d) = (12.0 * xx, 12.0 * xy, 12.0 * yy);
+        let root_det = (a * d - b * b).max(0.0).sqrt();
+        let norm = (a + d + 2.0 * root_det).sqrt();
+        if norm <= 0.0 {
             return [DVec2::ZERO; 2];
         }
-        let scale = (self.area / (a * b)).sqrt();
-        [major * (a * scale), minor * (b * scale)]
+        let u = DVec2::new(a + root_det, b) / norm;
+        let v = DVec2::new(b, d + root_det) / norm;
+        let spanned = u.perp_dot(v).abs();
+        if spanned <= 1e-12 {
+            return [DVec2::ZERO; 2];
+        }
+        let scale = (self.area / spanned).sqrt();
+        [u * scale, v * scale]
     }
 }
 
@@ -293,7 +294,7 @@ mod tests {
     }
 
     #[test]
-    fn a_strip_along_an_edge_is_a_rectangle_of_its_width_and_length() {
+    fn a_strip_along_an_edge_is_a_rectangle_of_its_width_and_length_a_corner_keeps_its_area() {
         // The left 0.3 of texel (0, 0), cut by the line x = 0.3.
         let left = [
             DVec2::new(-1.0, -1.0),
@@ -307,7 +308,7 @@ mod tests {
         m.add(&rest);
         assert!((m.area - 0.3).abs() < 1e-12);
         assert!((m.centroid() - DVec2::new(0.15, 0.5)).length() < 1e-12);
-        let [u, v] = m.rectangle();
+        let [u, v] = m.parallelogram();
         let (long, short) = if u.length() > v.length() {
             (u, v)
         } else {
@@ -316,11 +317,11 @@ mod tests {
         assert!((long.length() - 1.0).abs() < 1e-9, "{long}");
         assert!((short.length() - 0.3).abs() < 1e-9, "{short}");
         assert!(long.x.abs() < 1e-9);
-        assert_eq!(TexelMoments::WHOLE.rectangle(), [DVec2::X, DVec2::Y]);
-        // A corner triangle: the rectangle keeps its area.
+        assert_eq!(TexelMoments::WHOLE.parallelogram(), [DVec2::X, DVec2::Y]);
+        // A corner triangle: the parallelogram keeps its area.
         let corner = [DVec2::ZERO, DVec2::X, DVec2::Y].map(|p| p * 0.8);
         let m = moments_with(&edge_functions(&corner), 0, 0);
-        let [u, v] = m.rectangle();
+        let [u, v] = m.parallelogram();
         assert!((u.perp_dot(v).abs() - 0.32).abs() < 1e-9);
     }
 }

@@ -25,7 +25,8 @@ pub struct TexelSurfels {
     /// Texel (y·N + x) of each surfel.
     pub texel: Vec<u32>,
     /// Surface point at the centroid of the part of the texel the layout
-    /// covers (the texel's centre when it covers all of it), mm.
+    /// covers (the texel's centre when it covers all of it), on the
+    /// texel's triangle, mm.
     pub position: Vec<Vec3>,
     /// Unit interpolated normal.
     pub normal: Vec<Vec3>,
@@ -37,8 +38,8 @@ pub struct TexelSurfels {
     /// Surface length of one texel step along u and along v, mm
     /// (|σs|/N and |σt|/N of Mikkelsen eq. 43–44).
     pub stretch: Vec<Vec2>,
-    /// The covered part of the texel as a rectangle about `position` with
-    /// its area and second moments, edges in texel units: (1, 0) and
+    /// The covered part of the texel as a parallelogram about `position`
+    /// with its area and second moments, edges in texel units: (1, 0) and
     /// (0, 1) for a whole texel, a strip's width and length at a chart's
     /// edge, so the light a part-covered texel stands for is spread over
     /// the surface it covers and not over the next chart's.
@@ -194,7 +195,7 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
                 triangles[k] = t;
                 areas[k] = claim.area as f32;
                 stretches[k] = p.stretch;
-                extents[k] = claim.moments.rectangle().map(|e| e.as_vec2());
+                extents[k] = claim.moments.parallelogram().map(|e| e.as_vec2());
             }
         });
     for (surfel, &texel) in out.texel.iter().enumerate() {
