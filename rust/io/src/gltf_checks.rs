@@ -16,6 +16,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), S
         .map_err(|e| format!("not a valid glTF file: {e}"))?;
     let root = document.into_json();
     positions_exist(&root)?;
+    check_images(&root)?;
     let document =
         gltf::Document::from_json(root).map_err(|e| format!("not a valid glTF file: {e}"))?;
     Ok((document, blob))
@@ -139,6 +140,23 @@ fn fits(
             view.index(),
             view.length()
         ));
+    }
+    Ok(())
+}
+
+/// Every image has a source the crate can hand out: a URI, or a buffer
+/// view with a MIME type (the crate unwraps whichever it expects).
+fn check_images(root: &gltf::json::Root) -> Result<(), String> {
+    for (i, image) in root.images.iter().enumerate() {
+        match (&image.uri, &image.buffer_view, &image.mime_type) {
+            (Some(_), _, _) | (None, Some(_), Some(_)) => {}
+            (None, Some(_), None) => {
+                return Err(format!("image {i} has a bufferView but no mimeType"));
+            }
+            (None, None, _) => {
+                return Err(format!("image {i} has neither a uri nor a bufferView"));
+            }
+        }
     }
     Ok(())
 }

@@ -13,7 +13,7 @@ mod fuzz;
 #[allow(dead_code)]
 mod quad;
 
-use fuzz::{mutated_bytes, mutated_json, runner};
+use fuzz::{mutated_bytes, mutated_json, run};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use serde_json::{Value, json};
@@ -123,15 +123,12 @@ fn check_read(result: Result<Scene, InputError>, file: &str) -> Result<(), TestC
 
 fn run_gltf(target: &str, strategy: impl Strategy<Value = Vec<u8>>) {
     let path = Path::new(GLTF_PATH);
-    let result = runner(target).run(&strategy, |bytes| {
+    run(target, strategy, |bytes: Vec<u8>| {
         check_read(
             read_gltf_bytes(&bytes, path, &ReadOptions::default()),
             GLTF_PATH,
         )
     });
-    if let Err(e) = result {
-        panic!("{target}: {e}");
-    }
 }
 
 #[test]
@@ -254,20 +251,16 @@ fn check_material(text: &str) -> Result<(), TestCaseError> {
 
 #[test]
 fn material_files_of_hostile_values_never_panic_and_what_loads_is_physical() {
-    let result = runner("material-values").run(&material_text(), |text| check_material(&text));
-    if let Err(e) = result {
-        panic!("{e}");
-    }
+    run("material-values", material_text(), |text| {
+        check_material(&text)
+    });
 }
 
 #[test]
 fn material_files_mutated_byte_by_byte_never_panic() {
     let strategy = mutated_bytes(MATERIAL.as_bytes().to_vec(), 6)
         .prop_map(|b| String::from_utf8_lossy(&b).into_owned());
-    let result = runner("material-bytes").run(&strategy, |text| check_material(&text));
-    if let Err(e) = result {
-        panic!("{e}");
-    }
+    run("material-bytes", strategy, |text| check_material(&text));
 }
 
 #[test]
@@ -276,16 +269,17 @@ fn sidecars_mutated_never_panic() {
     let base =
         "[objects]\nHead = \"skin3layer\"\nBall = \"skin_two_layer.toml\"\n\"*\" = \"skin1\"\n";
     let path = folder.join("fuzz-sidecar.toml");
-    let result = runner("sidecar").run(&mutated_bytes(base.as_bytes().to_vec(), 6), |bytes| {
-        let text = String::from_utf8_lossy(&bytes);
-        if let Err(e) = Sidecar::parse(&text, &path, &folder) {
-            prop_assert!(e.to_string().contains("fuzz-sidecar.toml"), "{}", e);
-        }
-        Ok(())
-    });
-    if let Err(e) = result {
-        panic!("{e}");
-    }
+    run(
+        "sidecar",
+        mutated_bytes(base.as_bytes().to_vec(), 6),
+        |bytes| {
+            let text = String::from_utf8_lossy(&bytes);
+            if let Err(e) = Sidecar::parse(&text, &path, &folder) {
+                prop_assert!(e.to_string().contains("fuzz-sidecar.toml"), "{}", e);
+            }
+            Ok(())
+        },
+    );
 }
 
 /// Reading mutated images: decoded from bytes as textures are, and from a
@@ -294,7 +288,7 @@ fn sidecars_mutated_never_panic() {
 fn run_images(target: &str, base: Vec<u8>, extension: &str) {
     let folder = tempfile::tempdir().unwrap();
     let path = folder.path().join(format!("fuzz.{extension}"));
-    let result = runner(target).run(&mutated_bytes(base, 4), |bytes| {
+    run(target, mutated_bytes(base, 4), |bytes| {
         // Written first: a case that aborts the process (an allocation
         // failure cannot be caught) is left in the file.
         std::fs::write(&path, &bytes).unwrap();
@@ -311,9 +305,6 @@ fn run_images(target: &str, base: Vec<u8>, extension: &str) {
         }
         Ok(())
     });
-    if let Err(e) = result {
-        panic!("{target}: {e}");
-    }
 }
 
 #[test]

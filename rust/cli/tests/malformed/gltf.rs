@@ -362,6 +362,25 @@ pub fn cases() -> Vec<Case> {
                 d["images"] = json!([{"uri": "colour.png"}]);
             },
         ),
+        // Found by fuzzing: the gltf crate unwraps an image's missing source.
+        broken(
+            "image-without-source",
+            &["image 0", "neither a uri nor a bufferView"],
+            |d, _| {
+                d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
+                d["textures"] = json!([{"source": 0}]);
+                d["images"] = json!([{"name": "colour"}]);
+            },
+        ),
+        broken(
+            "image-view-without-mime-type",
+            &["image 0", "no mimeType"],
+            |d, _| {
+                d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
+                d["textures"] = json!([{"source": 0}]);
+                d["images"] = json!([{"bufferView": 0}]);
+            },
+        ),
         broken("light-of-unknown-type", &["not a valid glTF"], |d, _| {
             d["extensions"] = json!({"KHR_lights_punctual": {"lights": [{"type": "laser"}]}});
         }),

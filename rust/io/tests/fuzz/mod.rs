@@ -4,16 +4,17 @@
 //! removed or cut, and JSON values replaced by hostile ones.
 
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use proptest::test_runner::{Config, RngAlgorithm, TestCaseResult, TestRng, TestRunner};
 use serde_json::{Value, json};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Cases per target in the test command: a few seconds in all.
-const CI_CASES: u32 = 300;
+const CI_CASES: u32 = 1000;
 
 /// A runner of `SSSBAKE_FUZZ_CASES` cases (default [`CI_CASES`]), seeded
 /// by `SSSBAKE_FUZZ_SEED` (default 15) and `target`, so that a run is
 /// repeatable and the targets explore apart.
-pub fn runner(target: &str) -> TestRunner {
+fn runner(target: &str) -> TestRunner {
     let cases = std::env::var("SSSBAKE_FUZZ_CASES")
         .ok()
         .and_then(|c| c.parse().ok())
@@ -34,6 +35,20 @@ pub fn runner(target: &str) -> TestRunner {
         ..Config::default()
     };
     TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &bytes))
+}
+
+/// Runs `test` on values of `strategy` as [`runner`] sets it up; panics
+/// with the (shrunk) failing case, and says how many cases ran.
+pub fn run<S: Strategy>(target: &str, strategy: S, test: impl Fn(S::Value) -> TestCaseResult) {
+    let ran = AtomicU64::new(0);
+    let result = runner(target).run(&strategy, |value| {
+        ran.fetch_add(1, Ordering::Relaxed);
+        test(value)
+    });
+    eprintln!("{target}: {} cases", ran.load(Ordering::Relaxed));
+    if let Err(e) = result {
+        panic!("{target}: {e}");
+    }
 }
 
 /// One change to a byte string, at a position taken modulo its length.
