@@ -119,6 +119,17 @@ pub(crate) unsafe fn slice<'a, T>(
             "{what} is null but its length is {len}"
         )));
     }
+    // A misaligned pointer would make the slice undefined behaviour.
+    if !data
+        .cast::<u8>()
+        .addr()
+        .is_multiple_of(std::mem::align_of::<T>())
+    {
+        return Err(Failure::argument(format!(
+            "{what} is not aligned to {} bytes",
+            std::mem::align_of::<T>()
+        )));
+    }
     // SAFETY: the caller passes `len` readable items.
     Ok(unsafe { std::slice::from_raw_parts(data, len) })
 }
