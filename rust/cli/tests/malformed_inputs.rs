@@ -47,6 +47,7 @@ fn bake(case: &malformed::Case, input: &Path, out: &Path) -> (Option<i32>, Strin
 #[test]
 fn every_malformed_input_is_refused_by_name_and_leaves_everything_as_it_was() {
     let cases = malformed::all();
+    eprintln!("{} malformed inputs", cases.len());
     assert!(cases.len() >= 50, "the corpus has {} cases", cases.len());
     let mut names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
     names.sort();
@@ -118,11 +119,38 @@ fn the_corpus_base_bakes_so_each_case_fails_by_what_it_breaks() {
         malformed::quad::glb(&malformed::quad::document(None), &malformed::quad::bin()),
     )
     .unwrap();
-    for scene in ["quad.gltf", "quad.glb"] {
-        let case = malformed::Case::new("base", vec![], scene, &[], scene, &[]);
+    // The files the cases break, whole.
+    let grey = sssbake::image::Image::new(4, 4, vec![[0.5; 3]; 16]).unwrap();
+    let exr =
+        sssbake_io::image_writer::exr_bytes(&grey, sssbake_io::image_writer::Precision::Float);
+    std::fs::write(input.join("grey.exr"), exr.unwrap()).unwrap();
+    let png = sssbake_io::image_writer::png_bytes(&grey).unwrap();
+    std::fs::write(input.join("grey.png"), png).unwrap();
+    let layer = "[[layers]]\nsigma_a = [0.03, 0.15, 0.45]\nsigma_s = 4.0\n";
+    std::fs::write(input.join("good.toml"), layer).unwrap();
+    std::fs::write(
+        input.join("sidecar.toml"),
+        "[objects]\nTile = \"good.toml\"\n",
+    )
+    .unwrap();
+    let runs: [(&str, &[&str]); 8] = [
+        ("quad.gltf", &[]),
+        ("quad.glb", &[]),
+        ("quad.gltf", &["--material", "@good.toml"]),
+        ("quad.gltf", &["--materials", "@sidecar.toml"]),
+        ("quad.gltf", &["--irradiance", "@grey.exr"]),
+        ("quad.gltf", &["--irradiance", "@grey.png"]),
+        ("quad.gltf", &["--environment", "@grey.exr"]),
+        ("quad.gltf", &["--base-color", "@grey.png"]),
+    ];
+    for (scene, extra) in runs {
+        let case = malformed::Case::new("base", vec![], scene, extra, scene, &[]);
         let (code, stderr) = bake(&case, &input, &out);
-        assert_eq!(code, Some(0), "{scene}: {stderr}");
-        assert!(out.join("Tile_subsurface.exr").is_file(), "{scene}");
+        assert_eq!(code, Some(0), "{scene} {extra:?}: {stderr}");
+        assert!(
+            out.join("Tile_subsurface.exr").is_file(),
+            "{scene} {extra:?}"
+        );
         std::fs::remove_dir_all(&out).unwrap();
     }
     let _ = std::fs::remove_dir_all(&root);
