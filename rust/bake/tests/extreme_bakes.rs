@@ -104,6 +104,67 @@ fn material(c: &Combination) -> Material {
     }
 }
 
+/// Bakes combination `c`: why it was refused (allowed, with a reason), or
+/// what is wrong with its maps, or nothing.
+fn failure_of(c: &Combination) -> Result<Option<String>, String> {
+    let mut light = sun_from(Vec3::new(0.3, -0.2, -1.0));
+    light.intensity = c.light;
+    let scene = scene(vec![ball(c.degenerate)], vec![light]);
+    let request = BakeRequest {
+        resolution: 24,
+        method: c.method,
+        roughness: c.roughness,
+        materials: MaterialAssignment::everywhere(material(c), "sweep"),
+        ..BakeRequest::default()
+    };
+    let (objects, _) = plan(&scene, &request)
+        .and_then(|p| bake(&scene, &p, &Control::new()))
+        .map_err(|e| e.to_string())?;
+    for object in &objects {
+        let area = &object.prepared.surfels.area;
+        let (mut entering, mut leaving) = (0.0f64, 0.0f64);
+        for (s, (m, e)) in object
+            .exitance
+            .iter()
+            .zip(&object.prepared.irradiance)
+            .enumerate()
+        {
+            if m.iter().chain(e).any(|v| !v.is_finite() || *v < 0.0) {
+                return Ok(Some(format!("texel {s}: exitance {m:?}, irradiance {e:?}")));
+            }
+            entering += e.iter().map(|&v| f64::from(v)).sum::<f64>() * f64::from(area[s]);
+            leaving += m.iter().map(|&v| f64::from(v)).sum::<f64>() * f64::from(area[s]);
+        }
+        if leaving > entering * 1.02 + 1e-30 {
+            return Ok(Some(format!("{leaving:e} leaves, {entering:e} enters")));
+        }
+    }
+    Ok(None)
+}
+
+/// Found by the long sweep (seed 7, case 542, importance): on a slab
+/// 5.7e-5 mm thick of σt 25215 /mm (optical depth 1.45, η 1.0074) the exact
+/// sum returns about 35 times the power that enters (the octree the same,
+/// importance 39 times; texture space none), so the profile or its kernel,
+/// not one integrator, makes energy. Left for the integrators' owner: run
+/// with `--ignored` to see it.
+#[test]
+#[ignore = "the exact sum gains energy on this thin, dense slab"]
+fn a_thin_dense_slab_makes_no_energy() {
+    let c = Combination {
+        albedo: 0.5,
+        sigma_t: 25215.060239435825,
+        ior: 1.007407080467361,
+        thickness_mm: Some(5.7497780913299136e-5),
+        g: 0.0,
+        roughness: Some(1.0),
+        light: 1e12,
+        degenerate: false,
+        method: Method::Brute,
+    };
+    assert_eq!(failure_of(&c), Ok(None));
+}
+
 #[test]
 fn extreme_bakes_stay_finite_non_negative_and_make_no_energy() {
     let cases = std::env::var("SSSBAKE_SWEEP_CASES")
@@ -118,49 +179,10 @@ fn extreme_bakes_stay_finite_non_negative_and_make_no_energy() {
     let (mut failures, mut refused) = (Vec::new(), Vec::new());
     for case in 0..cases {
         let c = draw(&mut rng);
-        let mut light = sun_from(Vec3::new(0.3, -0.2, -1.0));
-        light.intensity = c.light;
-        let scene = scene(vec![ball(c.degenerate)], vec![light]);
-        let request = BakeRequest {
-            resolution: 24,
-            method: c.method,
-            roughness: c.roughness,
-            materials: MaterialAssignment::everywhere(material(&c), "sweep"),
-            ..BakeRequest::default()
-        };
-        let result = plan(&scene, &request).and_then(|p| bake(&scene, &p, &Control::new()));
-        let (objects, _) = match result {
-            Ok(baked) => baked,
-            // Refusing a combination it cannot bake is allowed, with a reason.
-            Err(e) => {
-                refused.push(format!("case {case} {c:?}: {e}"));
-                continue;
-            }
-        };
-        for object in &objects {
-            let area = &object.prepared.surfels.area;
-            let (mut entering, mut leaving) = (0.0f64, 0.0f64);
-            let mut bad = None;
-            for (s, (m, e)) in object
-                .exitance
-                .iter()
-                .zip(&object.prepared.irradiance)
-                .enumerate()
-            {
-                if m.iter().chain(e).any(|v| !v.is_finite() || *v < 0.0) {
-                    bad = Some(format!("texel {s}: exitance {m:?}, irradiance {e:?}"));
-                    break;
-                }
-                entering += e.iter().map(|&v| f64::from(v)).sum::<f64>() * f64::from(area[s]);
-                leaving += m.iter().map(|&v| f64::from(v)).sum::<f64>() * f64::from(area[s]);
-            }
-            if let Some(bad) = bad {
-                failures.push(format!("case {case} {c:?}: {bad}"));
-            } else if leaving > entering * 1.02 + 1e-30 {
-                failures.push(format!(
-                    "case {case} {c:?}: {leaving:e} leaves, {entering:e} enters"
-                ));
-            }
+        match failure_of(&c) {
+            Err(e) => refused.push(format!("case {case} {c:?}: {e}")),
+            Ok(Some(failure)) => failures.push(format!("case {case} {c:?}: {failure}")),
+            Ok(None) => {}
         }
     }
     eprintln!(
