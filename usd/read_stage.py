@@ -9,6 +9,7 @@ metersPerUnit and upAxis come along; sssbake converts to millimetres.
 """
 
 import json
+import math
 import sys
 
 
@@ -18,13 +19,26 @@ def fail(message: str) -> None:
 
 
 try:
-    from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade
+    from pxr import Gf, Tf, Usd, UsdGeom, UsdLux, UsdShade
 except ImportError:
     fail("this Python has no usd-core (pip install usd-core), which reading USD needs")
 
 
-def per_corner(values, interpolation, counts, indices):
+def finite_or_zero(value):
+    """A primvar value with each non-finite component 0, as the bake repairs them."""
+    return [x if math.isfinite(x) else 0.0 for x in value]
+
+
+def per_corner(values, interpolation, counts, indices, what="a primvar"):
     """Values of any interpolation expanded to every face corner, in face order."""
+    needed = {
+        UsdGeom.Tokens.faceVarying: len(indices),
+        UsdGeom.Tokens.vertex: max(indices, default=-1) + 1,
+        UsdGeom.Tokens.varying: max(indices, default=-1) + 1,
+        UsdGeom.Tokens.uniform: len(counts),
+    }.get(interpolation, 1 if counts else 0)
+    if len(values) < needed:
+        raise BadMesh(f"{what} has {len(values)} values, its {interpolation} interpolation needs {needed}")
     corners = []
     corner = 0
     for face, count in enumerate(counts):
@@ -37,7 +51,7 @@ def per_corner(values, interpolation, counts, indices):
                 value = values[face]
             else:
                 value = values[0]
-            corners.append(list(value))
+            corners.append(finite_or_zero(value))
         corner += count
     return corners
 
@@ -49,16 +63,46 @@ def primvar_corners(primvar, counts, indices):
     values = primvar.ComputeFlattened()
     if values is None:
         return None
-    return per_corner(values, primvar.GetInterpolation(), counts, indices)
+    return per_corner(values, primvar.GetInterpolation(), counts, indices, primvar.GetName())
+
+
+class BadMesh(ValueError):
+    """A mesh that cannot be read, and why."""
+
+
+def check_faces(points, counts, indices):
+    """Faces that can be triangulated, over corners and points that exist: checked
+    before anything the size of a face count is built."""
+    for face, count in enumerate(counts):
+        if count < 3:
+            raise BadMesh(f"faceVertexCounts[{face}] is {count}; a face needs at least 3 vertices")
+    if sum(counts) != len(indices):
+        raise BadMesh(
+            f"faceVertexCounts add up to {sum(counts)} corners, but faceVertexIndices has {len(indices)}"
+        )
+    for corner, index in enumerate(indices):
+        if not 0 <= index < len(points):
+            raise BadMesh(f"faceVertexIndices[{corner}] is {index}, but there are {len(points)} points")
 
 
 def read_mesh(prim, cache, uv_primvars):
+    try:
+        return read_checked_mesh(prim, cache, uv_primvars)
+    except BadMesh as e:
+        fail(f"mesh {prim.GetPath()}: {e}")
+
+
+def read_checked_mesh(prim, cache, uv_primvars):
     mesh = UsdGeom.Mesh(prim)
     points = mesh.GetPointsAttr().Get() or []
     counts = list(mesh.GetFaceVertexCountsAttr().Get() or [])
     indices = list(mesh.GetFaceVertexIndicesAttr().Get() or [])
+    check_faces(points, counts, indices)
     world = cache.GetLocalToWorldTransform(prim)
     world_points = [list(world.Transform(Gf.Vec3d(*p))) for p in points]
+    for k, p in enumerate(world_points):
+        if not all(math.isfinite(x) for x in p):
+            raise BadMesh(f"points[{k}] is {list(points[k])}, not finite in world space")
     normal_matrix = world.GetInverse().GetTranspose()
     mirrored = world.GetDeterminant() < 0
     if mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded:
@@ -69,9 +113,11 @@ def read_mesh(prim, cache, uv_primvars):
     normals_primvar = api.GetPrimvar("normals") if api.HasPrimvar("normals") else None
     normals = primvar_corners(normals_primvar, counts, indices) if normals_primvar else None
     if normals is None and mesh.GetNormalsAttr().HasValue():
-        normals = per_corner(mesh.GetNormalsAttr().Get(), mesh.GetNormalsInterpolation(), counts, indices)
+        normals = per_corner(
+            mesh.GetNormalsAttr().Get(), mesh.GetNormalsInterpolation(), counts, indices, "normals"
+        )
     if normals is not None:
-        normals = [list(normal_matrix.TransformDir(Gf.Vec3d(*n)).GetNormalized()) for n in normals]
+        normals = [finite_or_zero(normal_matrix.TransformDir(Gf.Vec3d(*n)).GetNormalized()) for n in normals]
     # Fan-triangulate every face over its corners.
     triangles = []
     corner = 0
@@ -281,9 +327,21 @@ def shape_of(prim, kind):
 def main():
     if len(sys.argv) < 3:
         fail("usage: read_stage.py STAGE UV_PRIMVARS")
-    stage = Usd.Stage.Open(sys.argv[1])
+    try:
+        stage = Usd.Stage.Open(sys.argv[1])
+    except Tf.ErrorException as e:  # each of usd-core's errors with its message quoted
+        text = " ".join(str(e).split())
+        reasons = [
+            part.split(" : '", 1)[1].rstrip(" '") for part in text.split("Error in '")[1:] if " : '" in part
+        ]
+        fail(f"cannot open the stage: {'; '.join(reasons) or text}")
     if stage is None:
         fail("cannot open the stage")
+    # A reference, payload or sublayer that cannot be found leaves prims out: refused, not
+    # baked without them.
+    errors = stage.GetCompositionErrors()
+    if errors:
+        fail(f"the stage does not compose: {str(errors[0]).split(' (')[0]}")
     uv_primvars = sys.argv[2].split(",")
     cache = UsdGeom.XformCache(Usd.TimeCode.Default())
     meshes, lights = [], []
@@ -297,16 +355,18 @@ def main():
             meshes.append(read_mesh(prim, cache, uv_primvars))
         elif prim.HasAPI(UsdLux.LightAPI) or "Light" in prim.GetTypeName():
             lights.append(read_light(prim, cache))
-    json.dump(
-        {
-            "meters_per_unit": UsdGeom.GetStageMetersPerUnit(stage),
-            "documentation": stage.GetRootLayer().documentation,
-            "up_axis": str(UsdGeom.GetStageUpAxis(stage)),
-            "meshes": meshes,
-            "lights": lights,
-        },
-        sys.stdout,
-    )
+    stage_json = {
+        "meters_per_unit": UsdGeom.GetStageMetersPerUnit(stage),
+        "documentation": stage.GetRootLayer().documentation,
+        "up_axis": str(UsdGeom.GetStageUpAxis(stage)),
+        "meshes": meshes,
+        "lights": lights,
+    }
+    try:
+        text = json.dumps(stage_json, allow_nan=False)
+    except ValueError:
+        fail("a value that is not finite (NaN or infinite) where the bake needs a number")
+    sys.stdout.write(text)
 
 
 if __name__ == "__main__":

@@ -119,6 +119,64 @@ pub(crate) unsafe fn slice<'a, T>(
             "{what} is null but its length is {len}"
         )));
     }
+    // A misaligned pointer would make the slice undefined behaviour.
+    if !data
+        .cast::<u8>()
+        .addr()
+        .is_multiple_of(std::mem::align_of::<T>())
+    {
+        return Err(Failure::argument(format!(
+            "{what} is not aligned to {} bytes",
+            std::mem::align_of::<T>()
+        )));
+    }
     // SAFETY: the caller passes `len` readable items.
     Ok(unsafe { std::slice::from_raw_parts(data, len) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn last_error() -> String {
+        // SAFETY: the library's own message, NUL-terminated.
+        unsafe { std::ffi::CStr::from_ptr(sssbake_last_error()) }
+            .to_string_lossy()
+            .into_owned()
+    }
+
+    #[test]
+    fn a_panic_stops_at_the_boundary_as_an_internal_error_with_its_message() {
+        let status = guarded(|| panic!("forced at {}", "the boundary"));
+        assert_eq!(status, SssbakeStatus::Internal);
+        assert_eq!(
+            last_error(),
+            "internal error (please report): forced at the boundary"
+        );
+        // The next call succeeds and clears the message.
+        assert_eq!(guarded(|| Ok(())), SssbakeStatus::Ok);
+        assert_eq!(last_error(), "");
+    }
+
+    #[test]
+    fn misaligned_and_null_arrays_are_refused_before_a_slice_is_made() {
+        let floats = [0.0f32; 4];
+        let bytes: *const u8 = floats.as_ptr().cast();
+        // SAFETY: one byte into a live array; never read, refused first.
+        let off = unsafe { bytes.add(1) }.cast::<f32>();
+        // SAFETY: refused before any read.
+        let Err(error) = (unsafe { slice(off, 2, "positions") }) else {
+            panic!("a misaligned array was accepted");
+        };
+        assert_eq!(error.0, SssbakeStatus::InvalidArgument);
+        assert!(error.1.contains("not aligned to 4 bytes"), "{}", error.1);
+        // SAFETY: null with a length is refused before any read.
+        let Err(error) = (unsafe { slice(std::ptr::null::<f32>(), 3, "normals") }) else {
+            panic!("a null array was accepted");
+        };
+        assert!(error.1.contains("normals is null but its length is 3"));
+        // SAFETY: a live, aligned array of 4.
+        let whole = unsafe { slice(floats.as_ptr(), 4, "uvs") };
+        assert_eq!(whole.map(<[f32]>::len).ok(), Some(4));
+    }
 }

@@ -188,6 +188,15 @@ unsafe fn object_from_host(
     let name = unsafe { text(mesh.name, "mesh name") }?.to_string();
     let n = mesh.vertex_count;
     let at = |what: &str| format!("object `{name}`: {what}");
+    // No array of 3 floats per vertex can be that long: refused before a
+    // length wraps around.
+    if n.checked_mul(3 * std::mem::size_of::<f32>())
+        .is_none_or(|b| b > isize::MAX as usize)
+    {
+        return Err(Failure::argument(at(&format!(
+            "vertex_count {n} is too large"
+        ))));
+    }
     // SAFETY: forwarded from the caller.
     let positions = unsafe { slice(mesh.positions, 3 * n, &at("positions")) }?;
     let normals = if mesh.normals.is_null() {

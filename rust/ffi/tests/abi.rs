@@ -527,3 +527,76 @@ fn misuse_gets_a_status_and_a_message() {
     assert_eq!(unsafe { sssbake_result_resolution(null()) }, 0);
     assert!(unsafe { sssbake_result_summary(null()) }.is_null());
 }
+
+#[test]
+fn hostile_arrays_get_a_status_and_a_message() {
+    let scene = lit_sphere();
+    let name = CString::new("Hostile").unwrap();
+    let triangle = [0.0f32, 0.0, 0.0, 10.0, 0.0, 0.0, 0.0, 10.0, 0.0];
+    let corners = [0u32, 1, 2];
+    let good = SssbakeMesh {
+        name: name.as_ptr(),
+        positions: triangle.as_ptr(),
+        vertex_count: 3,
+        indices: corners.as_ptr(),
+        index_count: 3,
+        ..SssbakeMesh::default()
+    };
+    // Positions one byte off a float's alignment.
+    let bytes = [0u8; 4 * 9 + 4];
+    let offset = (1..4)
+        .find(|k| !(bytes.as_ptr() as usize + k).is_multiple_of(4))
+        .unwrap();
+    let misaligned = SssbakeMesh {
+        positions: bytes[offset..].as_ptr().cast(),
+        ..good
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene.0, &misaligned) },
+        SssbakeStatus::InvalidArgument
+    );
+    assert!(
+        last_error().contains("positions is not aligned to 4 bytes"),
+        "{}",
+        last_error()
+    );
+    // A vertex count whose arrays could not exist (3 × count wraps around).
+    let huge = SssbakeMesh {
+        vertex_count: usize::MAX / 3 + 2,
+        ..good
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene.0, &huge) },
+        SssbakeStatus::InvalidArgument
+    );
+    assert!(last_error().contains("is too large"), "{}", last_error());
+    // Indices not three per triangle.
+    let short = SssbakeMesh {
+        index_count: 2,
+        ..good
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene.0, &short) },
+        SssbakeStatus::InvalidArgument
+    );
+    // NaN positions.
+    let nan = [f32::NAN; 9];
+    let not_finite = SssbakeMesh {
+        positions: nan.as_ptr(),
+        ..good
+    };
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene.0, &not_finite) },
+        SssbakeStatus::BadInput
+    );
+    assert!(
+        last_error().contains("non-finite position"),
+        "{}",
+        last_error()
+    );
+    // The scene is still usable: the valid mesh goes in.
+    assert_eq!(
+        unsafe { sssbake_scene_add_mesh(scene.0, &good) },
+        SssbakeStatus::Ok
+    );
+}

@@ -35,12 +35,20 @@ impl ColourSpace {
 /// says why not. A panic inside the decoder on hostile bytes is caught and
 /// becomes the error.
 pub fn decode(bytes: &[u8], space: ColourSpace) -> Result<(Image, &'static str), String> {
+    use image::ImageDecoder;
     let decoded = std::panic::catch_unwind(|| {
-        image::ImageReader::new(Cursor::new(bytes))
+        let reader = image::ImageReader::new(Cursor::new(bytes))
             .with_guessed_format()
-            .map_err(|e| e.to_string())?
-            .decode()
-            .map_err(|e| e.to_string())
+            .map_err(|e| e.to_string())?;
+        // The size the header claims, checked before the decoder allocates
+        // for it (an EXR's data window, which its display window hides).
+        if reader.format() == Some(image::ImageFormat::OpenExr) {
+            crate::image_reader::check_exr_size(Cursor::new(bytes))?;
+        }
+        let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
+        let (width, height) = decoder.dimensions();
+        crate::image_reader::check_size(width as usize, height as usize)?;
+        image::DynamicImage::from_decoder(decoder).map_err(|e| e.to_string())
     })
     .unwrap_or_else(|_| Err("its decoder failed".to_string()))
     .map_err(|e| format!("cannot decode the image: {e}"))?;

@@ -4,6 +4,7 @@
 //! KHR_materials_ior) and KHR_lights_punctual lights. glTF is in metres.
 
 use crate::colour_texture::{self, ColourSpace};
+use crate::gltf_checks;
 use crate::{InputError, ReadOptions};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use gltf::mesh::Mode;
@@ -20,19 +21,32 @@ const MILLIMETRES_PER_METRE: f64 = 1000.0;
 
 /// Reads a glTF or GLB file.
 pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError> {
+    let bytes = std::fs::read(path).map_err(|e| InputError {
+        file: path.display().to_string(),
+        message: format!("cannot read: {e}"),
+    })?;
+    read_gltf_bytes(&bytes, path, options)
+}
+
+/// Reads a glTF or GLB file's `bytes`; `path` names it in messages, and
+/// its folder is where relative URIs are found.
+pub fn read_gltf_bytes(
+    bytes: &[u8],
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<Scene, InputError> {
     let file = path.display().to_string();
     let error = |message: String| InputError {
         file: file.clone(),
         message,
     };
-    let bytes = std::fs::read(path).map_err(|e| error(format!("cannot read: {e}")))?;
-    let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice(&bytes).map_err(|e| error(format!("not a valid glTF file: {e}")))?;
+    let (document, blob) = gltf_checks::parse(bytes).map_err(error)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let buffers = gltf::import_buffers(&document, Some(base), blob)
         .map_err(|e| error(format!("cannot load its buffers: {e}")))?;
     let data: Vec<&[u8]> = buffers.iter().map(|b| b.0.as_slice()).collect();
-    check_accessors(&document, &data).map_err(error)?;
+    gltf_checks::check_accessors(&document, &data).map_err(error)?;
+    gltf_checks::check_primitives(&document).map_err(error)?;
 
     let scale = options.unit_scale.unwrap_or(MILLIMETRES_PER_METRE);
     let mut scene = Scene {
@@ -112,40 +126,6 @@ pub fn read_gltf(path: &Path, options: &ReadOptions) -> Result<Scene, InputError
     }
     scene.objects.sort_by(|a, b| a.mesh.name.cmp(&b.mesh.name));
     Ok(scene)
-}
-
-/// Every accessor's bytes must lie inside its buffer view and buffer, so
-/// that reading can never run off the end of the data.
-fn check_accessors(document: &gltf::Document, data: &[&[u8]]) -> Result<(), String> {
-    for accessor in document.accessors() {
-        let Some(view) = accessor.view() else {
-            continue;
-        };
-        let buffer_len = data.get(view.buffer().index()).map_or(0, |d| d.len());
-        if view.offset() + view.length() > buffer_len {
-            return Err(format!(
-                "buffer view {} ends at byte {} but its buffer has {} bytes",
-                view.index(),
-                view.offset() + view.length(),
-                buffer_len
-            ));
-        }
-        let element = accessor.size();
-        let stride = view.stride().unwrap_or(element);
-        let needed = if accessor.count() == 0 {
-            0
-        } else {
-            accessor.offset() + stride * (accessor.count() - 1) + element
-        };
-        if needed > view.length() {
-            return Err(format!(
-                "accessor {} needs {needed} bytes but its buffer view has {}",
-                accessor.index(),
-                view.length()
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// Where a glTF file's images are found: the folder it names relative
@@ -253,7 +233,7 @@ fn read_mesh(
         }));
         if material.is_none() && primitive.material().index().is_some() {
             let gltf_material = primitive.material();
-            let hint = read_material(&gltf_material, scale);
+            let hint = read_material(&gltf_material, scale)?;
             colour_texture = base_colour_texture(&gltf_material, &hint, context);
             notes.extend(radius_texture_notes(&gltf_material));
             material = Some(hint);
@@ -295,40 +275,89 @@ fn read_mesh(
     }))
 }
 
-fn read_material(material: &gltf::Material, scale: f64) -> MaterialHint {
+fn read_material(material: &gltf::Material, scale: f64) -> Result<MaterialHint, String> {
     let pbr = material.pbr_metallic_roughness();
     let volume = material.volume().map(|v| Volume {
         attenuation_distance_mm: (v.attenuation_distance() as f64 * scale) as f32,
         attenuation_color: v.attenuation_color(),
         thickness_mm: (v.thickness_factor() as f64 * scale) as f32,
     });
-    let diffuse_transmission = material
-        .extension_value("KHR_materials_diffuse_transmission")
-        .map(|v| {
-            let factor = v
-                .get("diffuseTransmissionFactor")
-                .and_then(|f| f.as_f64())
-                .unwrap_or(0.0) as f32;
-            let color = v
-                .get("diffuseTransmissionColorFactor")
-                .and_then(|c| c.as_array())
-                .filter(|c| c.len() == 3)
-                .map_or([1.0; 3], |c| {
-                    [0, 1, 2].map(|i| c[i].as_f64().unwrap_or(1.0) as f32)
-                });
-            (color, factor)
-        });
+    let transmission = Extension::of(material, "KHR_materials_diffuse_transmission")?;
+    let diffuse_transmission = match transmission {
+        Some(t) => Some((
+            t.colour("diffuseTransmissionColorFactor")?
+                .unwrap_or([1.0; 3])
+                .map(|c| c as f32),
+            t.number("diffuseTransmissionFactor")?.unwrap_or(0.0) as f32,
+        )),
+        None => None,
+    };
     let base_color = pbr.base_color_factor();
-    let subsurface = volume
-        .as_ref()
-        .and_then(|v| subsurface_of(v, &base_color, material));
-    MaterialHint {
+    let subsurface = match volume.as_ref() {
+        Some(v) => subsurface_of(v, &base_color, material)?,
+        None => None,
+    };
+    Ok(MaterialHint {
         name: material.name().unwrap_or("unnamed").to_string(),
         base_color,
         ior: material.ior(),
         volume,
         diffuse_transmission,
         subsurface,
+    })
+}
+
+/// A material's extension read as its JSON, each property checked for its
+/// type so that a wrong one is refused, naming it, instead of read as absent.
+struct Extension<'a> {
+    /// "material `wax`: KHR_materials_…", for messages.
+    at: String,
+    object: &'a serde_json::Map<String, serde_json::Value>,
+}
+
+impl<'a> Extension<'a> {
+    fn of(material: &'a gltf::Material, name: &str) -> Result<Option<Self>, String> {
+        let at = format!(
+            "material `{}`: {name}",
+            material.name().unwrap_or("unnamed")
+        );
+        match material.extension_value(name) {
+            None => Ok(None),
+            Some(serde_json::Value::Object(object)) => Ok(Some(Extension { at, object })),
+            Some(other) => Err(format!("{at} is {other}, not an object")),
+        }
+    }
+
+    /// A finite number, or absent.
+    fn number(&self, key: &str) -> Result<Option<f64>, String> {
+        match self.object.get(key) {
+            None => Ok(None),
+            Some(v) => v
+                .as_f64()
+                .filter(|x| x.is_finite())
+                .map(Some)
+                .ok_or_else(|| format!("{}.{key} is {v}, not a number", self.at)),
+        }
+    }
+
+    /// Three non-negative numbers, or absent.
+    fn colour(&self, key: &str) -> Result<Option<[f64; 3]>, String> {
+        let Some(v) = self.object.get(key) else {
+            return Ok(None);
+        };
+        let numbers: Option<Vec<f64>> = v
+            .as_array()
+            .filter(|c| c.len() == 3)
+            .and_then(|c| c.iter().map(|x| x.as_f64()).collect());
+        match numbers.as_deref() {
+            Some(&[r, g, b]) if [r, g, b].iter().all(|x| x.is_finite() && *x >= 0.0) => {
+                Ok(Some([r, g, b]))
+            }
+            _ => Err(format!(
+                "{}.{key} is {v}, not three non-negative numbers",
+                self.at
+            )),
+        }
     }
 }
 
@@ -489,36 +518,41 @@ fn subsurface_of(
     volume: &Volume,
     base_color: &[f32; 4],
     material: &gltf::Material,
-) -> Option<Subsurface> {
+) -> Result<Option<Subsurface>, String> {
+    let scatter = Extension::of(material, "KHR_materials_volume_scatter")?;
+    let (multiscatter, anisotropy) = match &scatter {
+        Some(s) => (
+            s.colour("multiscatterColor")?,
+            s.number("scatterAnisotropy")?.unwrap_or(0.0),
+        ),
+        None => (None, 0.0),
+    };
+    if !(-1.0..=1.0).contains(&anisotropy) {
+        return Err(format!(
+            "material `{}`: KHR_materials_volume_scatter.scatterAnisotropy is {anisotropy}, \
+             outside [-1, 1]",
+            material.name().unwrap_or("unnamed")
+        ));
+    }
     let distance = f64::from(volume.attenuation_distance_mm);
     if !(distance.is_finite() && distance > 0.0) {
-        return None;
+        return Ok(None);
     }
     let mean_free_path_mm = volume.attenuation_color.map(|c| {
         let extinction = -f64::from(c).clamp(1e-30, 1.0).ln();
         distance / extinction.max(1e-3)
     });
-    let scatter = material.extension_value("KHR_materials_volume_scatter");
-    let multiscatter = scatter
-        .and_then(|s| s.get("multiscatterColor"))
-        .and_then(|c| c.as_array())
-        .filter(|c| c.len() == 3)
-        .map(|c| [0, 1, 2].map(|i| c[i].as_f64().unwrap_or(0.0)));
-    let anisotropy = scatter
-        .and_then(|s| s.get("scatterAnisotropy"))
-        .and_then(|g| g.as_f64())
-        .unwrap_or(0.0);
     let from = if multiscatter.is_some() {
         "KHR_materials_volume attenuation, KHR_materials_volume_scatter colour"
     } else {
         "KHR_materials_volume attenuation, base colour"
     };
-    Some(Subsurface {
+    Ok(Some(Subsurface {
         colour: multiscatter.unwrap_or([0, 1, 2].map(|c| f64::from(base_color[c]))),
         mean_free_path_mm,
         anisotropy,
         from: from.to_string(),
-    })
+    }))
 }
 
 /// The start of `asset.generator` in files Blender's glTF exporter writes.

@@ -6,7 +6,13 @@ use crate::InputError;
 use sssbake::image::Image;
 use std::path::Path;
 
-/// Reads `path` (.exr or .png) into linear RGB, rows top to bottom.
+/// The most texels an image handed in may have (16384², 3 GiB as linear
+/// RGB): an EXR header's size is checked against it before anything the
+/// size of the image is allocated.
+pub const MAX_IMAGE_TEXELS: usize = 1 << 28;
+
+/// Reads `path` (.exr or .png) into linear RGB, rows top to bottom. A panic
+/// inside a decoder on hostile bytes is refused as bad input.
 pub fn read_image(path: &Path) -> Result<Image, InputError> {
     let error = |message: String| InputError {
         file: path.display().to_string(),
@@ -16,18 +22,23 @@ pub fn read_image(path: &Path) -> Result<Image, InputError> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    let (width, height, texels) = match extension.as_deref() {
-        Some("exr") => read_exr(path).map_err(error)?,
-        Some("png") => read_png(path).map_err(error)?,
+    let read = match extension.as_deref() {
+        Some("exr") => read_exr,
+        Some("png") => read_png,
         _ => {
             return Err(error("is neither an .exr nor a .png image".to_string()));
         }
     };
+    let (width, height, texels) = std::panic::catch_unwind(|| read(path))
+        .unwrap_or_else(|_| Err("its decoder failed on the file's bytes".to_string()))
+        .map_err(error)?;
     Image::new(width, height, texels).map_err(|e| error(e.to_string()))
 }
 
 fn read_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
     use exr::prelude::*;
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read the EXR image: {e}"))?;
+    check_exr_size(std::io::BufReader::new(file))?;
     let image = read_first_rgba_layer_from_file(
         path,
         |resolution, _| {
@@ -55,6 +66,29 @@ fn read_png(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
     let (width, height) = (decoded.width() as usize, decoded.height() as usize);
     let texels = decoded.pixels().map(|p| p.0.map(srgb_to_linear)).collect();
     Ok((width, height, texels))
+}
+
+/// Refuses an image whose header claims more than [`MAX_IMAGE_TEXELS`].
+pub fn check_size(width: usize, height: usize) -> Result<(), String> {
+    match width.checked_mul(height) {
+        Some(texels) if texels <= MAX_IMAGE_TEXELS => Ok(()),
+        _ => Err(format!(
+            "its header says {width}×{height} texels, more than the {MAX_IMAGE_TEXELS} an \
+             image may have"
+        )),
+    }
+}
+
+/// Refuses an EXR any of whose layers' data windows (the texels it
+/// stores, which its display window need not show) is larger than
+/// [`check_size`] allows.
+pub fn check_exr_size(bytes: impl std::io::Read) -> Result<(), String> {
+    let meta = exr::meta::MetaData::read_from_buffered(bytes, false)
+        .map_err(|e| format!("cannot read the EXR image: {e}"))?;
+    for header in meta.headers.iter() {
+        check_size(header.layer_size.width(), header.layer_size.height())?;
+    }
+    Ok(())
 }
 
 /// The sRGB transfer function's inverse.

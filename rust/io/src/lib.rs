@@ -6,6 +6,7 @@ pub mod atomic_write;
 pub mod batch;
 pub mod colour_texture;
 pub mod folder;
+mod gltf_checks;
 pub mod gltf_reader;
 pub mod gltf_writer;
 pub mod image_reader;
@@ -21,7 +22,7 @@ pub mod usd_reader;
 pub mod usd_writer;
 
 pub use folder::{FolderOptions, bake_to_folder};
-pub use gltf_reader::read_gltf;
+pub use gltf_reader::{read_gltf, read_gltf_bytes};
 pub use image_reader::read_image;
 pub use lighting::scene_lighting;
 pub use options::BakeOptions;
@@ -99,5 +100,28 @@ impl From<InputError> for sssbake::Error {
             message: e.message,
             ..sssbake::InputError::default()
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_inside_a_reader_is_refused_as_bad_input_naming_the_file() {
+        let path = Path::new("folder/broken.gltf");
+        let error =
+            caught(path, "glTF", || panic!("index out of bounds: the len is 0")).unwrap_err();
+        assert_eq!(error.file, "folder/broken.gltf");
+        assert_eq!(
+            error.message,
+            "not a valid glTF file (its reader failed: index out of bounds: the len is 0)"
+        );
+        let formatted = caught(path, "glTF", || panic!("accessor {}", 99)).unwrap_err();
+        assert!(
+            formatted
+                .message
+                .ends_with("(its reader failed: accessor 99)")
+        );
     }
 }

@@ -69,3 +69,35 @@ fn an_unknown_extension_is_named() {
     let missing = read_image(std::path::Path::new("/nonexistent/map.exr")).unwrap_err();
     assert!(missing.to_string().contains("map.exr"));
 }
+
+/// `bytes` (an EXR) with its data window's far corner moved to (`x`, `y`):
+/// a header that claims texels its small display window does not show.
+fn with_data_window(mut bytes: Vec<u8>, x: i32, y: i32) -> Vec<u8> {
+    let key = b"dataWindow\0box2i\0";
+    let at = bytes.windows(key.len()).position(|w| w == key).unwrap() + key.len() + 4;
+    bytes[at + 8..at + 12].copy_from_slice(&x.to_le_bytes());
+    bytes[at + 12..at + 16].copy_from_slice(&y.to_le_bytes());
+    bytes
+}
+
+/// Found by fuzzing: a 426-byte EXR texture whose data window claimed
+/// about 3.8 billion texels made the decoder ask for 45 GB and abort the
+/// process. Its size is now checked against the header first, by both
+/// readers.
+#[test]
+fn an_exr_claiming_more_texels_than_it_holds_is_refused_before_decoding() {
+    let small = exr_bytes(&gradient(), Precision::Float).unwrap();
+    let hostile = with_data_window(small, 939_524_099, 3);
+    let error =
+        sssbake_io::colour_texture::decode(&hostile, sssbake_io::colour_texture::ColourSpace::Auto)
+            .unwrap_err();
+    assert!(error.contains("939524100×4 texels, more than"), "{error}");
+    let path = std::env::temp_dir().join(format!("sssbake-images-{}-huge.exr", std::process::id()));
+    std::fs::write(&path, &hostile).unwrap();
+    let error = read_image(&path).unwrap_err();
+    std::fs::remove_file(&path).unwrap();
+    assert!(
+        error.to_string().contains("939524100×4 texels, more than"),
+        "{error}"
+    );
+}

@@ -1,0 +1,200 @@
+//! The whole bake on seeded extreme combinations: albedo near 0 and 1, σt
+//! from 1e-6 to 1e6 per mm, η from 1.0001 to 3, layers from 1e-6 mm thick
+//! to semi-infinite, g and roughness across their ranges (smooth to 1), meshes with
+//! degenerate triangles and collapsed UVs, lights from zero to enormous,
+//! every integrator. Every map is finite and non-negative and no bake makes
+//! energy: the power leaving (exitance × area) never exceeds the power
+//! entering (transmitted irradiance × area). `SSSBAKE_SWEEP_CASES` sets the
+//! number of combinations (default a few for the test command; 10000 for
+//! the long run) and `SSSBAKE_SWEEP_SEED` their seed (default 15).
+
+mod lit_scenes;
+
+use glam::{Vec2, Vec3};
+use lit_scenes::{scene, sphere, sun_from};
+use sssbake::control::Control;
+use sssbake::materials::MaterialAssignment;
+use sssbake::transport::Method;
+use sssbake::{BakeRequest, Mesh, bake, plan};
+use sssbake_profile::material::{Layer, Material, Optics};
+
+/// SplitMix64: a seeded stream of uniform numbers, repeatable everywhere.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn pick<T: Copy>(&mut self, from: &[T]) -> T {
+        from[(self.next() % from.len() as u64) as usize]
+    }
+    /// Log-uniform in [lo, hi].
+    fn log(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + self.unit() * (hi.ln() - lo.ln())).exp()
+    }
+}
+
+/// One combination, described for the failure message.
+#[derive(Debug)]
+struct Combination {
+    albedo: f64,
+    sigma_t: f64,
+    ior: f64,
+    thickness_mm: Option<f64>,
+    g: f64,
+    roughness: Option<f64>,
+    light: f32,
+    degenerate: bool,
+    method: Method,
+}
+
+fn draw(rng: &mut Rng) -> Combination {
+    let (any_albedo, any_thickness) = (rng.unit(), rng.log(1e-6, 1e3));
+    Combination {
+        albedo: rng.pick(&[1e-6, 1e-3, 0.5, 0.99, 0.999_999, any_albedo]),
+        sigma_t: rng.log(1e-6, 1e6),
+        ior: 1.0001 + rng.unit() * 1.9999,
+        thickness_mm: rng.pick(&[Some(1e-6), Some(any_thickness), Some(1e3), None]),
+        g: rng.pick(&[0.0, -0.9, 0.9, 0.99]),
+        roughness: rng.pick(&[None, Some(1e-3), Some(0.5), Some(1.0)]),
+        light: rng.pick(&[0.0, 1e-20, 1.0, 1e6, 1e12]),
+        degenerate: rng.unit() < 0.5,
+        method: rng.pick(&Method::ALL),
+    }
+}
+
+/// A 10 mm sphere, with a zero-area triangle and a triangle whose UVs
+/// collapse to a point when `degenerate`.
+fn ball(degenerate: bool) -> Mesh {
+    let mut mesh = sphere(10.0, 8, 12);
+    if degenerate {
+        let n = mesh.positions.len() as u32;
+        let p = mesh.positions[0];
+        mesh.positions.extend([p, p, p + Vec3::X * 1e-3]);
+        let uvs = mesh.uvs.as_mut().unwrap();
+        uvs.extend([Vec2::splat(0.5); 3]);
+        mesh.triangles.push([n, n + 1, n + 2]);
+        mesh.triangles.push([0, 1, n + 2]);
+    }
+    Mesh::new(&mesh.name, mesh.positions, None, mesh.uvs, mesh.triangles)
+        .unwrap()
+        .0
+}
+
+fn material(c: &Combination) -> Material {
+    let sigma_s = c.albedo * c.sigma_t;
+    Material {
+        name: "extreme".into(),
+        optics: Optics::Layers(vec![Layer {
+            sigma_a: [c.sigma_t - sigma_s; 3],
+            sigma_s: [sigma_s; 3],
+            g: c.g,
+            ior: c.ior,
+            thickness_mm: c.thickness_mm,
+        }]),
+        coat_ior: None,
+    }
+}
+
+/// Bakes combination `c`: why it was refused (allowed, with a reason), or
+/// what is wrong with its maps, or nothing.
+fn failure_of(c: &Combination) -> Result<Option<String>, String> {
+    let mut light = sun_from(Vec3::new(0.3, -0.2, -1.0));
+    light.intensity = c.light;
+    let scene = scene(vec![ball(c.degenerate)], vec![light]);
+    let request = BakeRequest {
+        resolution: 24,
+        method: c.method,
+        roughness: c.roughness,
+        materials: MaterialAssignment::everywhere(material(c), "sweep"),
+        ..BakeRequest::default()
+    };
+    let (objects, _) = plan(&scene, &request)
+        .and_then(|p| bake(&scene, &p, &Control::new()))
+        .map_err(|e| e.to_string())?;
+    for object in &objects {
+        let area = &object.prepared.surfels.area;
+        let (mut entering, mut leaving) = (0.0f64, 0.0f64);
+        for (s, (m, e)) in object
+            .exitance
+            .iter()
+            .zip(&object.prepared.irradiance)
+            .enumerate()
+        {
+            if m.iter().chain(e).any(|v| !v.is_finite() || *v < 0.0) {
+                return Ok(Some(format!("texel {s}: exitance {m:?}, irradiance {e:?}")));
+            }
+            entering += e.iter().map(|&v| f64::from(v)).sum::<f64>() * f64::from(area[s]);
+            leaving += m.iter().map(|&v| f64::from(v)).sum::<f64>() * f64::from(area[s]);
+        }
+        if leaving > entering * 1.02 + 1e-30 {
+            return Ok(Some(format!("{leaving:e} leaves, {entering:e} enters")));
+        }
+    }
+    Ok(None)
+}
+
+/// Found by the long sweep (seed 7, case 542, importance): on a slab
+/// 5.7e-5 mm thick of σt 25215 /mm (optical depth 1.45, η 1.0074) the exact
+/// sum returns about 35 times the power that enters (the octree the same,
+/// importance 39 times; texture space none), so the profile or its kernel,
+/// not one integrator, makes energy. Left for the integrators' owner: run
+/// with `--ignored` to see it.
+#[test]
+#[ignore = "the exact sum gains energy on this thin, dense slab"]
+fn a_thin_dense_slab_makes_no_energy() {
+    let c = Combination {
+        albedo: 0.5,
+        sigma_t: 25215.060239435825,
+        ior: 1.007407080467361,
+        thickness_mm: Some(5.7497780913299136e-5),
+        g: 0.0,
+        roughness: Some(1.0),
+        light: 1e12,
+        degenerate: false,
+        method: Method::Brute,
+    };
+    assert_eq!(failure_of(&c), Ok(None));
+}
+
+#[test]
+fn extreme_bakes_stay_finite_non_negative_and_make_no_energy() {
+    let cases = std::env::var("SSSBAKE_SWEEP_CASES")
+        .ok()
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(12);
+    let seed = std::env::var("SSSBAKE_SWEEP_SEED")
+        .ok()
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(15);
+    let mut rng = Rng(seed);
+    let (mut failures, mut refused) = (Vec::new(), Vec::new());
+    for case in 0..cases {
+        let c = draw(&mut rng);
+        match failure_of(&c) {
+            Err(e) => refused.push(format!("case {case} {c:?}: {e}")),
+            Ok(Some(failure)) => failures.push(format!("case {case} {c:?}: {failure}")),
+            Ok(None) => {}
+        }
+    }
+    eprintln!(
+        "{cases} combinations, {} refused:\n{}",
+        refused.len(),
+        refused.join("\n")
+    );
+    assert!(refused.len() * 4 <= cases, "most combinations must bake");
+    assert!(
+        failures.is_empty(),
+        "{} of {cases}:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
