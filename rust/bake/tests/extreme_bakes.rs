@@ -101,6 +101,7 @@ fn material(c: &Combination) -> Material {
             thickness_mm: c.thickness_mm,
         }]),
         coat_ior: None,
+        roughness: c.roughness.unwrap_or(0.0),
     }
 }
 
