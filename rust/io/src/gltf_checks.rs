@@ -12,6 +12,9 @@ use gltf::mesh::Semantic;
 /// Parses a .gltf or .glb file's bytes and validates the document; the GLB
 /// binary chunk comes back with it.
 pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), String> {
+    if bytes.starts_with(b"glTF") {
+        glb_frame(bytes).map_err(|e| format!("not a valid glTF file: {e}"))?;
+    }
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| format!("not a valid glTF file: {e}"))?;
     let root = document.into_json();
@@ -20,6 +23,37 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), S
     let document =
         gltf::Document::from_json(root).map_err(|e| format!("not a valid glTF file: {e}"))?;
     Ok((document, blob))
+}
+
+/// A GLB's header and chunk lengths agree with each other and with the
+/// file (the crate subtracts them unchecked: a length under the header's
+/// overflows).
+fn glb_frame(bytes: &[u8]) -> Result<(), String> {
+    let word = |at: usize| {
+        bytes
+            .get(at..at + 4)
+            .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]) as usize)
+    };
+    let length = word(8).ok_or("a GLB header needs 12 bytes")?;
+    if length < 12 + 8 || length > bytes.len() {
+        return Err(format!(
+            "the GLB header says {length} bytes, but the file has {} and a header and chunk need 20",
+            bytes.len()
+        ));
+    }
+    let mut at = 12usize;
+    while at < length {
+        let chunk = word(at)
+            .filter(|_| at + 8 <= length)
+            .ok_or(format!("a GLB chunk header at byte {at} is cut short"))?;
+        at = at
+            .checked_add(8 + chunk)
+            .filter(|&end| end <= length)
+            .ok_or(format!(
+                "a GLB chunk at byte {at} runs past the file's {length} bytes"
+            ))?;
+    }
+    Ok(())
 }
 
 /// Every primitive's POSITION names an accessor that exists (the crate's
