@@ -14,9 +14,9 @@
 //! integrators do that.
 
 use super::Method;
-use super::brute;
 use super::integrator::{Integrated, Integrator};
 use super::sources::{OwnSource, Targets};
+use super::{brute, choice};
 use crate::control::{Cancelled, Control};
 use crate::error::Error;
 use crate::pipeline::Prepared;
@@ -38,6 +38,11 @@ pub const MAX_REACH: u32 = 512;
 /// Texels within this many steps (in any of the 8 directions) of a texel
 /// the layout leaves empty take the exact sum.
 const EDGE_RING: usize = 2;
+
+/// Source visits the exact sum at those texels may take (a few seconds on
+/// two cores); beyond (a long reach at a fine resolution) the blurs stand
+/// there too, and the error check says what that costs.
+const EDGE_VISITS: f64 = 3e8;
 
 /// Radiant exitance (W/m²) at each surfel by texture-space blurs of its
 /// irradiance. `dilation` lists (empty texel, covered texel it copies) and
@@ -364,8 +369,14 @@ impl Integrator for TextureIntegrator {
         // partly surface: most of the blurs' error lives in those few
         // texels, so they take the exact sum instead.
         let edge = near_chart_edges(&prepared.surfels, EDGE_RING);
+        let texels = prepared.surfels.len().max(1);
+        let neighbours = choice::neighbours(
+            prepared.surfels.total_area() / texels as f64,
+            f64::from(scattering.kernel.d_max),
+        );
+        let affordable = edge.len() as f64 * neighbours <= EDGE_VISITS;
         let mut sources = 0;
-        if !edge.is_empty() {
+        if !edge.is_empty() && affordable {
             let texels = prepared.texel_sources();
             let position: Vec<_> = edge.iter().map(|&s| prepared.surfels.position[s]).collect();
             let normal: Vec<_> = edge.iter().map(|&s| prepared.surfels.normal[s]).collect();
