@@ -4,11 +4,17 @@ import os
 import pathlib
 import struct
 import subprocess
+import sys
 import zlib
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+# The binary reads USD through $SSSBAKE_PYTHON; this one has usd-core. Every process the
+# tests start inherits it (the batch's farm workers too); a test that wants another passes
+# its own.
+os.environ.setdefault("SSSBAKE_PYTHON", sys.executable)
 
 
 LIBRARY = ROOT / "target" / "release" / "libsssbake_ffi.so"

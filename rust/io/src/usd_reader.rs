@@ -48,8 +48,10 @@ struct MeshJson {
     name: String,
     /// The mesh prim's path.
     path: Option<String>,
-    /// The points, transformed to world space.
-    points: Vec<[f32; 3]>,
+    /// The points, transformed to world space (read wide, so a transform
+    /// that overflows single precision is refused as a non-finite position
+    /// of its object rather than as unreadable JSON).
+    points: Vec<[f64; 3]>,
     /// For each face corner in face order, the point it uses
     /// (faceVertexIndices).
     #[serde(default)]
@@ -250,7 +252,11 @@ fn scene_from_stage(
     };
     for mesh in stage.meshes {
         let name = mesh.name;
-        let points: Vec<Vec3> = mesh.points.into_iter().map(Vec3::from).collect();
+        let points: Vec<Vec3> = mesh
+            .points
+            .into_iter()
+            .map(|p| glam::DVec3::from(p).as_vec3())
+            .collect();
         let corners = mesh.corner_vertices;
         if let Some(bad) = corners.iter().find(|&&c| c as usize >= points.len()) {
             return Err(error(format!(
