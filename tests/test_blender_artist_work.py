@@ -228,7 +228,9 @@ def test_unwrap_uses_the_librarys_xatlas_and_keeps_smart_uv_project_as_a_choice(
     )
     xatlas = uv.copy()
     assert bake(unwrap=True, unwrap_method="SMART", redo_unwrap=True, outputs={"AREA"}) == {"FINISHED"}
-    smart = np.array([loop.uv[:] for loop in layer.data])
+    # Smart UV Project goes through Edit Mode, which rebuilds the mesh's layers: a Python
+    # reference taken before it points at freed memory, so look the layer up again.
+    smart = np.array([loop.uv[:] for loop in mesh.uv_layers["sssbake"].data])
     assert not np.allclose(smart, xatlas)
 
 
