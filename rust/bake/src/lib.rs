@@ -80,6 +80,7 @@ pub mod error;
 pub mod fast_hash;
 pub mod image;
 pub mod irradiance;
+pub mod limits;
 pub mod maps;
 pub mod materials;
 pub mod mesh;

@@ -5,6 +5,7 @@
 
 use crate::colour::{ColourMap, ColourPlan, area_mean, relative_to, texture_per_texel};
 use crate::error::{Error, InputError};
+use crate::limits::{Cost, ObjectCost, bytes_text, estimated_texels};
 use crate::maps::Output;
 use crate::materials::Sourced;
 use crate::pipeline::{Layout, Lighting};
@@ -40,6 +41,8 @@ pub struct Plan {
     pub left_out: Vec<String>,
     /// What the scene reader noticed.
     pub notes: Vec<String>,
+    /// The memory and work the bake is estimated to take.
+    pub cost: Cost,
     /// The request the plan was made for.
     #[serde(skip)]
     pub request: BakeRequest,
@@ -83,6 +86,8 @@ pub struct ObjectPlan {
     pub uvs: UvPlan,
     /// Texels the layout covers.
     pub texels: usize,
+    /// The memory and work this object's bake is estimated to take.
+    pub cost: ObjectCost,
     /// Surface area those texels stand for, mm².
     pub texel_area_mm2: f64,
     /// The material and its profile.
@@ -173,10 +178,14 @@ pub fn plan(scene: &Scene, request: &BakeRequest) -> Result<Plan, Error> {
         .map(|i| format!("object `{}`: not selected", names[i]))
         .collect();
     let lights = describe_lights(scene, &mut left_out);
+    check_layouts_fit(scene, &selected, &request)?;
     let objects = selected
         .iter()
         .map(|&index| plan_object(scene, index, &stems[index], &request))
         .collect::<Result<Vec<_>, Error>>()?;
+    let cost = Cost::of(&objects.iter().map(|o| o.cost).collect::<Vec<_>>());
+    cost.check(&request.limits, &drivers(&objects, &request))
+        .map_err(|e| e.in_file(scene.source.clone()))?;
     if !request.lights() {
         left_out.push(format!(
             "lighting and scattering: the outputs ({}) need neither",
@@ -198,8 +207,61 @@ pub fn plan(scene: &Scene, request: &BakeRequest) -> Result<Plan, Error> {
         lights,
         left_out,
         notes: scene.notes.clone(),
+        cost,
         request,
     })
+}
+
+/// Refuses, before any layout is made, a request whose layouts alone
+/// could not fit: texels estimated from each object's UV area.
+fn check_layouts_fit(
+    scene: &Scene,
+    selected: &[usize],
+    request: &BakeRequest,
+) -> Result<(), Error> {
+    let costs: Vec<ObjectCost> = selected
+        .iter()
+        .map(|&i| {
+            let texels = estimated_texels(&scene.objects[i].mesh, request.resolution, request.uvs);
+            ObjectCost::memory(texels, request.resolution, &request.outputs)
+        })
+        .collect();
+    let texels: f64 = costs.iter().map(|c| c.texels).sum();
+    let what = format!(
+        "{} object{} at {}², about {:.0} million texels",
+        selected.len(),
+        if selected.len() == 1 { "" } else { "s" },
+        request.resolution,
+        texels / 1e6
+    );
+    Cost::of(&costs).check(&request.limits, &what)
+}
+
+/// What drives a plan's cost, in words: the costliest object, its texels
+/// and method.
+fn drivers(objects: &[ObjectPlan], request: &BakeRequest) -> String {
+    let Some(worst) = objects.iter().max_by(|a, b| {
+        (a.cost.evaluations + a.cost.rays).total_cmp(&(b.cost.evaluations + b.cost.rays))
+    }) else {
+        return String::new();
+    };
+    let method = worst
+        .integrator
+        .as_ref()
+        .map_or("no scattering".to_string(), |i| {
+            format!("method {}", i.method)
+        });
+    format!(
+        "{} object{} at {}²; the costliest, `{}`: {} texels, {:.1e} shadow rays, {method} with \
+         {:.1e} kernel evaluations",
+        objects.len(),
+        if objects.len() == 1 { "" } else { "s" },
+        request.resolution,
+        worst.name,
+        worst.texels,
+        worst.cost.rays,
+        worst.cost.evaluations
+    )
 }
 
 fn output_names(outputs: &[Output]) -> String {
@@ -284,6 +346,18 @@ fn plan_object(
     } else {
         (Stage::new(false, "no output needs the exitance"), None)
     };
+    let rays_per_texel = match &request.lighting {
+        Lighting::Irradiance(_) => 0.0,
+        _ if request.lights() => scene.lights.len() as f64 * f64::from(request.light_samples),
+        _ => 0.0,
+    };
+    let cost = ObjectCost::memory(texels as f64, request.resolution, &request.outputs).with_work(
+        integrator.as_ref().map(|i| i.method),
+        texel_area_mm2 / texels.max(1) as f64,
+        f64::from(scattering.kernel.d_max),
+        rays_per_texel,
+        request.integrators.importance.samples,
+    );
     Ok(ObjectPlan {
         name,
         index,
@@ -298,6 +372,7 @@ fn plan_object(
             warning: uvs.warning,
         },
         texels,
+        cost,
         texel_area_mm2,
         material,
         colour,
@@ -521,6 +596,15 @@ impl fmt::Display for Plan {
             self.lights.join("; ")
         };
         writeln!(f, "lights: {lights}")?;
+        writeln!(
+            f,
+            "cost: about {} of memory at most, {:.1e} shadow rays and kernel evaluations \
+             (limits {} and {:.0e})",
+            bytes_text(self.cost.memory_bytes),
+            self.cost.evaluations,
+            bytes_text(self.request.limits.max_memory_bytes as f64),
+            self.request.limits.max_evaluations
+        )?;
         for note in &self.notes {
             writeln!(f, "note: {note}")?;
         }

@@ -4,6 +4,7 @@
 
 use crate::error::Error;
 use crate::image::Image;
+use crate::limits::Limits;
 use crate::maps::Output;
 use crate::materials::MaterialAssignment;
 use crate::pipeline::Lighting;
@@ -84,6 +85,8 @@ pub struct BakeRequest {
     pub base_colour: Option<Image>,
     /// α of the colour split, in [0, 1].
     pub colour_split: f32,
+    /// The memory and work the bake may take; the plan refuses more.
+    pub limits: Limits,
 }
 
 impl Default for BakeRequest {
@@ -105,6 +108,7 @@ impl Default for BakeRequest {
             roughness: None,
             base_colour: None,
             colour_split: 0.5,
+            limits: Limits::default(),
         }
     }
 }
@@ -164,6 +168,16 @@ impl BakeRequest {
             return Err(Error::field(
                 "colour_split",
                 format!("{} must be between 0 and 1", self.colour_split),
+            ));
+        }
+        if self.limits.max_memory_bytes == 0 {
+            return Err(Error::field("max_memory", "must be a positive size"));
+        }
+        // `inf` lifts the limit; NaN and 0 are refused.
+        if self.limits.max_evaluations.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return Err(Error::field(
+                "max_evaluations",
+                format!("{} must be positive", self.limits.max_evaluations),
             ));
         }
         self.integrators.validate()

@@ -109,6 +109,15 @@ pub struct RequestArgs {
     /// Seed of the importance integrator's Monte Carlo.
     #[arg(long, default_value_t = INTEGRATORS.importance.seed)]
     pub seed: u64,
+    /// Memory a bake may hold (16G, 512M, binary units); the plan refuses
+    /// a bake estimated to need more [default: 16G].
+    #[arg(long, value_name = "SIZE")]
+    pub max_memory: Option<String>,
+    /// Shadow rays, kernel evaluations and probes a bake may take; the plan
+    /// refuses more [default: 3e10, about an hour of the exact sum on two
+    /// cores].
+    #[arg(long, value_name = "COUNT")]
+    pub max_evaluations: Option<f64>,
     /// Worker threads [default: every core].
     #[arg(long)]
     pub threads: Option<usize>,
@@ -172,6 +181,8 @@ impl RequestArgs {
             light_samples: Some(self.light_samples),
             roughness: self.roughness,
             tolerance: Some(self.tolerance),
+            max_memory: self.max_memory.clone(),
+            max_evaluations: self.max_evaluations,
             half: None,
             exposure: None,
         }

@@ -25,12 +25,15 @@
 //! | `light_samples` | count | samples per soft light, per texel |
 //! | `roughness` | RMS slope | a rough boundary [smooth] |
 //! | `tolerance` | relative RMSE | what `auto` holds each object to |
+//! | `max_memory` | size (`16G`, `512M`) | memory a bake may hold [16G] |
+//! | `max_evaluations` | count | shadow rays and kernel evaluations a bake may take [3e10] |
 //! | `half` | bool | 16-bit EXRs |
 //! | `exposure` | stops | exposure of the PNG previews |
 
 use crate::image_writer::Precision;
 use crate::{FolderOptions, ReadOptions, read_image, read_scene, scene_lighting};
 use serde::{Deserialize, Serialize};
+use sssbake::limits::parse_bytes;
 use sssbake::materials::{MaterialAssignment, Sidecar, Sourced, preset};
 use sssbake::request::MAX_RESOLUTION;
 use sssbake::{BakeRequest, Error, Method, Output, Scene, UvPolicy};
@@ -88,6 +91,10 @@ pub struct BakeOptions {
     pub roughness: Option<f64>,
     /// Relative RMSE against the exact sum that `auto` holds each object to.
     pub tolerance: Option<f64>,
+    /// Memory a bake may hold, such as `16G` or `512M` (binary units).
+    pub max_memory: Option<String>,
+    /// Shadow rays, kernel evaluations and probes a bake may take.
+    pub max_evaluations: Option<f64>,
     /// Write EXRs as 16-bit half floats.
     pub half: Option<bool>,
     /// Exposure of the PNG previews, stops.
@@ -127,6 +134,8 @@ impl BakeOptions {
             light_samples,
             roughness,
             tolerance,
+            max_memory,
+            max_evaluations,
             half,
             exposure
         )
@@ -215,6 +224,14 @@ impl BakeOptions {
             Some(name) => named::<Method>("method", name)?,
             None => defaults.method,
         };
+        let mut limits = defaults.limits;
+        if let Some(text) = &self.max_memory {
+            limits.max_memory_bytes =
+                parse_bytes(text).map_err(|message| Error::field("max_memory", message))?;
+        }
+        if let Some(evaluations) = self.max_evaluations {
+            limits.max_evaluations = evaluations;
+        }
         let read = ReadOptions {
             uv_set: self.uv_set.unwrap_or(0),
             unit_scale: self.unit_scale,
@@ -259,6 +276,7 @@ impl BakeOptions {
             base_colour,
             colour_split: self.colour_split.unwrap_or(defaults.colour_split),
             tolerance: self.tolerance.unwrap_or(defaults.tolerance),
+            limits,
             ..defaults
         };
         Ok((scene, request))
