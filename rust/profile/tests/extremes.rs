@@ -73,13 +73,23 @@ fn check(profile: &dyn Profile, what: &str) {
     let mut radii = vec![0.0];
     radii.extend((-8..=8).map(|e| 10f64.powi(e)));
     radii.extend(scale.iter().flat_map(|s| [0.1 * s, *s, 10.0 * s]));
-    for r in radii {
-        assert_physical(profile, r, what);
-        let enclosed = profile.enclosed_reflectance(r);
+    for radius in radii {
+        assert_physical(profile, radius, what);
+        let enclosed = profile.enclosed_reflectance(radius);
         assert!(
             enclosed.iter().all(|e| e.is_finite()),
-            "{what}: enclosed({r}) {enclosed:?}"
+            "{what}: enclosed({radius}) {enclosed:?}"
         );
+        // What a disc holds never exceeds the whole (a table's far tail
+        // once carried the transform's round-off as many times the total).
+        for c in 0..3 {
+            assert!(
+                enclosed[c] <= r[c] * (1.0 + 1e-3) + 1e-12,
+                "{what}: enclosed({radius}) {} above the total {}",
+                enclosed[c],
+                r[c]
+            );
+        }
     }
 }
 
