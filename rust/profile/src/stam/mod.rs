@@ -27,6 +27,7 @@
 
 pub mod boundary;
 pub mod eigen;
+pub mod material;
 pub mod microfacet;
 pub mod ordinates;
 pub mod phase;
@@ -93,6 +94,8 @@ pub struct StamResponse {
 impl StamResponse {
     /// The BRDF (1/sr) towards ordinate `o` from ordinate `e` with azimuth
     /// difference `delta_phi` (radians; 0 is the forward, specular side).
+    /// The cosine series is truncated, so next to a narrow lobe it rings
+    /// below zero; those values are returned as 0.
     pub fn brdf_at(&self, o: usize, e: usize, delta_phi: f64) -> f64 {
         series(&self.brdf, o, e, delta_phi)
     }
@@ -104,11 +107,13 @@ impl StamResponse {
 }
 
 fn series(modes: &[DMatrix<f64>], o: usize, e: usize, delta_phi: f64) -> f64 {
-    modes
+    let sum: f64 = modes
         .iter()
         .enumerate()
+        .filter(|(_, m)| o < m.nrows() && e < m.ncols())
         .map(|(k, m)| m[(o, e)] * (k as f64 * delta_phi).cos())
-        .sum()
+        .sum();
+    if sum.is_finite() { sum.max(0.0) } else { 0.0 }
 }
 
 /// How finely to solve.
@@ -118,8 +123,9 @@ pub struct StamSettings {
     /// cosine when η > 1).
     pub ordinates: usize,
     /// Azimuthal modes solved: 1 gives the totals R and T exactly (the
-    /// higher modes integrate to zero over azimuth); `None`, as many as
-    /// the phase function has moments, which the BRDF needs.
+    /// higher modes integrate to zero over azimuth); `None`, twice the
+    /// ordinates, as Stam (after Jin & Stamnes) took, which the BRDF's
+    /// narrow lobes (the faces' own, the straight-through beam) need.
     pub modes: Option<usize>,
 }
 
@@ -181,7 +187,7 @@ impl StamLayer {
             ..scattering
         };
         let depth = self.optical_depth * scattering.depth_factor;
-        let modes = settings.modes.unwrap_or(terms).max(1);
+        let modes = settings.modes.unwrap_or(2 * ordinates.inside.len()).max(1);
         let smooth = self.roughness == 0.0 || (self.eta - 1.0).abs() < 1e-9;
         let boundaries = if smooth {
             boundary::smooth(&ordinates, modes)
