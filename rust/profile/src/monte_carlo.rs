@@ -1,10 +1,10 @@
 //! The Monte Carlo reference: photons through a stack of layers, in the
 //! manner of MCML, tallying diffuse reflectance and transmittance by radius.
 //!
-//! A pencil beam enters at the origin at normal incidence. The specular
-//! reflection at the top is left out: the photon starts inside the first
-//! layer with weight 1, so R(r) and T(r) are per unit flux entering the
-//! medium, as the diffusion profiles are. Steps are exponential in σt;
+//! A pencil beam enters at the origin at normal incidence (or at any angle,
+//! [`simulate_oblique`]). The specular reflection at the top is left out:
+//! the photon starts inside the first layer with weight 1, so R(r) and T(r)
+//! are per unit flux entering the medium, as the diffusion profiles are. Steps are exponential in σt;
 //! every interaction multiplies the weight by the single-scattering albedo
 //! and scatters by Henyey–Greenstein; every interface reflects or refracts
 //! by its Fresnel reflectance, chosen at random; Russian roulette ends
