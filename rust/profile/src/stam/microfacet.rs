@@ -136,4 +136,91 @@ mod tests {
         }
         assert!((sum - 1.0).abs() < 1e-6, "{sum}");
     }
+
+    /// ∫ f(θ, φ) sin θ dθ dφ over a hemisphere by a Gauss rule in each.
+    fn hemisphere(f: impl Fn(Direction) -> f64, lower: bool) -> f64 {
+        let rule = crate::quadrature::gauss_legendre(160);
+        let mut sum = 0.0;
+        for &(x, wx) in &rule {
+            let theta = 0.25 * PI * (x + 1.0);
+            for &(y, wy) in &rule {
+                let phi = PI * (y + 1.0);
+                let z = if lower { -theta.cos() } else { theta.cos() };
+                let d = [theta.sin() * phi.cos(), theta.sin() * phi.sin(), z];
+                sum += wx * wy * 0.25 * PI * PI * theta.sin() * f(d);
+            }
+        }
+        sum
+    }
+
+    #[test]
+    fn the_btdf_carries_what_the_facets_refract() {
+        // Integrated over outgoing directions, Stam's BTDF (with his
+        // refraction Jacobian) must carry exactly the flux the facets
+        // refract, integrated over facet normals: ∫ D (i·h)/cos θi (1 − F) G dωh.
+        // The same for the BRDF and the facets' reflection. An error in the
+        // Jacobian (Stam first took dωt = dωa) breaks the equality.
+        let m = 0.3;
+        for (n_i, n_t) in [(1.0, 1.4), (1.4, 1.0)] {
+            for cos_i in [0.9, 0.5] {
+                let i: Direction = [-(1.0f64 - cos_i * cos_i).sqrt(), 0.0, cos_i];
+                let by_directions_t =
+                    hemisphere(|o| transmission(i, o, n_i, n_t, m) * o[2].abs(), true);
+                let by_directions_r = hemisphere(|o| reflection(i, o, n_i, n_t, m) * o[2], false);
+                // The facet-space integrals, by the same rule over normals h.
+                let (mut by_facets_t, mut by_facets_r) = (0.0, 0.0);
+                let rule = crate::quadrature::gauss_legendre(160);
+                for &(x, wx) in &rule {
+                    let theta = 0.25 * PI * (x + 1.0);
+                    for &(y, wy) in &rule {
+                        let phi = PI * (y + 1.0);
+                        let h = [
+                            theta.sin() * phi.cos(),
+                            theta.sin() * phi.sin(),
+                            theta.cos(),
+                        ];
+                        let c = dot(i, h);
+                        if c <= 0.0 {
+                            continue;
+                        }
+                        let weight =
+                            wx * wy * 0.25 * PI * PI * theta.sin() * beckmann(h, m) * c / cos_i;
+                        let f = dielectric_reflectance(c, n_i, n_t);
+                        let r = [
+                            2.0 * c * h[0] - i[0],
+                            2.0 * c * h[1] - i[1],
+                            2.0 * c * h[2] - i[2],
+                        ];
+                        if r[2] > 0.0 {
+                            by_facets_r += weight * f * smith_g1(i, h, m) * smith_g1(r, h, m);
+                        }
+                        // Refraction through the facet: η = n_t/n_i.
+                        let eta = n_t / n_i;
+                        let k = c * c + eta * eta - 1.0;
+                        if k > 0.0 {
+                            let ct = k.sqrt();
+                            let t = [
+                                ((c - ct) * h[0] - i[0]) / eta,
+                                ((c - ct) * h[1] - i[1]) / eta,
+                                ((c - ct) * h[2] - i[2]) / eta,
+                            ];
+                            if t[2] < 0.0 {
+                                by_facets_t +=
+                                    weight * (1.0 - f) * smith_g1(i, h, m) * smith_g1(t, h, m);
+                            }
+                        }
+                    }
+                }
+                for (what, a, b) in [
+                    ("T", by_directions_t, by_facets_t),
+                    ("R", by_directions_r, by_facets_r),
+                ] {
+                    assert!(
+                        (a - b).abs() < 2e-3 * b.max(0.05),
+                        "{n_i}→{n_t} cos {cos_i} {what}: directions {a}, facets {b}"
+                    );
+                }
+            }
+        }
+    }
 }
