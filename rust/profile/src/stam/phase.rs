@@ -68,7 +68,7 @@ pub fn normalised_legendre(k: usize, terms: usize, mu: f64) -> Vec<f64> {
 }
 
 /// Ωₖ·pₖ(μ′, μ) of Stam's appendix A for every pair of signed cosines:
-/// `(same, opposite)` with same[n][m] = Ωₖ pₖ(μm, μn) and opposite[n][m] =
+/// `(same, opposite)` with `same[n][m]` = Ωₖ pₖ(μm, μn) and `opposite[n][m]` =
 /// Ωₖ pₖ(−μm, μn), where Ωₖ = Ω(1 + δₖ₀)/4 and pₖ = (2 − δₖ₀)Σ(2n+1)χₙΛₙᵏΛₙᵏ.
 pub fn mode_kernels(
     k: usize,
