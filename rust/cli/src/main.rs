@@ -17,6 +17,7 @@ mod progress;
 mod report_command;
 mod report_plot;
 mod request_args;
+mod stam_report;
 
 use clap::{Parser, Subcommand};
 use sssbake::Error;

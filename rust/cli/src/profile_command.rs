@@ -55,6 +55,9 @@ pub fn run(args: &ProfileArgs) -> Result<(), Error> {
     check_arguments(args)?;
     let material = load_material(args)?;
     let model = args.model.unwrap_or_else(|| Model::default_for(&material));
+    if model == Model::Stam {
+        return run_stam(args, &material);
+    }
     let needs_simulation = model == Model::MonteCarlo || args.compare_montecarlo;
     if needs_simulation && material.layers().is_none() {
         return Err(Error::input(format!(
@@ -121,6 +124,22 @@ pub fn run(args: &ProfileArgs) -> Result<(), Error> {
         }
         emit(&text);
     }
+    Ok(())
+}
+
+/// `--model stam`: angles, not radii; the radial options do not apply.
+fn run_stam(args: &ProfileArgs, material: &Material) -> Result<(), Error> {
+    let radial = [
+        ("--radii", args.radii.is_some()),
+        ("--plot", args.plot.is_some()),
+        ("--compare-montecarlo", args.compare_montecarlo),
+    ];
+    if let Some((flag, _)) = radial.iter().find(|(_, given)| *given) {
+        return Err(Error::input(format!(
+            "{flag}: stam gives R and T per incidence angle and BRDF slices (--json), not a radial profile"
+        )));
+    }
+    emit(&crate::stam_report::report(material, args.json)?);
     Ok(())
 }
 

@@ -256,3 +256,69 @@ fn bad_input_gets_a_clear_error() {
     );
     assert!(!unwritable.exists());
 }
+
+#[test]
+fn stam_reports_angles_and_the_library_numbers() {
+    use sssbake_profile::stam::StamSettings;
+    use sssbake_profile::stam::material::solve_material;
+    let out = json(&[
+        "profile",
+        "--preset",
+        "stam-dermis",
+        "--model",
+        "stam",
+        "--json",
+    ]);
+    assert_eq!(out["model"], "stam");
+    let material = preset("stam-dermis").unwrap();
+    let library = solve_material(&material, &StamSettings::default()).unwrap();
+    let cosines = numbers(&out["cosines"]);
+    assert_eq!(cosines, library[0].cosines);
+    for (e, row) in out["reflectance"].as_array().unwrap().iter().enumerate() {
+        let printed = numbers(row);
+        let transmitted = numbers(&out["transmittance"][e]);
+        for c in 0..3 {
+            assert!((printed[c] - library[c].reflectance[e]).abs() <= 1e-14);
+            // An opaque (semi-infinite) dermis transmits nothing.
+            assert_eq!(transmitted[c], 0.0);
+        }
+        // Its albedo falls from red to blue, and so does what it returns.
+        assert!(
+            printed[0] > printed[1] && printed[1] > printed[2],
+            "{printed:?}"
+        );
+    }
+    // In-plane slices: [channel][incidence][exit], non-negative.
+    let slice = &out["brdf_forward"][0];
+    assert_eq!(slice.as_array().unwrap().len(), cosines.len());
+    assert!(
+        numbers(&slice[3])
+            .iter()
+            .all(|v| *v >= 0.0 && v.is_finite())
+    );
+    // Several layers, radial options and a bake are refused, saying why.
+    assert_fails(
+        &["profile", "--preset", "skin3layer", "--model", "stam"],
+        1,
+        &["skin3layer", "one layer", "3 layers"],
+    );
+    assert_fails(
+        &[
+            "profile",
+            "--preset",
+            "stam-dermis",
+            "--model",
+            "stam",
+            "--radii",
+            "1,2",
+        ],
+        1,
+        &["--radii", "incidence angle"],
+    );
+    assert_eq!(
+        build_profile(&material, Model::Stam, 6)
+            .err()
+            .map(|e| e.to_string().contains("not a radial profile")),
+        Some(true)
+    );
+}

@@ -54,6 +54,7 @@ pub mod roots;
 pub mod rough;
 pub mod slab;
 pub mod split;
+pub mod stam;
 pub mod tabulated;
 
 pub use appearance::Appearance;

@@ -36,17 +36,22 @@ pub enum Model {
     Burley,
     /// The Monte Carlo photon-transport reference, smoothed into a profile.
     MonteCarlo,
+    /// Stam 2001's plane-parallel layer between smooth or rough faces, by
+    /// discrete ordinates: R(θi), T(θi) and BRDFs, no radial profile
+    /// ([`crate::stam`]).
+    Stam,
 }
 
 impl Model {
     /// Every model, in the order the command line lists them.
-    pub const ALL: [Model; 6] = [
+    pub const ALL: [Model; 7] = [
         Model::Dipole,
         Model::Multipole,
         Model::Layered,
         Model::Gaussians,
         Model::Burley,
         Model::MonteCarlo,
+        Model::Stam,
     ];
 
     /// The model's command-line name.
@@ -130,6 +135,12 @@ pub fn build_profile(
             } else {
                 Box::new(fit_gaussians(reference.as_ref(), gaussians).gaussians)
             }
+        }
+        Model::Stam => {
+            return Err(error(
+                "stam is a plane-parallel model of angles (R(θi), T(θi), BRDF and BTDF; see \
+                 `sssbake profile --model stam`), not a radial profile R(r) a bake integrates",
+            ));
         }
         Model::MonteCarlo => Box::new(
             MonteCarloProfile::simulate(material, &ProfileSettings::default())

@@ -1,10 +1,10 @@
 //! The Monte Carlo reference: photons through a stack of layers, in the
 //! manner of MCML, tallying diffuse reflectance and transmittance by radius.
 //!
-//! A pencil beam enters at the origin at normal incidence. The specular
-//! reflection at the top is left out: the photon starts inside the first
-//! layer with weight 1, so R(r) and T(r) are per unit flux entering the
-//! medium, as the diffusion profiles are. Steps are exponential in σt;
+//! A pencil beam enters at the origin at normal incidence (or at any angle,
+//! [`simulate_oblique`]). The specular reflection at the top is left out:
+//! the photon starts inside the first layer with weight 1, so R(r) and T(r)
+//! are per unit flux entering the medium, as the diffusion profiles are. Steps are exponential in σt;
 //! every interaction multiplies the weight by the single-scattering albedo
 //! and scatters by Henyey–Greenstein; every interface reflects or refracts
 //! by its Fresnel reflectance, chosen at random; Russian roulette ends
@@ -150,6 +150,21 @@ struct Slab {
 
 /// Simulates `settings.photons` photons per channel through `layers`.
 pub fn simulate(layers: &[Layer], settings: &Settings) -> MonteCarlo {
+    simulate_oblique(layers, settings, 1.0)
+}
+
+/// As [`simulate`], for a beam that enters the top layer travelling at
+/// cosine `cos_inside` (in (0, 1]) to the normal: the refracted direction
+/// of light arriving obliquely from outside. The tallies stay per unit
+/// flux entering, and [`MonteCarlo::specular_reflectance`] stays the
+/// normal-incidence one; the caller weighs by its own angle's Fresnel.
+pub fn simulate_oblique(layers: &[Layer], settings: &Settings, cos_inside: f64) -> MonteCarlo {
+    let cos_inside = if cos_inside.is_finite() {
+        cos_inside.clamp(1e-6, 1.0)
+    } else {
+        1.0
+    };
+    let start = [(1.0 - cos_inside * cos_inside).sqrt(), 0.0, cos_inside];
     let edges = settings.edges_mm.clone();
     let bins = edges.len().saturating_sub(1);
     let mut result = MonteCarlo {
@@ -189,6 +204,7 @@ pub fn simulate(layers: &[Layer], settings: &Settings) -> MonteCarlo {
                 for _ in 0..count {
                     trace_photon(
                         &slabs,
+                        start,
                         &edges,
                         settings.max_interactions,
                         &mut rng,
@@ -250,13 +266,14 @@ fn channel_slabs(layers: &[Layer], c: usize) -> Vec<Slab> {
 
 fn trace_photon(
     slabs: &[Slab],
+    start: [f64; 3],
     edges: &[f64],
     max_interactions: u64,
     rng: &mut Rng,
     tally: &mut Tally,
 ) {
     let mut position = [0.0f64; 3];
-    let mut direction = [0.0, 0.0, 1.0];
+    let mut direction = start;
     let mut layer = 0usize;
     let mut weight = 1.0;
     let mut scattered = false;

@@ -54,6 +54,29 @@ fn three_layer_skin() -> Vec<Layer> {
     ]
 }
 
+/// Stam 2001 table 2: the dermis's single-scattering albedo per channel.
+const STAM_DERMIS_ALBEDO: Rgb = [0.993, 0.979, 0.943];
+/// Table 2's anisotropy per channel; a layer has one g, their mean.
+const STAM_DERMIS_G: Rgb = [0.860, 0.854, 0.823];
+/// A roughness within table 2's range (0.1 – 0.9) of Stam's σ, the slope
+/// deviation per axis (σ = m/√2 for the RMS slope m a material gives):
+/// m = 0.4 is σ ≈ 0.28.
+const STAM_ROUGHNESS: f64 = 0.4;
+
+/// Stam 2001's dermis: opaque (T = 0, so semi-infinite), index 1.4 (his
+/// ratio for skin). The paper works in optical depth and gives no length
+/// scale, so σt is a nominal 1/mm: the angular results of `stam` do not
+/// depend on it, a radial profile of this preset's would.
+fn stam_dermis() -> Layer {
+    Layer {
+        sigma_a: STAM_DERMIS_ALBEDO.map(|a| 1.0 - a),
+        sigma_s: STAM_DERMIS_ALBEDO,
+        g: STAM_DERMIS_G.iter().sum::<f64>() / 3.0,
+        ior: 1.4,
+        thickness_mm: None,
+    }
+}
+
 /// Every preset name with a one-line description.
 pub fn list() -> Vec<(&'static str, &'static str)> {
     let mut names: Vec<(&str, &str)> = JENSEN_2001
@@ -63,6 +86,10 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
     names.push((
         "skin3layer",
         "epidermis, upper and bloody dermis, Donner & Jensen 2005",
+    ));
+    names.push((
+        "stam-dermis",
+        "dermis of Stam 2001 table 2 (albedo, g, η = 1.4, m = 0.4; nominal σt = 1/mm) for --model stam",
     ));
     names.push((
         "deon-skin",
@@ -81,8 +108,13 @@ pub fn named(name: &str) -> Result<Material, String> {
 
 /// The preset called `name`, if there is one.
 pub fn preset(name: &str) -> Option<Material> {
+    let mut roughness = crate::material::DEFAULT_ROUGHNESS;
     let optics = match name {
         "skin3layer" => Optics::Layers(three_layer_skin()),
+        "stam-dermis" => {
+            roughness = STAM_ROUGHNESS;
+            Optics::Layers(vec![stam_dermis()])
+        }
         "deon-skin" => Optics::Gaussians(SumOfGaussians::deon_skin()),
         _ => {
             let (_, sigma_s_reduced, sigma_a) = JENSEN_2001.iter().find(|(n, _, _)| *n == name)?;
@@ -97,6 +129,6 @@ pub fn preset(name: &str) -> Option<Material> {
         name: name.to_string(),
         optics,
         coat_ior: None,
-        roughness: crate::material::DEFAULT_ROUGHNESS,
+        roughness,
     })
 }

@@ -1,0 +1,66 @@
+//! The boundary-value problem of one azimuthal mode (Stam 2001 §3.2,
+//! eq. 15) with the scaled exponentials of Stamnes & Conklin: the growing
+//! solutions are referred to the bottom of the layer, so every exponential
+//! in the system is e^{−λτ} ≤ 1 and a thick layer cannot overflow.
+
+use super::boundary::ModeBoundary;
+use super::eigen::ModeEigen;
+use nalgebra::DMatrix;
+
+/// Radiance leaving one mode, per unit irradiance on each outside ordinate.
+pub struct ModeSolution {
+    /// Radiance reflected into air (E×E: outside ordinate × incidence).
+    pub reflected: DMatrix<f64>,
+    /// Radiance transmitted into the air below (E×E).
+    pub transmitted: DMatrix<f64>,
+}
+
+/// Solves one mode of a layer of (scaled) optical depth `depth` for the
+/// incident radiances `incident` (E×E, a column per incidence) given the
+/// mode's eigen-structure and boundary operators.
+pub fn solve_mode(
+    eigen: &ModeEigen,
+    boundary: &ModeBoundary,
+    depth: f64,
+    incident: &DMatrix<f64>,
+) -> Result<ModeSolution, String> {
+    let m = eigen.lambda.len();
+    let (vp, vm) = (&eigen.v_plus, &eigen.v_minus);
+    // E(−τb): diagonal decay across the layer; 0 for a semi-infinite one.
+    let decay = DMatrix::from_fn(m, m, |i, j| {
+        if i == j {
+            let x = eigen.lambda[i] * depth;
+            if x.is_finite() { (-x).exp() } else { 0.0 }
+        } else {
+            0.0
+        }
+    });
+    let r = &boundary.reflect_inside;
+    let down_from_up = vm - r * vp; // V⁻ − R V⁺
+    let up_from_down = vp - r * vm; // V⁺ − R V⁻
+    let mut system = DMatrix::zeros(2 * m, 2 * m);
+    system
+        .view_mut((0, 0), (m, m))
+        .copy_from(&(&down_from_up * &decay));
+    system.view_mut((0, m), (m, m)).copy_from(&up_from_down);
+    system.view_mut((m, 0), (m, m)).copy_from(&up_from_down);
+    system
+        .view_mut((m, m), (m, m))
+        .copy_from(&(&down_from_up * &decay));
+    let columns = incident.ncols();
+    let mut rhs = DMatrix::zeros(2 * m, columns);
+    rhs.view_mut((0, 0), (m, columns))
+        .copy_from(&(&boundary.transmit_in * incident));
+    let solution = system
+        .lu()
+        .solve(&rhs)
+        .ok_or("the boundary system is singular")?;
+    let grow = solution.rows(0, m); // ũ₀⁺
+    let fall = solution.rows(m, m); // u₀⁻
+    let up_at_top = vp * &decay * grow + vm * fall;
+    let down_at_bottom = vm * grow + vp * &decay * fall;
+    Ok(ModeSolution {
+        reflected: &boundary.reflect_outside * incident + &boundary.transmit_out * up_at_top,
+        transmitted: &boundary.transmit_out * down_at_bottom,
+    })
+}
