@@ -113,8 +113,15 @@ impl Default for MaterialAssignment {
     }
 }
 
-/// A preset by name, or an error listing the names there are.
+/// A preset to bake with by name, or an error listing the names there are
+/// (or saying that an angular-only preset has no length scale).
 pub fn preset(name: &str) -> Result<Material, Error> {
+    if presets::ANGULAR_ONLY.contains(&name) {
+        return Err(Error::input(format!(
+            "preset `{name}` has no length scale to bake with; it is for `sssbake profile \
+             --preset {name} --model stam`"
+        )));
+    }
     presets::named(name).map_err(Error::input)
 }
 
@@ -378,5 +385,20 @@ impl Principled {
         .map_err(|e| at(e.to_string()))?;
         material.roughness = f64::from(self.roughness).powi(2);
         Ok(material)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_angular_only_preset_is_refused_for_a_bake_with_where_it_serves() {
+        for name in presets::ANGULAR_ONLY {
+            assert!(presets::named(name).is_ok(), "{name} is a preset");
+            let message = preset(name).unwrap_err().to_string();
+            assert!(message.contains("--model stam"), "{message}");
+        }
+        assert!(preset("skin1").is_ok());
     }
 }

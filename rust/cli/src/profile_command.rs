@@ -187,7 +187,7 @@ fn check_arguments(args: &ProfileArgs) -> Result<(), Error> {
 
 fn load_material(args: &ProfileArgs) -> Result<Material, Error> {
     match (&args.preset, &args.material) {
-        (Some(name), _) => sssbake::materials::preset(name),
+        (Some(name), _) => sssbake_profile::presets::named(name).map_err(Error::input),
         (None, Some(path)) => Material::from_file(path).map_err(Error::from),
         (None, None) => Err(Error::input("give --preset NAME or --material FILE")),
     }

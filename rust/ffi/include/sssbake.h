@@ -39,7 +39,7 @@
 #define SSSBAKE_NAMES_METHODS 1
 
 /**
- * [`sssbake_names`] kind: the presets, each `{"name", "description"}`.
+ * [`sssbake_names`] kind: the presets a bake can use, each `{"name", "description"}`.
  */
 #define SSSBAKE_NAMES_PRESETS 2
 

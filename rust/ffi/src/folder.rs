@@ -28,7 +28,7 @@ pub const SSSBAKE_NAMES_OUTPUTS: u32 = 0;
 /// [`sssbake_names`] kind: the methods, in the order of
 /// [`SssbakeSettings::method`].
 pub const SSSBAKE_NAMES_METHODS: u32 = 1;
-/// [`sssbake_names`] kind: the presets, each `{"name", "description"}`.
+/// [`sssbake_names`] kind: the presets a bake can use, each `{"name", "description"}`.
 pub const SSSBAKE_NAMES_PRESETS: u32 = 2;
 
 /// Reads the scene in the glTF or USD file at `path` (UTF-8), taking its
@@ -202,6 +202,7 @@ pub unsafe extern "C" fn sssbake_names(kind: u32, out: *mut *mut c_char) -> Sssb
             SSSBAKE_NAMES_METHODS => serde_json::json!(METHODS.map(|m| m.name())),
             SSSBAKE_NAMES_PRESETS => sssbake_profile::presets::list()
                 .into_iter()
+                .filter(|(name, _)| !sssbake_profile::presets::ANGULAR_ONLY.contains(name))
                 .map(|(name, description)| {
                     serde_json::json!({ "name": name, "description": description })
                 })

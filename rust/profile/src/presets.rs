@@ -77,6 +77,10 @@ fn stam_dermis() -> Layer {
     }
 }
 
+/// Presets without a length scale (Stam 2001 gives none), for the angular
+/// `stam` model only: a bake refuses them.
+pub const ANGULAR_ONLY: [&str; 1] = ["stam-dermis"];
+
 /// Every preset name with a one-line description.
 pub fn list() -> Vec<(&'static str, &'static str)> {
     let mut names: Vec<(&str, &str)> = JENSEN_2001
