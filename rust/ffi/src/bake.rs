@@ -315,7 +315,7 @@ pub(crate) unsafe fn clear<T>(out: *mut *mut T, what: &str) -> Result<(), Failur
 }
 
 /// Runs `work` while a thread reports progress and passes the host's
-/// cancel flag on to `control`; `(part, parts)`: the work is part `part` of
+/// cancel flag on to `control`, and once more after it; `(part, parts)`: the work is part `part` of
 /// `parts` equal parts of the call, so the fraction reported runs from
 /// part / parts to (part + 1) / parts.
 pub(crate) fn watched<T>(
@@ -336,7 +336,13 @@ pub(crate) fn watched<T>(
             unsafe { callback(user.0, fraction as f32) };
         }
     };
-    watch_while(Duration::from_millis(200), tick, work)
+    let result = watch_while(Duration::from_millis(200), tick, work);
+    // A flag raised since the last tick still counts: the caller sees it in
+    // `control` and discards what the work made.
+    if cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0) {
+        control.cancel();
+    }
+    result
 }
 
 /// Frees a result (null is allowed).

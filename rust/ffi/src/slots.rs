@@ -166,6 +166,7 @@ pub(crate) fn bake_materials(
                 sssbake::bake(host_scene, &plan, &control)
             },
         )?;
+        control.check().map_err(sssbake::Error::from)?;
         let part = objects
             .pop()
             .ok_or_else(|| Failure::input(format!("no object named `{object}`")))?;

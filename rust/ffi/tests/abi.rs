@@ -253,6 +253,69 @@ fn a_raised_cancel_flag_stops_the_bake() {
     assert!(result.is_null());
 }
 
+/// A progress callback that raises the cancel flag once the bake is past
+/// `at` (a fraction of the work), as a host's Esc would.
+struct CancelAt {
+    at: f32,
+    flag: std::sync::atomic::AtomicI32,
+    last: std::sync::Mutex<f32>,
+}
+
+unsafe extern "C" fn cancel_at(user: *mut c_void, fraction: f32) {
+    let state = unsafe { &*(user as *const CancelAt) };
+    *state.last.lock().unwrap() = fraction;
+    if fraction >= state.at {
+        state.flag.store(1, std::sync::atomic::Ordering::Relaxed);
+    }
+}
+
+#[test]
+fn a_cancel_flag_raised_at_any_stage_stops_the_bake_cleanly() {
+    let scene = lit_sphere();
+    let skin = CString::new("skin1").unwrap();
+    let object = CString::new("Ball").unwrap();
+    let mut mid_bake = [false; 5];
+    for at in [0.0, 0.5] {
+        // auto, brute, octree, texture, importance (SssbakeSettings::method).
+        for method in 0..5 {
+            let state = CancelAt {
+                at,
+                flag: std::sync::atomic::AtomicI32::new(0),
+                last: std::sync::Mutex::new(0.0),
+            };
+            let mut result = null_mut();
+            let status = unsafe {
+                sssbake_bake(
+                    scene.0,
+                    object.as_ptr(),
+                    &preset(&skin),
+                    &settings(128, method),
+                    Some(cancel_at),
+                    &state as *const _ as *mut c_void,
+                    state.flag.as_ptr(),
+                    &mut result,
+                )
+            };
+            let raised = state.flag.load(std::sync::atomic::Ordering::Relaxed) != 0;
+            if raised {
+                // Raised at any point before the call returned: cancelled,
+                // nothing handed back.
+                assert_eq!(status, SssbakeStatus::Cancelled, "at {at}, method {method}");
+                assert!(result.is_null());
+                assert!(last_error().contains("cancel"), "{}", last_error());
+                mid_bake[method as usize] |= *state.last.lock().unwrap() > 0.0;
+            } else {
+                assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
+                unsafe { sssbake_result_free(result) };
+            }
+        }
+    }
+    // Some were stopped once part of their work was done, not only before
+    // it began (the flag is polled every 200 ms, so a quick bake may end
+    // first; then the flag raised after still cancels it, above).
+    assert!(mid_bake.iter().any(|m| *m), "{mid_bake:?}");
+}
+
 #[test]
 fn principled_inputs_bake_their_colour() {
     let scene = lit_sphere();
