@@ -256,3 +256,27 @@ fn bad_input_gets_a_clear_error() {
     );
     assert!(!unwritable.exists());
 }
+
+/// `--model empirical` prints the fitted lobes' profile: a total inside
+/// (0, 1) per channel, matching the Monte Carlo the CLI compares it with.
+#[test]
+fn the_empirical_model_prints_its_profile() {
+    let out = json(&[
+        "profile",
+        "--preset",
+        "ketchup",
+        "--model",
+        "empirical",
+        "--compare-montecarlo",
+        "--photons",
+        "100000",
+        "--json",
+    ]);
+    assert_eq!(out["model"], "empirical");
+    let total = numbers(&out["total_reflectance"]);
+    let simulated = numbers(&out["montecarlo"]["total_reflectance"]);
+    for (t, s) in total.iter().zip(&simulated) {
+        assert!(*t > 0.0 && *t < 1.0, "total {total:?}");
+        assert!((t - s).abs() < 0.05 * s, "{total:?} against {simulated:?}");
+    }
+}

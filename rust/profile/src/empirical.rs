@@ -23,6 +23,7 @@ use crate::material::{Layer, Material};
 use crate::medium::Medium;
 use crate::profile::Profile;
 use crate::{Rgb, rgb_map};
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Photons per channel a bake simulates by default.
@@ -161,12 +162,12 @@ impl Slice {
             optics,
             radii_mfp: (0..grid.radial_bins()).map(|b| grid.radius(b)).collect(),
             edges_mfp: grid.edges_mfp.clone(),
-            fits: data
-                .radiance
-                .iter()
-                .zip(&data.radiance_stderr)
-                .zip(&simulated_exitance)
-                .map(|((v, e), &m)| fit_slice(&grid, v, e, optics.eta, m))
+            fits: (0..grid.radial_bins())
+                .into_par_iter()
+                .map(|b| {
+                    let (v, e) = (&data.radiance[b], &data.radiance_stderr[b]);
+                    fit_slice(&grid, v, e, optics.eta, simulated_exitance[b])
+                })
                 .collect(),
             simulated_exitance,
             simulated_total: data.total_reflectance,

@@ -11,7 +11,10 @@
 //! direction bins on a line across the plane of symmetry through an
 //! off-centre peak, so b (b⁺ = b⁻, equal by the mirror symmetry of normal
 //! incidence) is chosen by the same L2 criterion from a geometric ladder
-//! of candidates. The loop repeats ten times or until the error changes
+//! of candidates, and k_e with it (axis samples between the foci have
+//! μ = 0 and cannot set k_e, yet it is what narrows the lobe across the
+//! plane: near the entry point, light scattered once leaves exactly along
+//! the plane, a ridge at φ_o = 0). The loop repeats ten times or until the error changes
 //! by less than 1%.
 
 use crate::empirical_lobe::{FOCUS_RANGE, Lobe, exit_transmittance};
@@ -27,14 +30,19 @@ const LOWEST_CONTOUR_NARROW: f64 = 0.01;
 const ITERATIONS: usize = 10;
 /// Candidate values of b on a geometric ladder over [`FOCUS_RANGE`].
 const B_LADDER: usize = 40;
+/// Candidate values of k_e on a geometric ladder over `K_RANGE` (and 0).
+const K_LADDER: usize = 30;
+/// The range of k_e candidates.
+const K_RANGE: (f64, f64) = (0.05, 200.0);
 
 /// A fitted lobe and how well it follows its hemisphere.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SliceFit {
     /// The fitted lobe.
     pub lobe: Lobe,
-    /// RMS over the hemisphere (solid-angle weighted) of H minus the
-    /// simulated radiance, 1/(ℓ² sr): the paper's fit error (§4.3).
+    /// RMS over the hemisphere (solid-angle weighted) of H, averaged over
+    /// each direction bin, minus the simulated radiance, 1/(ℓ² sr): the
+    /// paper's fit error (§4.3).
     pub rms: f64,
     /// RMS of the simulation's own standard errors over the same bins: the
     /// part of `rms` that is noise in the data, not misfit.
@@ -54,6 +62,55 @@ struct Sample {
     theta: f64,
     weight: f64,
     value: f64,
+    /// Four points (x_d, y_d, F_t) splitting the bin into quarters of
+    /// equal projected solid angle, where the lobe's bin average is read.
+    nodes: [(f64, f64, f64); 4],
+}
+
+impl Sample {
+    /// The lobe's mean radiance over the bin, as the tally measures it.
+    fn mean(&self, lobe: &Lobe) -> f64 {
+        0.25 * self
+            .nodes
+            .iter()
+            .map(|&(x, y, ft)| lobe.shape(x, y) * ft)
+            .sum::<f64>()
+    }
+}
+
+/// The quarter points of direction bin (i, k): two θ_o at a quarter and
+/// three quarters of its sin²θ_o span, two φ_o at a quarter and three
+/// quarters of its φ_o span on the y_d ≥ 0 side (the lobe is mirror
+/// symmetric, b⁺ = b⁻).
+fn quarter_nodes(grid: &Grid, i: usize, k: usize, eta: f64) -> [(f64, f64, f64); 4] {
+    let n = grid.theta_bins as f64;
+    let step = grid.phi_step();
+    let (phi0, phi1) = if k == 0 {
+        (0.0, 0.5 * step)
+    } else if k + 1 == grid.phi_bins {
+        (std::f64::consts::PI - 0.5 * step, std::f64::consts::PI)
+    } else {
+        (
+            grid.phi_centre(k) - 0.5 * step,
+            grid.phi_centre(k) + 0.5 * step,
+        )
+    };
+    let node = |t: f64, f: f64| {
+        let theta = ((i as f64 + t) / n).sqrt().min(1.0).asin();
+        let phi = phi0 + f * (phi1 - phi0);
+        let rho = theta / FRAC_PI_2;
+        (
+            rho * phi.cos(),
+            rho * phi.sin(),
+            exit_transmittance(theta.cos(), eta),
+        )
+    };
+    [
+        node(0.25, 0.25),
+        node(0.25, 0.75),
+        node(0.75, 0.25),
+        node(0.75, 0.75),
+    ]
 }
 
 /// Fits the lobe to `values` (radiance per direction bin of `grid`, with
@@ -72,6 +129,7 @@ pub fn fit_slice(grid: &Grid, values: &[f64], errors: &[f64], eta: f64, exitance
                 theta,
                 weight: grid.solid_angle(i, k),
                 value: values[grid.index(i, k)],
+                nodes: quarter_nodes(grid, i, k, eta),
             }
         })
         .collect();
@@ -89,7 +147,7 @@ pub fn fit_slice(grid: &Grid, values: &[f64], errors: &[f64], eta: f64, exitance
     let error = |lobe: &Lobe| {
         let sum: f64 = samples
             .iter()
-            .map(|s| s.weight * (lobe.radiance(s.theta, s.y.atan2(s.x), eta) - s.value).powi(2))
+            .map(|s| s.weight * (s.mean(lobe) - s.value).powi(2))
             .sum();
         (sum / total_weight).sqrt()
     };
@@ -160,7 +218,7 @@ pub fn fit_slice(grid: &Grid, values: &[f64], errors: &[f64], eta: f64, exitance
                     x / ((rhs - lobe.k_c * x) / lobe.k_e).max(0.0).cosh()
                 }));
             }
-            let chosen = choose(&candidates, |a| {
+            let chosen = choose(&candidates, FOCUS_RANGE, |a| {
                 let mut trial = lobe;
                 if side > 0.0 {
                     trial.a_plus = a;
@@ -175,18 +233,28 @@ pub fn fit_slice(grid: &Grid, values: &[f64], errors: &[f64], eta: f64, exitance
                 lobe.a_minus = chosen;
             }
         }
+        // Samples on the plane of symmetry between the foci have μ = 0 and
+        // say nothing of k_e; across the plane (b) it is what narrows the
+        // lobe, so k_e and b are refined together by the L2 criterion.
         let (lo, hi) = FOCUS_RANGE;
-        let mut ladder = vec![lobe.b_plus];
-        ladder.extend((0..B_LADDER).map(|n| lo * (hi / lo).powf(n as f64 / (B_LADDER - 1) as f64)));
-        let b = choose(&ladder, |b| {
-            error(&Lobe {
-                b_plus: b,
-                b_minus: b,
-                ..lobe
-            })
-        });
-        lobe.b_plus = b;
-        lobe.b_minus = b;
+        let mut b_ladder = vec![lobe.b_plus];
+        b_ladder.extend(ladder(lo, hi, B_LADDER));
+        let mut k_ladder = vec![lobe.k_e, 0.0];
+        k_ladder.extend(ladder(K_RANGE.0, K_RANGE.1, K_LADDER));
+        for _ in 0..2 {
+            let b = choose(&b_ladder, FOCUS_RANGE, |b| {
+                error(&Lobe {
+                    b_plus: b,
+                    b_minus: b,
+                    ..lobe
+                })
+            });
+            lobe.b_plus = b;
+            lobe.b_minus = b;
+            lobe.k_e = choose(&k_ladder, (0.0, K_RANGE.1), |k_e| {
+                error(&Lobe { k_e, ..lobe })
+            });
+        }
         let now = error(&lobe);
         let settled = (best - now).abs() <= 0.01 * best;
         best = best.min(now);
@@ -207,9 +275,15 @@ pub fn fit_slice(grid: &Grid, values: &[f64], errors: &[f64], eta: f64, exitance
     }
 }
 
-/// The candidate (clamped to [`FOCUS_RANGE`]) with the smallest `error`.
-fn choose(candidates: &[f64], error: impl Fn(f64) -> f64) -> f64 {
-    let (lo, hi) = FOCUS_RANGE;
+/// `n` values from `lo` to `hi`, evenly spaced in ln.
+fn ladder(lo: f64, hi: f64, n: usize) -> impl Iterator<Item = f64> {
+    (0..n).map(move |i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64))
+}
+
+/// The candidate (clamped to `range`) with the smallest `error`, the
+/// first on ties.
+fn choose(candidates: &[f64], range: (f64, f64), error: impl Fn(f64) -> f64) -> f64 {
+    let (lo, hi) = range;
     candidates
         .iter()
         .filter(|c| c.is_finite())

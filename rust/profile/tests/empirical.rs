@@ -81,10 +81,12 @@ fn the_exitance_equals_the_monte_carlo_within_three_percent() {
 
 /// The fit error is reported per material and bounded: on average within
 /// 10 mean free paths the lobe misses the simulated hemisphere by less
-/// than 30% of the peak radiance (RMS; measured 11–25% for skin1 and
-/// ketchup with 156 direction bins), and it follows the
-/// hemispheres better than a diffuse lobe F_t·M/π of the same exitance
-/// does (what a diffusion model predicts, §2.3), so the shape is fitted.
+/// than a quarter of the peak radiance (RMS; measured 9–17% for skin1 and
+/// ketchup on 156 direction bins, of which 2–5% is the tallies' noise: a
+/// single lobe cannot follow the single-scattering ridge near the entry
+/// point), and it follows the hemispheres better than a diffuse lobe
+/// F_t·M/π of the same exitance does (what a diffusion model predicts,
+/// §2.3), so the shape is fitted.
 #[test]
 fn the_fit_error_is_reported_and_beats_a_diffuse_lobe() {
     for name in media() {
@@ -94,7 +96,7 @@ fn the_fit_error_is_reported_and_beats_a_diffuse_lobe() {
             eprintln!("{name} channel {c}: {error:?}");
             assert!(error.mean_rms.is_finite() && error.mean_rms >= 0.0);
             assert!(
-                error.mean_relative_rms < 0.3,
+                error.mean_relative_rms < 0.25,
                 "{name} channel {c}: {error:?}"
             );
             let slice = &model.slices()[c];
