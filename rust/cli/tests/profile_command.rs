@@ -257,8 +257,9 @@ fn bad_input_gets_a_clear_error() {
     assert!(!unwritable.exists());
 }
 
-/// `--model empirical` prints the fitted lobes' profile: a total inside
-/// (0, 1) per channel, matching the Monte Carlo the CLI compares it with.
+/// `--model empirical` prints the fitted lobes' profile and the fit's
+/// error: a total inside (0, 1) per channel, matching the Monte Carlo the
+/// CLI compares it with.
 #[test]
 fn the_empirical_model_prints_its_profile() {
     let out = json(&[
@@ -273,6 +274,11 @@ fn the_empirical_model_prints_its_profile() {
         "--json",
     ]);
     assert_eq!(out["model"], "empirical");
+    let relative = numbers(&out["fit_error"]["mean_relative_rms"]);
+    assert!(
+        relative.iter().all(|e| *e >= 0.0 && *e < 0.5),
+        "{relative:?}"
+    );
     let total = numbers(&out["total_reflectance"]);
     let simulated = numbers(&out["montecarlo"]["total_reflectance"]);
     for (t, s) in total.iter().zip(&simulated) {
