@@ -1,7 +1,7 @@
 //! The contour-wise fit of Donner et al. 2009 §4.1: the lobe H (eq. 8)
 //! fitted to one simulated hemisphere of exitant radiance.
 //!
-//! k_s makes H match the data at the peak. Along the plane of symmetry
+//! k_s first makes H match the data at the peak (eq. 8). Along the plane of symmetry
 //! (the disc's x-axis, where ν = 0 and μ = cosh⁻¹(x/a±), eq. 9) every
 //! sample between 10% and 100% of the peak gives one row of the linear
 //! system of eq. 10 for k_e and k_c, solved in the least-squares sense on
@@ -14,8 +14,15 @@
 //! of candidates, and k_e with it (axis samples between the foci have
 //! μ = 0 and cannot set k_e, yet it is what narrows the lobe across the
 //! plane: near the entry point, light scattered once leaves exactly along
-//! the plane, a ridge at φ_o = 0). The loop repeats ten times or until the error changes
-//! by less than 1%.
+//! the plane, a ridge at φ_o = 0). The loop repeats ten times or until
+//! the error changes by less than 1%. The error compares each bin's
+//! simulated radiance with the lobe's mean over the bin.
+//!
+//! Once the shape is fitted, k_s is rescaled so the lobe's exitance
+//! ∫ H cos θ_o dω equals the slice's simulated exitance (a departure from
+//! the paper: one bright bin then cannot set the profile's energy, and
+//! R(r) keeps the simulation's light); [`SliceFit::peak_ratio`] records
+//! how far that moves the peak.
 
 use crate::empirical_lobe::{FOCUS_RANGE, Lobe, exit_transmittance};
 use crate::empirical_simulation::Grid;
