@@ -76,6 +76,7 @@ pub mod bake;
 pub mod blackbody;
 pub mod colour;
 pub mod control;
+pub mod empirical_cache;
 pub mod error;
 pub mod fast_hash;
 pub mod image;

@@ -50,7 +50,7 @@ fn key_text(material: &Material, simulation: &Settings) -> Option<String> {
 }
 
 /// FNV-1a, 64 bits: stable across builds and platforms, unlike std's hasher.
-fn fnv1a(text: &str) -> u64 {
+pub(crate) fn fnv1a(text: &str) -> u64 {
     text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
         (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
     })
@@ -104,7 +104,7 @@ fn read(path: &Path, key: &str) -> Option<MonteCarlo> {
 }
 
 /// Writes beside the target and renames, so no reader sees half a file.
-fn write(path: &Path, entry: &Entry) -> std::io::Result<()> {
+pub(crate) fn write(path: &Path, entry: &impl serde::Serialize) -> std::io::Result<()> {
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent)?;
     }

@@ -1,10 +1,12 @@
 //! A material's profile and the kernel the integrators read it through,
 //! built once and together, so every stage sees the same reach.
 
+use crate::empirical_cache::empirical_profile;
 use crate::error::Error;
 use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::transport::kernel::Kernel;
 use sssbake_profile::Material;
+use sssbake_profile::empirical::EmpiricalSettings;
 use sssbake_profile::model::{Model, build_profile};
 use sssbake_profile::monte_carlo_profile::ProfileSettings;
 use sssbake_profile::profile::Profile;
@@ -56,6 +58,18 @@ impl Scattering {
                 Some(profile) => Box::new(profile) as Box<dyn Profile>,
                 // A material without layers: the library says why.
                 None => build_profile(&material, model, gaussians)?,
+            }
+        } else if model == Model::Empirical {
+            // Fitted once per channel's optics and kept on disk.
+            let fitted = empirical_profile(
+                &material,
+                &EmpiricalSettings::default(),
+                cache_dir().as_deref(),
+            );
+            match fitted {
+                Ok(profile) => Box::new(profile) as Box<dyn Profile>,
+                // The model does not apply: the library says why.
+                Err(_) => build_profile(&material, model, gaussians)?,
             }
         } else {
             build_profile(&material, model, gaussians)?

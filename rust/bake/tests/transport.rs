@@ -332,6 +332,41 @@ fn the_monte_carlo_profile_bakes_and_is_simulated_once() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The empirical model bakes: its slices, fitted once per channel and read
+/// back from the cache, give a profile the half-shadowed square follows.
+#[test]
+fn the_empirical_profile_bakes_and_is_fitted_once() {
+    use sssbake::empirical_cache::{cache_file, empirical_profile};
+    use sssbake_profile::empirical::EmpiricalSettings;
+    let dir = std::env::temp_dir().join(format!("sssbake-empirical-cache-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let material = sssbake::materials::preset("skin1").unwrap();
+    let settings = EmpiricalSettings {
+        photons: 20_000,
+        seed: 3,
+        ..EmpiricalSettings::default()
+    };
+    let fitted = empirical_profile(&material, &settings, Some(&dir)).unwrap();
+    for c in 0..3 {
+        let file = cache_file(&material, &settings, c, &dir).unwrap();
+        assert!(file.exists(), "{} was not written", file.display());
+    }
+    let cached = empirical_profile(&material, &settings, Some(&dir)).unwrap();
+    assert_eq!(fitted.slices(), cached.slices());
+    let scattering = sssbake::scattering::Scattering::from_profile(
+        material,
+        Model::Empirical,
+        Box::new(cached),
+        sssbake::scattering::D_MAX_EPSILON,
+    );
+    assert_follows_the_half_plane(
+        &half_shadowed_square(128),
+        &scattering,
+        &[(Method::Brute, 0.015)],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn the_octree_converges_to_the_exact_sum_as_epsilon_shrinks() {
     let scene = scene(

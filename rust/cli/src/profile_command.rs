@@ -4,6 +4,7 @@ use crate::plot::{Curve, render_png, render_svg};
 use serde_json::{Value, json};
 use sssbake::Error;
 use sssbake_io::atomic_write::write_atomically;
+use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings, FitError};
 use sssbake_profile::monte_carlo::{self, MonteCarlo};
 use sssbake_profile::{Material, Model, Profile, Rgb, Tabulated, build_profile};
 use std::path::{Path, PathBuf};
@@ -71,7 +72,24 @@ pub fn run(args: &ProfileArgs) -> Result<(), Error> {
     } else {
         model
     };
-    let profile = build_profile(&material, reference_model, args.gaussians).map_err(Error::from)?;
+    // The empirical model's fit error is reported with its profile.
+    let empirical = if model == Model::Empirical {
+        let fitted = EmpiricalProfile::simulate(&material, &EmpiricalSettings::default()).map_err(
+            |reason| {
+                Error::input(format!(
+                    "material `{}`: model empirical: {reason}",
+                    material.name
+                ))
+            },
+        )?;
+        Some(fitted)
+    } else {
+        None
+    };
+    let profile: Box<dyn Profile> = match &empirical {
+        Some(fitted) => Box::new(fitted.clone()),
+        None => build_profile(&material, reference_model, args.gaussians).map_err(Error::from)?,
+    };
     let radii = match &args.radii {
         Some(r) => r.clone(),
         None => default_radii(profile.as_ref(), args.epsilon),
@@ -105,6 +123,9 @@ pub fn run(args: &ProfileArgs) -> Result<(), Error> {
     }
     if args.json {
         let mut value = report.json();
+        if let (Some(fitted), Value::Object(fields)) = (&empirical, &mut value) {
+            fields.insert("fit_error".into(), fit_error_json(fitted));
+        }
         if let Some(mc) = &simulation {
             let key = if model == Model::MonteCarlo {
                 None
@@ -119,6 +140,9 @@ pub fn run(args: &ProfileArgs) -> Result<(), Error> {
         ));
     } else {
         let mut text = report.table();
+        if let Some(fitted) = &empirical {
+            text += &fit_error_summary(fitted);
+        }
         if let Some(mc) = &simulation {
             text += &simulation_summary(mc);
         }
@@ -315,6 +339,35 @@ fn add_simulation(value: &mut Value, mc: &MonteCarlo, key: Option<&str>) {
         }
         None => target.extend(fields),
     }
+}
+
+/// The empirical fit's error per channel, as JSON (see [`FitError`]).
+fn fit_error_json(fitted: &EmpiricalProfile) -> Value {
+    let errors = fitted.fit_error();
+    let per_channel = |f: fn(&FitError) -> f64| errors.iter().map(f).collect::<Vec<f64>>();
+    json!({
+        "mean_rms": per_channel(|e| e.mean_rms),
+        "mean_relative_rms": per_channel(|e| e.mean_relative_rms),
+        "mean_noise_rms": per_channel(|e| e.mean_noise_rms),
+    })
+}
+
+fn fit_error_summary(fitted: &EmpiricalProfile) -> String {
+    let errors = fitted.fit_error();
+    let row = |f: fn(&FitError) -> f64| {
+        errors
+            .iter()
+            .map(|e| format!("{:.3e}", f(e)))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    format!(
+        "Empirical fit within 10 mean free paths, per channel: RMS {} /(mfp² sr) \
+         (simulation noise {}), RMS over peak {}\n",
+        row(|e| e.mean_rms),
+        row(|e| e.mean_noise_rms),
+        row(|e| e.mean_relative_rms),
+    )
 }
 
 fn simulation_summary(mc: &MonteCarlo) -> String {

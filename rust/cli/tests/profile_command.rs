@@ -322,3 +322,33 @@ fn stam_reports_angles_and_the_library_numbers() {
         Some(true)
     );
 }
+
+/// `--model empirical` prints the fitted lobes' profile and the fit's
+/// error: a total inside (0, 1) per channel, matching the Monte Carlo the
+/// CLI compares it with.
+#[test]
+fn the_empirical_model_prints_its_profile() {
+    let out = json(&[
+        "profile",
+        "--preset",
+        "ketchup",
+        "--model",
+        "empirical",
+        "--compare-montecarlo",
+        "--photons",
+        "100000",
+        "--json",
+    ]);
+    assert_eq!(out["model"], "empirical");
+    let relative = numbers(&out["fit_error"]["mean_relative_rms"]);
+    assert!(
+        relative.iter().all(|e| *e >= 0.0 && *e < 0.5),
+        "{relative:?}"
+    );
+    let total = numbers(&out["total_reflectance"]);
+    let simulated = numbers(&out["montecarlo"]["total_reflectance"]);
+    for (t, s) in total.iter().zip(&simulated) {
+        assert!(*t > 0.0 && *t < 1.0, "total {total:?}");
+        assert!((t - s).abs() < 0.05 * s, "{total:?} against {simulated:?}");
+    }
+}

@@ -13,6 +13,8 @@
 //! - [`SumOfGaussians`]: a fit of any profile, or d'Eon's measured skin.
 //! - [`Burley`]: Christensen–Burley normalized diffusion, as Blender's Cycles uses it.
 //! - [`monte_carlo`]: photon transport through the stack, the ground truth.
+//! - [`EmpiricalProfile`]: Donner et al. 2009's elliptic lobes fitted to
+//!   photon tracing of the top layer, at normal incidence.
 //!
 //! # Example
 //!
@@ -34,6 +36,10 @@ pub mod appearance;
 pub mod burley;
 pub mod cycles;
 pub mod dipole;
+pub mod empirical;
+pub mod empirical_fit;
+pub mod empirical_lobe;
+pub mod empirical_simulation;
 pub mod fresnel;
 pub mod gaussians;
 pub mod hankel;
@@ -60,6 +66,7 @@ pub mod tabulated;
 pub use appearance::Appearance;
 pub use burley::Burley;
 pub use dipole::Dipole;
+pub use empirical::EmpiricalProfile;
 pub use gaussians::{GaussianFit, SumOfGaussians};
 pub use layered::Layered;
 pub use material::{Layer, Material, MaterialError, Optics};

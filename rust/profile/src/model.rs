@@ -2,6 +2,7 @@
 
 use crate::burley::Burley;
 use crate::dipole::Dipole;
+use crate::empirical::{EmpiricalProfile, EmpiricalSettings};
 use crate::gaussians::fit_gaussians;
 use crate::layered::Layered;
 use crate::material::{Layer, Material, Optics};
@@ -40,11 +41,14 @@ pub enum Model {
     /// discrete ordinates: R(θi), T(θi) and BRDFs, no radial profile
     /// ([`crate::stam`]).
     Stam,
+    /// Donner et al. 2009's empirical BSSRDF: elliptic lobes fitted to
+    /// photon tracing of the top layer, at normal incidence.
+    Empirical,
 }
 
 impl Model {
     /// Every model, in the order the command line lists them.
-    pub const ALL: [Model; 7] = [
+    pub const ALL: [Model; 8] = [
         Model::Dipole,
         Model::Multipole,
         Model::Layered,
@@ -52,6 +56,7 @@ impl Model {
         Model::Burley,
         Model::MonteCarlo,
         Model::Stam,
+        Model::Empirical,
     ];
 
     /// The model's command-line name.
@@ -87,7 +92,9 @@ pub struct ModelError {
 /// Builds `model` for `material`. Gaussians are fitted with `gaussians`
 /// terms to the material's default profile. Monte Carlo simulates the
 /// material with the default [`ProfileSettings`] (seconds; a bake caches
-/// it) and smooths the tallies ([`MonteCarloProfile`]).
+/// it) and smooths the tallies ([`MonteCarloProfile`]). Empirical
+/// simulates and fits the top layer with the default
+/// [`EmpiricalSettings`] (a bake caches it too).
 pub fn build_profile(
     material: &Material,
     model: Model,
@@ -145,6 +152,10 @@ pub fn build_profile(
         Model::MonteCarlo => Box::new(
             MonteCarloProfile::simulate(material, &ProfileSettings::default())
                 .ok_or_else(|| error("the material has no layers to simulate"))?,
+        ),
+        Model::Empirical => Box::new(
+            EmpiricalProfile::simulate(material, &EmpiricalSettings::default())
+                .map_err(|reason| error(&reason))?,
         ),
     })
 }

@@ -377,7 +377,7 @@ fn record(
 }
 
 /// A new direction at Henyey–Greenstein angle to `d`.
-fn scatter(d: [f64; 3], g: f64, rng: &mut Rng) -> [f64; 3] {
+pub(crate) fn scatter(d: [f64; 3], g: f64, rng: &mut Rng) -> [f64; 3] {
     let u = rng.uniform();
     let cos_theta = if g.abs() < 1e-3 {
         2.0 * u - 1.0

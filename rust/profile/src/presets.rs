@@ -1,4 +1,5 @@
-//! Named materials: the measured media of Jensen et al. 2001, the three-layer
+//! Named materials: the measured media of Jensen et al. 2001, those of
+//! Donner et al. 2009 (wax, diluted milk, orange juice), the three-layer
 //! skin of Donner & Jensen 2005, and d'Eon & Luebke's six-Gaussian skin.
 
 use crate::Rgb;
@@ -25,6 +26,23 @@ const JENSEN_2001: [(&str, Rgb, Rgb); 12] = [
 
 /// Index of refraction used by Jensen et al. 2001 for every measured medium.
 pub const JENSEN_IOR: f64 = 1.3;
+
+/// Donner et al. 2009's media: name, σs and σa (1/mm) per channel, g and
+/// η. Wax and 50% diluted skim milk are the measured media of figure 3
+/// (one red wavelength, so equal in every channel); orange juice is
+/// figure 1's. The lozenge (figure 7) gives only albedos, no scale, so it
+/// is not a preset.
+const DONNER_2009: [(&str, Rgb, Rgb, f64, f64); 3] = [
+    ("wax", [1.0; 3], [0.5; 3], 0.0, 1.4),
+    ("dilutedmilk", [1.165; 3], [0.0007; 3], 0.7, 1.35),
+    (
+        "orangejuice",
+        [0.071, 0.1, 0.042],
+        [0.093, 0.16, 1.15],
+        0.9,
+        1.3,
+    ),
+];
 
 /// Donner & Jensen 2005 table 3 (Mikkelsen table 2): epidermis, upper
 /// dermis and a semi-infinite bloody dermis; σa, σs in 1/mm, thickness in mm.
@@ -87,6 +105,12 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
         .iter()
         .map(|(n, _, _)| (*n, "measured medium, Jensen et al. 2001 (dipole, η = 1.3)"))
         .collect();
+    names.extend(DONNER_2009.iter().map(|(n, ..)| {
+        (
+            *n,
+            "medium of Donner et al. 2009 (semi-infinite, σs, σa, g, η)",
+        )
+    }));
     names.push((
         "skin3layer",
         "epidermis, upper and bloody dermis, Donner & Jensen 2005",
@@ -120,6 +144,16 @@ pub fn preset(name: &str) -> Option<Material> {
             Optics::Layers(vec![stam_dermis()])
         }
         "deon-skin" => Optics::Gaussians(SumOfGaussians::deon_skin()),
+        _ if DONNER_2009.iter().any(|(n, ..)| *n == name) => {
+            let (_, sigma_s, sigma_a, g, ior) = DONNER_2009.iter().find(|(n, ..)| *n == name)?;
+            Optics::Layers(vec![Layer {
+                sigma_a: *sigma_a,
+                sigma_s: *sigma_s,
+                g: *g,
+                ior: *ior,
+                thickness_mm: None,
+            }])
+        }
         _ => {
             let (_, sigma_s_reduced, sigma_a) = JENSEN_2001.iter().find(|(n, _, _)| *n == name)?;
             Optics::Layers(vec![Layer::semi_infinite(
