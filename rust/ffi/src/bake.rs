@@ -341,6 +341,10 @@ pub(crate) fn watched<T>(
     // `control` and discards what the work made.
     if cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0) {
         control.cancel();
+    } else if let Some(callback) = progress {
+        // The last tick may have come before the end: the part is done.
+        // SAFETY: the host's callback, called as documented.
+        unsafe { callback(user.0, ((part + 1) as f64 / parts.max(1) as f64) as f32) };
     }
     result
 }

@@ -208,8 +208,11 @@ fn a_bake_gives_physical_maps_and_reports_progress() {
     );
     // Covered texels have alpha 1, the UV border outside the charts 0.
     assert!(area.chunks(4).any(|t| t[3] == 1.0) && area.chunks(4).any(|t| t[3] == 0.0));
+    // Progress rises through [0, 1] and ends at 1.
     let seen = seen.lock().unwrap();
-    assert!(!seen.is_empty() && seen.iter().all(|f| (0.0..=1.0).contains(f)));
+    assert!(seen.iter().all(|f| (0.0..=1.0).contains(f)), "{seen:?}");
+    assert!(seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
+    assert_eq!(seen.last(), Some(&1.0), "{seen:?}");
     // Written whole, with nothing left beside it; a folder that is not there
     // is named in the error.
     let dir = std::env::temp_dir().join(format!("sssbake-abi-{}", std::process::id()));
