@@ -99,7 +99,33 @@ impl Staging {
             let _ = folder.sync_all();
         }
         self.committed = true;
+        drop(previous);
+        remove_leftovers(&placed);
         Ok(())
+    }
+}
+
+/// Removes the hidden temporary and backup names of `paths` that a killed
+/// earlier bake left beside them (a process killed mid-write cannot remove
+/// its own): `.<name>.<random>.partial` and `.<name>.<random>.previous`.
+fn remove_leftovers(paths: &[PathBuf]) {
+    for path in paths {
+        let (Some(folder), Some(name)) = (path.parent(), path.file_name()) else {
+            continue;
+        };
+        let prefix = format!(".{}.", name.to_string_lossy());
+        let Ok(entries) = std::fs::read_dir(folder) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let file_name = entry.file_name();
+            let file_name = file_name.to_string_lossy();
+            let ours = file_name.starts_with(&prefix)
+                && (file_name.ends_with(".partial") || file_name.ends_with(".previous"));
+            if ours && entry.file_type().is_ok_and(|t| t.is_file()) {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
     }
 }
 
@@ -166,6 +192,31 @@ mod tests {
         }
         assert!(!folder.path().join("c.png").exists(), "nothing new stays");
         assert_eq!(hidden_files(folder.path()), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_commit_removes_what_a_killed_bake_left_of_its_files_and_nothing_else() {
+        let folder = tempfile::tempdir().unwrap();
+        let out = folder.path();
+        let left = [".map.exr.Xy12ab.partial", ".map.exr.Qw34cd.previous"];
+        let kept = [
+            ".other.exr.Zz99zz.partial",
+            ".map.exr.notes",
+            "map.exr.partial",
+        ];
+        for name in left.iter().chain(&kept) {
+            std::fs::write(out.join(name), b"x").unwrap();
+        }
+        let mut staging = Staging::new(out).unwrap();
+        staging.stage(&out.join("map.exr"), b"new").unwrap();
+        staging.commit().unwrap();
+        for name in left {
+            assert!(!out.join(name).exists(), "{name}");
+        }
+        for name in kept {
+            assert!(out.join(name).exists(), "{name}");
+        }
+        assert_eq!(std::fs::read(out.join("map.exr")).unwrap(), b"new");
     }
 
     #[test]
