@@ -3,6 +3,7 @@ put them in place, all of the new ones): never a mix, never a partial file under
 name. What a killed process could not remove, its hidden temporary names, the next bake into
 the folder removes."""
 
+import resource
 import signal
 import subprocess
 import time
@@ -45,5 +46,26 @@ def test_a_killed_bake_leaves_the_old_maps_or_the_new_and_the_next_removes_its_l
     assert now in (before, new), "a mix of old and new maps, or a partial one"
     # The next bake puts its maps in place and removes what the killed one left.
     assert run(sssbake, *bake, "--resolution", "64").returncode == 0
+    assert outputs(out) == before
+    assert hidden(out) == []
+
+
+def test_a_disk_that_fills_mid_write_leaves_the_old_maps_and_nothing_hidden(sssbake, tmp_path):
+    """A file-size limit (RLIMIT_FSIZE) makes the writes past it fail as a full disk does
+    (EFBIG for ENOSPC): the small maps fit, the large ones do not."""
+    out = tmp_path / "maps"
+    bake = [str(sssbake), "bake", str(SCENE), "--out", str(out), "--force"]
+    assert subprocess.run([*bake, "--resolution", "32"], check=False, capture_output=True).returncode == 0
+    before = outputs(out)
+
+    def small_disk():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (64 << 10, 64 << 10))
+
+    result = subprocess.run(
+        [*bake, "--resolution", "512"], check=False, capture_output=True, text=True, preexec_fn=small_disk
+    )
+    assert result.returncode == 3, result.stderr
+    assert "cannot write" in result.stderr and str(out) in result.stderr
     assert outputs(out) == before
     assert hidden(out) == []
