@@ -4,6 +4,7 @@ name. What a killed process could not remove, its hidden temporary names, the ne
 the folder removes."""
 
 import resource
+import shutil
 import signal
 import subprocess
 import time
@@ -69,3 +70,27 @@ def test_a_disk_that_fills_mid_write_leaves_the_old_maps_and_nothing_hidden(sssb
     assert "cannot write" in result.stderr and str(out) in result.stderr
     assert outputs(out) == before
     assert hidden(out) == []
+
+
+@pytest.mark.parametrize("share", [0.3, 0.9])
+def test_an_output_folder_removed_mid_bake_is_an_output_error_not_a_crash(sssbake, tmp_path, share):
+    out = tmp_path / "maps"
+    bake = [str(sssbake), "bake", str(SCENE), "--out", str(out), "--resolution", "256"]
+    reference = tmp_path / "reference"
+    start = time.monotonic()
+    assert run(sssbake, "bake", str(SCENE), "--out", str(reference), "--resolution", "256").returncode == 0
+    whole = time.monotonic() - start
+    process = subprocess.Popen(bake, stderr=subprocess.PIPE, text=True)
+    time.sleep(share * whole)
+    shutil.rmtree(out, ignore_errors=True)
+    _, stderr = process.communicate(timeout=300)
+    # Removed before the maps were staged, the bake makes the folder again; after, it cannot
+    # put them in place and says where.
+    assert process.returncode in (0, 3), stderr
+    if process.returncode == 3:
+        assert str(out) in stderr and "panicked" not in stderr
+    elif out.exists():
+        # (Gone altogether when removed after the bake put its maps in place.)
+        assert outputs(out) == outputs(reference)
+    if out.exists():
+        assert hidden(out) == []
