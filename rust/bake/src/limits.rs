@@ -36,11 +36,11 @@ fn bytes_per_map_texel(outputs: usize) -> u64 {
 
 /// Bytes per covered texel while an object's bake runs, besides its
 /// layout: its irradiance, colour and exitance, the integrator's tables
-/// and the transient buffers of rasterising and writing. Measured on the
-/// bundled examples (peak resident memory of `sssbake bake` with each
-/// method at 512² to 2048²: 200 to 245 bytes per covered texel beyond the
-/// maps, the layout included) and rounded up; `tests/test_limits.py`
-/// checks the estimate stays above the measured peak and within 2.5× it.
+/// and the transient buffers of rasterising and writing. With the layout's
+/// 80, 300 in all, rounded up from the 200 to 245 measured beyond the maps
+/// (peak resident memory of `sssbake bake` on the bundled examples with
+/// each method, 512² to 2048²); `tests/test_limits.py` checks the estimate
+/// stays above the measured peak and within 2.5× it.
 const BYTES_PER_TEXEL: u64 = 220;
 
 /// Bytes per covered texel of an object's layout, which the plan holds for
