@@ -598,7 +598,7 @@ impl fmt::Display for Plan {
         writeln!(f, "lights: {lights}")?;
         writeln!(
             f,
-            "cost: about {} of memory at most, {:.1e} shadow rays and kernel evaluations \
+            "cost: about {} of memory and {:.1e} shadow rays and kernel evaluations \
              (limits {} and {:.0e})",
             bytes_text(self.cost.memory_bytes),
             self.cost.evaluations,
