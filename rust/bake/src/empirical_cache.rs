@@ -5,14 +5,17 @@
 //! that key in full, so a stale or colliding file is fitted anew. A slice
 //! does not depend on σt, so media that differ only in scale share it.
 
-use crate::monte_carlo_cache::{fnv1a, write};
+use crate::monte_carlo_cache::{cached, file_for};
 use sssbake_profile::Material;
 use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings, Slice, SliceOptics};
 use std::path::{Path, PathBuf};
 
 /// Changes whenever the simulation or the fit change meaning without the
 /// crate's version changing.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
+
+/// The name the slices' files start with.
+const KIND: &str = "empirical";
 
 /// Everything that decides one channel's slice, as text.
 fn key_text(optics: &SliceOptics, settings: &EmpiricalSettings, channel: usize) -> String {
@@ -20,13 +23,6 @@ fn key_text(optics: &SliceOptics, settings: &EmpiricalSettings, channel: usize) 
         "sssbake {} empirical format {FORMAT}\noptics {optics:?}\nsettings {settings:?}\nchannel {channel}",
         env!("CARGO_PKG_VERSION"),
     )
-}
-
-/// A cache file: the key in full and the slice.
-#[derive(serde::Serialize, serde::Deserialize)]
-struct Entry {
-    key: String,
-    slice: Slice,
 }
 
 /// The path channel `channel`'s slice of `material` is kept at in `dir`
@@ -39,7 +35,7 @@ pub fn cache_file(
 ) -> Option<PathBuf> {
     let top = material.layers()?.first()?;
     let key = key_text(&SliceOptics::of(top, channel), settings, channel);
-    Some(dir.join(format!("empirical-{:016x}.json", fnv1a(&key))))
+    Some(file_for(dir, KIND, &key))
 }
 
 /// The empirical profile of `material`, its slices read from `dir` when
@@ -57,36 +53,21 @@ pub fn empirical_profile(
     let slices = [0, 1, 2].map(|c| {
         let optics = SliceOptics::of(top, c);
         let key = key_text(&optics, settings, c);
-        let path = dir.map(|d| d.join(format!("empirical-{:016x}.json", fnv1a(&key))));
-        if let Some(slice) = path.as_deref().and_then(|p| read(p, &key)) {
-            return slice;
-        }
-        let slice = Slice::simulate(optics, settings, c as u64);
-        if let Some(path) = &path {
-            // A cache that cannot be written only costs the next bake time.
-            let _ = write(
-                path,
-                &Entry {
-                    key,
-                    slice: slice.clone(),
-                },
-            );
-        }
-        slice
+        cached(dir, KIND, key, slice_is_physical, || {
+            Slice::simulate(optics, settings, c as u64)
+        })
     });
     EmpiricalProfile::from_slices(material, slices)
 }
 
-fn read(path: &Path, key: &str) -> Option<Slice> {
-    let text = std::fs::read_to_string(path).ok()?;
-    let entry: Entry = serde_json::from_str(&text).ok()?;
-    let physical = entry.slice.fits.iter().all(|f| {
+/// True when every fitted lobe's parameters are finite and non-negative.
+fn slice_is_physical(slice: &Slice) -> bool {
+    slice.fits.iter().all(|f| {
         let k = &f.lobe;
         [
             k.k_s, k.k_e, k.k_c, k.a_plus, k.a_minus, k.b_plus, k.b_minus,
         ]
         .iter()
         .all(|v| v.is_finite() && *v >= 0.0)
-    });
-    (entry.key == key && physical).then_some(entry.slice)
+    })
 }

@@ -6,7 +6,7 @@
 //! trusted. A cache that cannot be read or written costs time, never a bake.
 
 use sssbake_profile::Material;
-use sssbake_profile::monte_carlo::{MonteCarlo, Settings, simulate};
+use sssbake_profile::monte_carlo::{Settings, simulate};
 use sssbake_profile::monte_carlo_profile::{
     MonteCarloProfile, ProfileSettings, tallies_are_physical,
 };
@@ -19,7 +19,10 @@ pub const CACHE_DIR_ENV: &str = "SSSBAKE_CACHE_DIR";
 
 /// Changes whenever the simulation or its tallies change meaning without
 /// the crate's version changing.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
+
+/// The name the tallies' files start with.
+const KIND: &str = "montecarlo";
 
 /// The cache folder, if there is one.
 pub fn cache_dir() -> Option<PathBuf> {
@@ -56,11 +59,39 @@ pub(crate) fn fnv1a(text: &str) -> u64 {
     })
 }
 
-/// A cache file: the key in full and the tallies.
+/// A cache file: the key in full and what it keys.
 #[derive(serde::Serialize, serde::Deserialize)]
-struct Entry {
+struct Entry<T> {
     key: String,
-    tallies: MonteCarlo,
+    value: T,
+}
+
+/// The file `key` is kept in under `kind` (`montecarlo`, `empirical`) in
+/// `dir`.
+pub(crate) fn file_for(dir: &Path, kind: &str, key: &str) -> PathBuf {
+    dir.join(format!("{kind}-{:016x}.json", fnv1a(key)))
+}
+
+/// What `compute` makes, read from `dir` when kept there under `kind` and
+/// `key` before and still `sound`, else computed and kept there; with
+/// `dir` `None`, computed every time. A cache that cannot be written only
+/// costs the next bake time.
+pub(crate) fn cached<T: serde::Serialize + serde::de::DeserializeOwned>(
+    dir: Option<&Path>,
+    kind: &str,
+    key: String,
+    sound: impl Fn(&T) -> bool,
+    compute: impl FnOnce() -> T,
+) -> T {
+    let path = dir.map(|d| file_for(d, kind, &key));
+    if let Some(value) = path.as_deref().and_then(|p| read(p, &key, &sound)) {
+        return value;
+    }
+    let value = compute();
+    if let Some(path) = &path {
+        let _ = write(path, &Entry { key, value: &value });
+    }
+    value
 }
 
 /// The Monte Carlo profile of `material` (`None` for a material without
@@ -73,38 +104,31 @@ pub fn monte_carlo_profile(
 ) -> Option<MonteCarloProfile> {
     let simulation = settings.simulation(material);
     let key = key_text(material, &simulation)?;
-    let path = dir.map(|d| d.join(format!("montecarlo-{:016x}.json", fnv1a(&key))));
-    if let Some(tallies) = path.as_deref().and_then(|p| read(p, &key)) {
-        return Some(MonteCarloProfile::from_tallies(tallies));
-    }
-    let tallies = simulate(material.layers()?, &simulation);
-    if let Some(path) = &path {
-        // A cache that cannot be written only costs the next bake time.
-        let _ = write(
-            path,
-            &Entry {
-                key,
-                tallies: tallies.clone(),
-            },
-        );
-    }
+    let layers = material.layers()?;
+    let tallies = cached(dir, KIND, key, tallies_are_physical, || {
+        simulate(layers, &simulation)
+    });
     Some(MonteCarloProfile::from_tallies(tallies))
 }
 
 /// The path the tallies of `material` under `settings` are kept at in `dir`.
 pub fn cache_file(material: &Material, settings: &ProfileSettings, dir: &Path) -> Option<PathBuf> {
     let key = key_text(material, &settings.simulation(material))?;
-    Some(dir.join(format!("montecarlo-{:016x}.json", fnv1a(&key))))
+    Some(file_for(dir, KIND, &key))
 }
 
-fn read(path: &Path, key: &str) -> Option<MonteCarlo> {
+fn read<T: serde::de::DeserializeOwned>(
+    path: &Path,
+    key: &str,
+    sound: impl Fn(&T) -> bool,
+) -> Option<T> {
     let text = std::fs::read_to_string(path).ok()?;
-    let entry: Entry = serde_json::from_str(&text).ok()?;
-    (entry.key == key && tallies_are_physical(&entry.tallies)).then_some(entry.tallies)
+    let entry: Entry<T> = serde_json::from_str(&text).ok()?;
+    (entry.key == key && sound(&entry.value)).then_some(entry.value)
 }
 
 /// Writes beside the target and renames, so no reader sees half a file.
-pub(crate) fn write(path: &Path, entry: &impl serde::Serialize) -> std::io::Result<()> {
+fn write(path: &Path, entry: &impl serde::Serialize) -> std::io::Result<()> {
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent)?;
     }
