@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what the tests need (first run only) and runs every check: style
 # (rustfmt, clippy, ruff), the Rust workspace's tests, then the Python tests
-# against the release binary and library.
+# against the release binary and library and the Python package.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-test-deps.sh
@@ -10,5 +10,8 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 .venv/bin/ruff format --check --quiet tests usd examples blender_addon python scripts
 .venv/bin/ruff check --quiet tests usd examples blender_addon python scripts
 cargo build --release --locked -p sssbake-cli -p sssbake-ffi
+# The Python package (pyproject.toml) into the venv; maturin is on the venv's PATH.
+PATH="$PWD/.venv/bin:$PATH" .venv/bin/python -m pip install --quiet --disable-pip-version-check \
+    --no-build-isolation .
 cargo test --workspace --locked
 SSSBAKE_BIN="$PWD/target/release/sssbake" .venv/bin/python -m pytest tests -q

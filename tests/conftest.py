@@ -29,12 +29,25 @@ def addon(monkeypatch):
     assert LIBRARY.exists(), "scripts/test.sh builds it (cargo build --release -p sssbake-ffi)"
     monkeypatch.setenv("SSSBAKE_LIBRARY", str(LIBRARY))
     monkeypatch.syspath_prepend(str(ROOT / "blender_addon"))
+    # The add-on's module and the Python package are both `sssbake` (Blender keeps
+    # them apart as `bl_ext.<repo>.sssbake`): the package is set aside meanwhile.
+    package = _take_modules("sssbake")
     import sssbake
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     sssbake.register()
     yield sssbake
     sssbake.unregister()
+    _take_modules("sssbake")
+    sys.modules.update(package)
+
+
+def _take_modules(name: str) -> dict:
+    """Removes module `name` and its submodules from sys.modules; returns them."""
+    taken = {k: m for k, m in sys.modules.items() if k == name or k.startswith(name + ".")}
+    for key in taken:
+        del sys.modules[key]
+    return taken
 
 
 @pytest.fixture(scope="session")

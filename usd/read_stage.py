@@ -13,15 +13,19 @@ import math
 import sys
 
 
+class StageError(Exception):
+    """What is wrong with the stage, said for the person who made it."""
+
+
 def fail(message: str) -> None:
-    print(message, file=sys.stderr)
-    sys.exit(2)
+    raise StageError(message)
 
 
 try:
     from pxr import Gf, Tf, Usd, UsdGeom, UsdLux, UsdShade
 except ImportError:
-    fail("this Python has no usd-core (pip install usd-core), which reading USD needs")
+    print("this Python has no usd-core (pip install usd-core), which reading USD needs", file=sys.stderr)
+    sys.exit(2)
 
 
 def finite_or_zero(value):
@@ -324,25 +328,14 @@ def shape_of(prim, kind):
     return {}
 
 
-def main():
-    if len(sys.argv) < 3:
-        fail("usage: read_stage.py STAGE UV_PRIMVARS")
-    try:
-        stage = Usd.Stage.Open(sys.argv[1])
-    except Tf.ErrorException as e:  # each of usd-core's errors with its message quoted
-        text = " ".join(str(e).split())
-        reasons = [
-            part.split(" : '", 1)[1].rstrip(" '") for part in text.split("Error in '")[1:] if " : '" in part
-        ]
-        fail(f"cannot open the stage: {'; '.join(reasons) or text}")
-    if stage is None:
-        fail("cannot open the stage")
+def stage_contents(stage, uv_primvars):
+    """What sssbake bakes from an open stage, as the JSON contract's dict; raises
+    StageError when the stage cannot be baked as it is."""
     # A reference, payload or sublayer that cannot be found leaves prims out: refused, not
     # baked without them.
     errors = stage.GetCompositionErrors()
     if errors:
         fail(f"the stage does not compose: {str(errors[0]).split(' (')[0]}")
-    uv_primvars = sys.argv[2].split(",")
     cache = UsdGeom.XformCache(Usd.TimeCode.Default())
     meshes, lights = [], []
     for prim in stage.Traverse():
@@ -355,19 +348,46 @@ def main():
             meshes.append(read_mesh(prim, cache, uv_primvars))
         elif prim.HasAPI(UsdLux.LightAPI) or "Light" in prim.GetTypeName():
             lights.append(read_light(prim, cache))
-    stage_json = {
+    return {
         "meters_per_unit": UsdGeom.GetStageMetersPerUnit(stage),
         "documentation": stage.GetRootLayer().documentation,
         "up_axis": str(UsdGeom.GetStageUpAxis(stage)),
         "meshes": meshes,
         "lights": lights,
     }
+
+
+def stage_json(stage, uv_primvars):
+    """`stage_contents` as JSON text; NaN and infinities are refused, not written."""
     try:
-        text = json.dumps(stage_json, allow_nan=False)
+        return json.dumps(stage_contents(stage, uv_primvars), allow_nan=False)
     except ValueError:
         fail("a value that is not finite (NaN or infinite) where the bake needs a number")
-    sys.stdout.write(text)
+
+
+def open_stage(path):
+    try:
+        stage = Usd.Stage.Open(path)
+    except Tf.ErrorException as e:  # each of usd-core's errors with its message quoted
+        text = " ".join(str(e).split())
+        reasons = [
+            part.split(" : '", 1)[1].rstrip(" '") for part in text.split("Error in '")[1:] if " : '" in part
+        ]
+        fail(f"cannot open the stage: {'; '.join(reasons) or text}")
+    if stage is None:
+        fail("cannot open the stage")
+    return stage
+
+
+def main():
+    if len(sys.argv) < 3:
+        fail("usage: read_stage.py STAGE UV_PRIMVARS")
+    sys.stdout.write(stage_json(open_stage(sys.argv[1]), sys.argv[2].split(",")))
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except StageError as e:
+        print(e, file=sys.stderr)
+        sys.exit(2)

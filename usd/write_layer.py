@@ -23,15 +23,19 @@ import json
 import sys
 
 
+class LayerError(Exception):
+    """Why the layer cannot be written, said for the person who asked."""
+
+
 def fail(message: str) -> None:
-    print(message, file=sys.stderr)
-    sys.exit(2)
+    raise LayerError(message)
 
 
 try:
     from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdShade
 except ImportError:
-    fail("this Python has no usd-core (pip install usd-core), which writing USD needs")
+    print("this Python has no usd-core (pip install usd-core), which writing USD needs", file=sys.stderr)
+    sys.exit(2)
 
 LOOK = "sssbakeLook"
 BLACK = Gf.Vec3f(0.0, 0.0, 0.0)
@@ -105,19 +109,16 @@ def add_look(stage, mesh, material, baked):
             primvar.Set([Gf.Vec2f(*uv) for uv in baked["st"]])
 
 
-def main():
-    if len(sys.argv) < 2:
-        fail("usage: write_layer.py REQUEST_FILE")
-    with open(sys.argv[1], encoding="utf-8") as file:
-        request = json.load(file)
-    source = Usd.Stage.Open(request["input"])
-    if source is None:
-        fail("cannot open the stage")
-    # Compose over the input by its absolute path (an anonymous layer would
-    # resolve a relative one against the working folder); the written layer
-    # names it relative to where it will live.
+def layer_text(source, request):
+    """The layer (usda text) that shows the bake in `request` over the open stage
+    `source`; it sublayers request["input_from_layer"] when that is given (the input's
+    file, from where the layer will live) and nothing otherwise (a stage only in memory,
+    onto which the caller sublayers it)."""
+    # Compose over the source by its root layer's identifier: the file by its absolute
+    # path (an anonymous layer would resolve a relative one against the working folder),
+    # or the stage in memory as it is, unsaved edits included.
     layer = Sdf.Layer.CreateAnonymous(".usda")
-    layer.subLayerPaths.append(request["input"])
+    layer.subLayerPaths.append(source.GetRootLayer().identifier)
     stage = Usd.Stage.Open(layer)
     UsdGeom.SetStageMetersPerUnit(stage, UsdGeom.GetStageMetersPerUnit(source))
     UsdGeom.SetStageUpAxis(stage, UsdGeom.GetStageUpAxis(source))
@@ -133,8 +134,25 @@ def main():
         material = material_for(stage, root, baked, request["settings"], varname)
         add_look(stage, mesh, material, baked)
     layer.subLayerPaths.clear()
-    layer.subLayerPaths.append(request["input_from_layer"])
-    sys.stdout.write(layer.ExportToString())
+    if request.get("input_from_layer"):
+        layer.subLayerPaths.append(request["input_from_layer"])
+    return layer.ExportToString()
 
 
-main()
+def main():
+    if len(sys.argv) < 2:
+        fail("usage: write_layer.py REQUEST_FILE")
+    with open(sys.argv[1], encoding="utf-8") as file:
+        request = json.load(file)
+    source = Usd.Stage.Open(request["input"])
+    if source is None:
+        fail("cannot open the stage")
+    sys.stdout.write(layer_text(source, request))
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    except LayerError as e:
+        print(e, file=sys.stderr)
+        sys.exit(2)

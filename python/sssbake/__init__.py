@@ -1,2 +1,187 @@
-"""sssbake from Python: running batches of the `sssbake` binary on a Dask
-cluster (`sssbake.farm`)."""
+"""sssbake from Python: subsurface scattering baked into textures.
+
+    import sssbake
+    summary = sssbake.bake("examples/head/head.gltf", "baked", resolution=256)
+    print(summary["objects"][0]["accuracy"]["method"], summary["files"])
+
+`bake`, `plan` and `batch` take the options of a batch manifest's tables
+(README "Pipelines": `resolution`, `preset`, `material`, `method`,
+`tolerance`, `max_memory`, ...) as keyword arguments and return what the
+command line prints with `--json`, as dicts. A scene is a file (glTF or USD)
+or a `pxr.Usd.Stage` held in memory; USD is read and written with this
+Python's usd-core (`pip install sssbake[usd]`). The library runs with the GIL released;
+`progress(fraction, stage)` is called about ten times a second, and setting
+a `threading.Event` passed as `cancel` (or Ctrl-C) stops the work with
+`sssbake.errors.Cancelled`. Errors are `sssbake.errors.Error` subclasses
+carrying the library's kind, message, file, object and field.
+
+`sssbake.farm` runs a batch on a Dask cluster.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from collections.abc import Callable, Iterable, Mapping
+from pathlib import Path
+from typing import Any, Protocol
+
+from . import _native, _usd
+from .errors import Cancelled, Error, InputError, OutputError, SettingError
+
+__all__ = [
+    "Cancelled",
+    "Error",
+    "InputError",
+    "OutputError",
+    "SettingError",
+    "__version__",
+    "bake",
+    "batch",
+    "plan",
+    "presets",
+    "profile",
+]
+
+__version__: str = _native.VERSION
+
+Scene = str | os.PathLike[str] | Any
+"""A scene file's path, or a `pxr.Usd.Stage`."""
+
+
+class CancelEvent(Protocol):
+    """What `cancel` must offer: `threading.Event` does."""
+
+    def is_set(self) -> bool: ...
+
+
+Progress = Callable[[float, str], object]
+"""Called with the fraction done in [0, 1] (rising, 1 at the end) and the stage's label."""
+
+
+def _options_json(options: Mapping[str, Any]) -> str:
+    def plain(value: Any) -> Any:
+        if isinstance(value, os.PathLike):
+            return os.fspath(value)
+        if isinstance(value, (list, tuple, set, frozenset)):
+            return [plain(v) for v in value]
+        return value
+
+    return json.dumps({key: plain(value) for key, value in options.items()})
+
+
+def _source(scene: Scene, options: Mapping[str, Any]) -> tuple[str, Any | None]:
+    """The scene's name for the library and, for USD, the open stage: a stage
+    given, or a USD file opened with this Python's usd-core when it has one."""
+    if _usd.is_stage(scene):
+        return _usd.stage_name(scene), scene
+    name = os.fspath(scene)
+    if Path(name).suffix.lower() in _usd.EXTENSIONS and Path(name).is_file() and _usd.has_usd():
+        return name, _usd.open_stage(name)
+    return name, None
+
+
+def _contents(stage: Any | None, options: Mapping[str, Any]) -> str | None:
+    return None if stage is None else _usd.stage_json(stage, int(options.get("uv_set") or 0))
+
+
+def bake(
+    scene: Scene,
+    out: str | os.PathLike[str],
+    *,
+    force: bool = False,
+    progress: Progress | None = None,
+    cancel: CancelEvent | None = None,
+    look_on: Any | None = None,
+    **options: Any,
+) -> dict[str, Any]:
+    """Bakes `scene` into the folder `out` as `sssbake bake --json` does and
+    returns its summary: per object the plan, the method and its estimated
+    error, seconds per stage, and `files`, every file written.
+
+    Maps already in `out` are kept unless `force`. For a USD scene the bake
+    writes a layer `<name>_sssbake.usda` showing the look: over the scene's
+    file, or for a stage only in memory a layer of overrides alone.
+    `look_on` (a `pxr.Usd.Stage` or `pxr.Sdf.Layer`) then gets that layer as
+    its strongest sublayer, so the stage shows the baked look at once.
+    """
+    name, stage = _source(scene, options)
+    summary = json.loads(
+        _native.bake(
+            name,
+            os.fspath(out),
+            _options_json(options),
+            force,
+            _contents(stage, options),
+            None if stage is None else _usd.layer_writer(stage),
+            progress,
+            cancel,
+        )
+    )
+    if look_on is not None:
+        layers = [f for f in summary["files"] if f.endswith("_sssbake.usda")]
+        if not layers:
+            raise SettingError(
+                "the bake wrote no USD layer to add (a USD scene with the `look` output makes one)",
+                field="look_on",
+            )
+        _usd.add_sublayer(look_on, str(Path(layers[0]).resolve()))
+    return summary
+
+
+def plan(scene: Scene, **options: Any) -> dict[str, Any]:
+    """The plan `bake` with these options would run, as `sssbake plan --json`
+    prints it: per object the material, model, resolution, UV decision,
+    method and why, and the estimated cost; nothing is baked."""
+    name, stage = _source(scene, options)
+    return json.loads(_native.plan(name, _options_json(options), _contents(stage, options)))
+
+
+def profile(
+    preset: str | None = None,
+    *,
+    material: str | os.PathLike[str] | None = None,
+    model: str | None = None,
+    radii: Iterable[float] | None = None,
+    epsilon: float = 1e-3,
+    gaussians: int = 6,
+) -> dict[str, Any]:
+    """A material's reflectance profile (a preset by name, or a TOML
+    material file) under `model` (the material's own by default), as numpy
+    arrays: `radii_mm` (N,), `reflectance` and `transmittance` (N, 3) in
+    1/mm², `total_reflectance`, `total_transmittance` and `d_max_mm` (3,),
+    d_max keeping all but `epsilon` of the reflectance. Without `radii`,
+    sixty radii spaced evenly in ln r over the profile's reach."""
+    return _native.profile(
+        preset,
+        None if material is None else os.fspath(material),
+        model,
+        None if radii is None else [float(r) for r in radii],
+        epsilon,
+        gaussians,
+    )
+
+
+def batch(
+    manifest: str | os.PathLike[str],
+    out: str | os.PathLike[str],
+    *,
+    force: bool = False,
+    jobs: int = 1,
+    assets: Iterable[str] = (),
+    on_asset: Callable[[dict[str, Any]], object] | None = None,
+) -> dict[str, Any]:
+    """Runs a batch manifest as `sssbake batch --json` does and returns the
+    batch report; assets unchanged since their last bake are skipped unless
+    `force`. `on_asset` gets each asset's report as it ends. A failed asset
+    is reported in the result (`counts["failed"]`), not raised."""
+    # USD assets are read by the scripts in a Python with usd-core: this one.
+    os.environ.setdefault("SSSBAKE_PYTHON", sys.executable)
+    callback = None if on_asset is None else (lambda text: on_asset(json.loads(text)))
+    return json.loads(_native.batch(os.fspath(manifest), os.fspath(out), force, jobs, list(assets), callback))
+
+
+def presets() -> dict[str, str]:
+    """Every material preset's name with a line on what it is."""
+    return dict(_native.presets())

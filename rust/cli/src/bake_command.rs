@@ -45,6 +45,7 @@ pub fn run(args: &BakeArgs) -> Result<(), Error> {
         },
         exposure: args.exposure,
         uv_set: args.request.uv_set,
+        layer_writer: None,
     };
     let control = Control::new();
     let summary = watch(&control, args.json, || {

@@ -6,6 +6,7 @@ use sssbake::Error;
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings, FitError};
 use sssbake_profile::monte_carlo::{self, MonteCarlo};
+use sssbake_profile::profile::default_radii;
 use sssbake_profile::{Material, Model, Profile, Rgb, Tabulated, build_profile};
 use std::path::{Path, PathBuf};
 
@@ -215,22 +216,6 @@ fn load_material(args: &ProfileArgs) -> Result<Material, Error> {
         (None, Some(path)) => Material::from_file(path).map_err(Error::from),
         (None, None) => Err(Error::input("give --preset NAME or --material FILE")),
     }
-}
-
-/// Sixty radii, evenly spaced in ln r, from a twentieth of the profile's
-/// typical radius to its largest d_max.
-fn default_radii(profile: &dyn Profile, epsilon: f64) -> Vec<f64> {
-    let scale = profile
-        .length_scale()
-        .into_iter()
-        .fold(f64::INFINITY, f64::min);
-    let reach = profile.d_max(epsilon).into_iter().fold(0.0, f64::max);
-    let lo = (scale / 20.0).max(1e-9);
-    let hi = reach.max(lo * 10.0);
-    let n = 60;
-    (0..n)
-        .map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64))
-        .collect()
 }
 
 /// The simulation's bins as a profile (for d_max and plotting).

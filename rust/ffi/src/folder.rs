@@ -149,6 +149,7 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
                 Precision::Float
             },
             uv_set: file.uv_set,
+            layer_writer: None,
             ..FolderOptions::default()
         };
         let control = Control::new();

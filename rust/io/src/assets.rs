@@ -8,7 +8,7 @@ use crate::folder::map_file_name;
 use crate::gltf_writer::{Baked, Geometry, gltf_copy};
 use crate::look::{Emissive, LOOK, emissive_png_name};
 use crate::usd_reader::uv_primvars;
-use crate::usd_writer::{UsdBaked, usd_layer};
+use crate::usd_writer::{LayerWriter, UsdBaked, usd_layer};
 use glam::{Mat3, Vec3};
 use serde_json::json;
 use sssbake::bake::ObjectSummary;
@@ -32,6 +32,8 @@ pub struct AssetRecord<'a> {
     pub maps: &'a [PathBuf],
     /// The look's emissive encoding per object name (for a glTF input).
     pub emissive: &'a [(String, Emissive)],
+    /// Writes the USD layer in the caller's usd-core [a Python process].
+    pub layer_writer: Option<&'a LayerWriter>,
 }
 
 /// A file to write: its final path and its bytes.
@@ -106,6 +108,7 @@ pub fn asset_files(record: &AssetRecord, notes: &mut Vec<String>) -> Result<Vec<
                 &baked,
                 settings,
                 &uv_primvars(record.uv_set),
+                record.layer_writer,
             )
             .map_err(input_error)?;
             let stem = record

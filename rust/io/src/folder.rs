@@ -6,6 +6,7 @@ use crate::assets::{AssetKind, AssetRecord, asset_files};
 use crate::image_writer::{Precision, exr_bytes, png_bytes};
 use crate::look::{LOOK, emissive};
 use crate::staging::Staging;
+use crate::usd_writer::LayerWriter;
 use sssbake::control::Control;
 use sssbake::{Error, Plan, Scene, Summary, bake_each};
 use std::path::{Path, PathBuf};
@@ -24,6 +25,9 @@ pub struct FolderOptions {
     pub exposure: f32,
     /// The texture-coordinate set the scene was read with.
     pub uv_set: usize,
+    /// Writes a USD input's layer in the caller's usd-core (for a stage
+    /// held in memory) [a Python process reads the input's file].
+    pub layer_writer: Option<LayerWriter>,
 }
 
 impl Default for FolderOptions {
@@ -34,6 +38,7 @@ impl Default for FolderOptions {
             precision: Precision::Float,
             exposure: 0.0,
             uv_set: 0,
+            layer_writer: None,
         }
     }
 }
@@ -89,6 +94,7 @@ pub fn bake_to_folder(
         summary: &summary,
         maps: &written,
         emissive: &looks,
+        layer_writer: options.layer_writer.as_ref(),
     };
     let mut notes = Vec::new();
     let assets = asset_files(&record, &mut notes)?;
@@ -139,8 +145,11 @@ fn refuse_existing<'a>(
 }
 
 /// Refuses an output folder that is the input's own: a bake never writes
-/// beside the asset it reads.
+/// beside the asset it reads. (A stage only in memory has no folder.)
 fn refuse_input_folder(input: &Path, out: &Path) -> Result<(), Error> {
+    if !input.is_file() {
+        return Ok(());
+    }
     let folder = input
         .parent()
         .filter(|p| !p.as_os_str().is_empty())

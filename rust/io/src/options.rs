@@ -178,6 +178,17 @@ impl BakeOptions {
     /// Reads the scene at `input`, the materials and the images, and makes
     /// the request; errors name the option.
     pub fn load(&self, input: &Path) -> Result<(Scene, BakeRequest), Error> {
+        self.load_with(input, |read| Ok(read_scene(input, read)?))
+    }
+
+    /// As [`BakeOptions::load`], with the scene from `read` given how to
+    /// read it (a stage a host holds in memory); `input` names it and is
+    /// where its relative files are found from.
+    pub fn load_with(
+        &self,
+        input: &Path,
+        read: impl FnOnce(&ReadOptions) -> Result<Scene, Error>,
+    ) -> Result<(Scene, BakeRequest), Error> {
         let defaults = BakeRequest::default();
         if let Some(s) = self.unit_scale.filter(|s| !(s.is_finite() && *s > 0.0)) {
             return Err(Error::field(
@@ -232,11 +243,11 @@ impl BakeOptions {
         if let Some(evaluations) = self.max_evaluations {
             limits.max_evaluations = evaluations;
         }
-        let read = ReadOptions {
+        let how = ReadOptions {
             uv_set: self.uv_set.unwrap_or(0),
             unit_scale: self.unit_scale,
         };
-        let scene = read_scene(input, &read)?;
+        let scene = read(&how)?;
         let mut integrators = defaults.integrators.clone();
         if let Some(epsilon) = self.octree_epsilon {
             integrators.octree.epsilon = epsilon;
@@ -294,6 +305,7 @@ impl BakeOptions {
             },
             exposure: self.exposure.unwrap_or(0.0),
             uv_set: self.uv_set.unwrap_or(0),
+            layer_writer: None,
         }
     }
 }

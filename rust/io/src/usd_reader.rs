@@ -16,7 +16,10 @@ use sssbake::colour::{ColourTexture, UvTransform, Wrap};
 use sssbake::{Mesh, Scene, SceneObject};
 use std::path::Path;
 
-const READ_STAGE: &str = include_str!("../../../usd/read_stage.py");
+/// `usd/read_stage.py`: run as a script by [`read_usd`], or loaded as a
+/// module by a host that holds the stage in memory (the Python package),
+/// whose `stage_json` output [`scene_from_json`] reads.
+pub const READ_STAGE: &str = include_str!("../../../usd/read_stage.py");
 
 /// What `usd/read_stage.py` prints: the reader's JSON contract. Keys the
 /// script prints for people reading its output and the bake does not use

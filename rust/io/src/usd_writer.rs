@@ -5,9 +5,29 @@
 //! emission, with `sssbake:` attributes recording the bake.
 
 use serde_json::{Value, json};
+use std::fmt;
 use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
 
-const WRITE_LAYER: &str = include_str!("../../../usd/write_layer.py");
+/// `usd/write_layer.py`: run as a script by [`usd_layer`], or loaded as a
+/// module by a host that holds the stage in memory (the Python package).
+pub const WRITE_LAYER: &str = include_str!("../../../usd/write_layer.py");
+
+/// Writes the layer in the caller's own usd-core instead of a Python
+/// process: given the request `usd/write_layer.py` reads, it returns the
+/// layer's text, as that script's `layer_text` does over the caller's
+/// stage (which may exist only in memory).
+#[derive(Clone)]
+pub struct LayerWriter(pub Arc<WriteLayer>);
+
+/// Given the request, the layer's text or why it could not be written.
+pub type WriteLayer = dyn Fn(&Value) -> Result<Vec<u8>, String> + Send + Sync;
+
+impl fmt::Debug for LayerWriter {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("LayerWriter")
+    }
+}
 
 /// One baked object for the layer.
 #[derive(Clone, Debug)]
@@ -29,17 +49,23 @@ pub struct UsdBaked {
 
 /// The layer's text (usda) for a layer in `folder` over the stage `input`;
 /// the materials of objects baked in their own UVs read the first of
-/// `uv_primvars` their mesh has, as the reader did.
+/// `uv_primvars` their mesh has, as the reader did. `writer` writes it in
+/// the caller's usd-core; without one `usd/write_layer.py` runs in Python.
 pub fn usd_layer(
     input: &Path,
     folder: &Path,
     objects: &[UsdBaked],
     settings: Value,
     uv_primvars: &[String],
+    writer: Option<&LayerWriter>,
 ) -> Result<Vec<u8>, String> {
-    let input = input
-        .canonicalize()
-        .map_err(|e| format!("cannot find the input: {e}"))?;
+    // A stage only in memory has no file to sublayer: its writer says so
+    // by the request's `input_from_layer` being null.
+    let input = match (input.canonicalize(), writer) {
+        (Ok(path), _) => Some(path),
+        (Err(_), Some(_)) => None,
+        (Err(e), None) => return Err(format!("cannot find the input: {e}")),
+    };
     // The folder may not exist yet: the bake writes it last.
     let folder = folder
         .canonicalize()
@@ -47,7 +73,7 @@ pub fn usd_layer(
         .map_err(|e| format!("{}: {e}", folder.display()))?;
     let request = json!({
         "input": input,
-        "input_from_layer": relative(&folder, &input),
+        "input_from_layer": input.as_ref().map(|input| relative(&folder, input)),
         "objects": objects.iter().map(|o| json!({
             "object": o.object,
             "prim": o.prim,
@@ -59,6 +85,9 @@ pub fn usd_layer(
         "settings": settings,
         "uv_primvars": uv_primvars,
     });
+    if let Some(LayerWriter(write)) = writer {
+        return write(&request);
+    }
     // The request can hold a UV per face corner: too long for an argument.
     let mut file =
         tempfile::NamedTempFile::new().map_err(|e| format!("cannot make a temporary file: {e}"))?;

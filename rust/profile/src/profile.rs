@@ -77,3 +77,20 @@ pub trait Profile: Send + Sync {
         })
     }
 }
+
+/// Sixty radii (mm), evenly spaced in ln r, from a twentieth of the
+/// profile's typical radius to its largest d_max keeping all but `epsilon`
+/// of the reflectance: where a table or plot of the profile samples it.
+pub fn default_radii(profile: &dyn Profile, epsilon: f64) -> Vec<f64> {
+    let scale = profile
+        .length_scale()
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    let reach = profile.d_max(epsilon).into_iter().fold(0.0, f64::max);
+    let lo = (scale / 20.0).max(1e-9);
+    let hi = reach.max(lo * 10.0);
+    let n = 60;
+    (0..n)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64))
+        .collect()
+}

@@ -1,0 +1,100 @@
+//! A material's reflectance profile as numpy arrays.
+
+use crate::errors::or_raise;
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sssbake::Error;
+use sssbake::scattering::Scattering;
+use sssbake_profile::profile::default_radii;
+use sssbake_profile::{Material, Model, Rgb};
+use std::path::PathBuf;
+
+/// The profile of a preset or TOML material under `model` (the
+/// material's own when `None`), sampled at `radii` (mm; sixty radii over
+/// its reach when `None`): a dict of numpy arrays, R(r) and T(r) in 1/mm²
+/// per channel, with the totals and d_max (mm) at `epsilon`.
+#[pyfunction]
+#[pyo3(signature = (preset=None, material=None, model=None, radii=None, epsilon=1e-3, gaussians=6))]
+pub fn profile<'py>(
+    py: Python<'py>,
+    preset: Option<String>,
+    material: Option<PathBuf>,
+    model: Option<String>,
+    radii: Option<Vec<f64>>,
+    epsilon: f64,
+    gaussians: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let material = or_raise(py, load(preset.as_deref(), material.as_ref()))?;
+    let model = match model {
+        Some(name) => Some(or_raise(
+            py,
+            name.parse::<Model>().map_err(|_| {
+                Error::field(
+                    "model",
+                    format!(
+                        "unknown name `{name}` (one of {})",
+                        <Model as strum::VariantNames>::VARIANTS.join(", ")
+                    ),
+                )
+            }),
+        )?),
+        None => None,
+    };
+    if !(epsilon > 0.0 && epsilon < 1.0) {
+        return or_raise(
+            py,
+            Err(Error::field(
+                "epsilon",
+                format!("{epsilon} must lie strictly between 0 and 1"),
+            )),
+        );
+    }
+    if let Some(r) = radii
+        .iter()
+        .flatten()
+        .find(|r| !(r.is_finite() && **r >= 0.0))
+    {
+        return or_raise(
+            py,
+            Err(Error::field(
+                "radii",
+                format!("{r} is not a finite, non-negative radius in mm"),
+            )),
+        );
+    }
+    let scattering = or_raise(
+        py,
+        py.detach(|| Scattering::new(material, model, gaussians, epsilon)),
+    )?;
+    let profile = scattering.profile.as_ref();
+    let radii = radii.unwrap_or_else(|| default_radii(profile, epsilon));
+    let table = |f: &dyn Fn(f64) -> Rgb| -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let flat: Vec<f64> = radii.iter().flat_map(|&r| f(r)).collect();
+        PyArray1::from_vec(py, flat).reshape([radii.len(), 3])
+    };
+    let rgb = |v: Rgb| PyArray1::from_vec(py, v.to_vec());
+    let out = PyDict::new(py);
+    out.set_item("material", &scattering.material.name)?;
+    out.set_item("model", scattering.model.name())?;
+    out.set_item("radii_mm", PyArray1::from_vec(py, radii.clone()))?;
+    out.set_item("reflectance", table(&|r| profile.reflectance(r))?)?;
+    out.set_item("transmittance", table(&|r| profile.transmittance(r))?)?;
+    out.set_item("total_reflectance", rgb(profile.total_reflectance()))?;
+    out.set_item("total_transmittance", rgb(profile.total_transmittance()))?;
+    out.set_item("d_max_mm", rgb(profile.d_max(epsilon)))?;
+    out.set_item("epsilon", epsilon)?;
+    Ok(out)
+}
+
+fn load(preset: Option<&str>, material: Option<&PathBuf>) -> Result<Material, Error> {
+    match (preset, material) {
+        (Some(_), Some(_)) => Err(Error::field(
+            "preset",
+            "give a preset or a material file, not both",
+        )),
+        (Some(name), None) => sssbake_profile::presets::named(name).map_err(Error::input),
+        (None, Some(path)) => Material::from_file(path).map_err(Error::from),
+        (None, None) => Err(Error::field("preset", "give a preset or a material file")),
+    }
+}
