@@ -1,6 +1,8 @@
 //! Named materials: the measured media of Jensen et al. 2001, those of
 //! Donner et al. 2009 (wax, diluted milk, orange juice), the three-layer
-//! skin of Donner & Jensen 2005, and d'Eon & Luebke's six-Gaussian skin.
+//! skin of Donner & Jensen 2005, the two slabs of Donner & Jensen 2006
+//! (Mikkelsen 2009 table 3), Stam 2001's dermis and d'Eon & Luebke's
+//! six-Gaussian skin.
 
 use crate::Rgb;
 use crate::gaussians::SumOfGaussians;
@@ -72,6 +74,29 @@ fn three_layer_skin() -> Vec<Layer> {
     ]
 }
 
+/// Donner & Jensen 2006's figure 4a (Mikkelsen 2009 table 3): a 6 mm slab
+/// over a semi-infinite one, both at η = 1.4; σa and σs' in 1/mm, one value
+/// for every channel (the paper's figure is monochrome). Given as reduced
+/// scattering, so g = 0 and σs = σs'.
+fn two_slab_example() -> Vec<Layer> {
+    vec![
+        Layer {
+            sigma_a: [0.005; 3],
+            sigma_s: [1.3; 3],
+            g: 0.0,
+            ior: 1.4,
+            thickness_mm: Some(6.0),
+        },
+        Layer {
+            sigma_a: [0.01; 3],
+            sigma_s: [1.0; 3],
+            g: 0.0,
+            ior: 1.4,
+            thickness_mm: None,
+        },
+    ]
+}
+
 /// Stam 2001 table 2: the dermis's single-scattering albedo per channel.
 const STAM_DERMIS_ALBEDO: Rgb = [0.993, 0.979, 0.943];
 /// Table 2's anisotropy per channel; a layer has one g, their mean.
@@ -116,6 +141,10 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
         "epidermis, upper and bloody dermis, Donner & Jensen 2005",
     ));
     names.push((
+        "two-slab",
+        "6 mm slab over a semi-infinite one, Donner & Jensen 2006 fig. 4a (Mikkelsen table 3)",
+    ));
+    names.push((
         "stam-dermis",
         "dermis of Stam 2001 table 2 (albedo, g, η = 1.4, m = 0.4; nominal σt = 1/mm) for --model stam",
     ));
@@ -139,6 +168,7 @@ pub fn preset(name: &str) -> Option<Material> {
     let mut roughness = crate::material::DEFAULT_ROUGHNESS;
     let optics = match name {
         "skin3layer" => Optics::Layers(three_layer_skin()),
+        "two-slab" => Optics::Layers(two_slab_example()),
         "stam-dermis" => {
             roughness = STAM_ROUGHNESS;
             Optics::Layers(vec![stam_dermis()])

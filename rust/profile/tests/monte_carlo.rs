@@ -196,6 +196,26 @@ fn the_multipole_matches_monte_carlo_for_thin_and_thick_slabs() {
 }
 
 #[test]
+fn the_two_slab_example_matches_monte_carlo() {
+    // Mikkelsen's table 3 (Donner & Jensen 2006, fig. 4a): 6 mm of a medium
+    // of reduced albedo 0.996 over a semi-infinite one; the paper's multipole
+    // and MCML agree on it, and so must ours.
+    let layers = preset("two-slab").unwrap().layers().unwrap().to_vec();
+    let model = Layered::new(&layers);
+    let radii: Vec<f64> = (1..=40).map(|i| 1.0 * i as f64).collect();
+    let mc = run(&layers, 40_000, &radii);
+    compare_total(
+        model.total_reflectance()[0],
+        mc.total_reflectance[0],
+        mc.total_reflectance_stderr[0],
+        0.02,
+        "two-slab total",
+    );
+    let ell = [layers[0].medium(0).mean_free_path(); 3];
+    compare_profile(&model, &mc, ell, 2.5, 0.3, "two-slab");
+}
+
+#[test]
 fn the_three_layer_skin_matches_monte_carlo() {
     // Donner & Jensen 2005's epidermis and upper dermis are thinner than two
     // reduced mean free paths; their unscattered light and faces matter.
