@@ -7,6 +7,7 @@
 //! which some assets failed (the others were baked); 70 an internal error
 //! (a bug: please report it).
 
+mod angle_plot;
 mod bake_command;
 mod batch_command;
 mod error_map;

@@ -17,7 +17,7 @@ pub struct Curve {
     pub markers: bool,
 }
 
-const COLOURS: [&str; 3] = ["#c62828", "#2e7d32", "#1565c0"];
+pub(crate) const COLOURS: [&str; 3] = ["#c62828", "#2e7d32", "#1565c0"];
 const PANEL_W: f64 = 460.0;
 const PANEL_H: f64 = 300.0;
 const MARGIN_L: f64 = 70.0;
@@ -276,7 +276,7 @@ fn legend(svg: &mut String, curves: &[Curve], x: f64, y: f64) {
     );
 }
 
-fn tick(v: f64) -> String {
+pub(crate) fn tick(v: f64) -> String {
     if v == 0.0 {
         "0".into()
     } else if (0.01..1000.0).contains(&v.abs()) {
@@ -286,7 +286,7 @@ fn tick(v: f64) -> String {
     }
 }
 
-fn escape(s: &str) -> String {
+pub(crate) fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

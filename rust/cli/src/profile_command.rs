@@ -156,15 +156,19 @@ pub fn run(args: &ProfileArgs) -> Result<(), Error> {
 fn run_stam(args: &ProfileArgs, material: &Material) -> Result<(), Error> {
     let radial = [
         ("--radii", args.radii.is_some()),
-        ("--plot", args.plot.is_some()),
         ("--compare-montecarlo", args.compare_montecarlo),
     ];
     if let Some((flag, _)) = radial.iter().find(|(_, given)| *given) {
         return Err(Error::input(format!(
-            "{flag}: stam gives R and T per incidence angle and BRDF slices (--json), not a radial profile"
+            "{flag}: stam gives R and T per incidence angle and BRDF slices (--json, --plot), not a radial profile"
         )));
     }
-    emit(&crate::stam_report::report(material, args.json)?);
+    let responses = crate::stam_report::solve(material)?;
+    if let Some(path) = &args.plot {
+        let title = format!("{} — stam, roughness {}", material.name, material.roughness);
+        write_svg(path, crate::angle_plot::render_svg(&title, &responses))?;
+    }
+    emit(&crate::stam_report::report(material, &responses, args.json));
     Ok(())
 }
 
@@ -428,6 +432,11 @@ fn write_plot(
     }
     let title = format!("{} — {}", report.material.name, report.model.name());
     let svg = render_svg(&title, &curves);
+    write_svg(path, svg)
+}
+
+/// Writes `svg` to `path` as it is, or rasterised for a `.png`.
+fn write_svg(path: &Path, svg: String) -> Result<(), Error> {
     let bytes = match plot_format(path)? {
         PlotFormat::Svg => svg.into_bytes(),
         PlotFormat::Png => render_png(&svg).map_err(|e| Error::output(path.display(), e))?,

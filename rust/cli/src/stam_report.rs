@@ -8,18 +8,22 @@ use sssbake_profile::stam::material::solve_material;
 use sssbake_profile::stam::{StamResponse, StamSettings};
 use std::f64::consts::PI;
 
-/// The report, as a table or (with `json`) one JSON object.
-pub fn report(material: &Material, json: bool) -> Result<String, Error> {
-    let responses = solve_material(material, &StamSettings::default())
-        .map_err(|e| Error::input(format!("material `{}`: model stam: {e}", material.name)))?;
-    Ok(if json {
+/// The layer's response per channel, or why the material has none.
+pub fn solve(material: &Material) -> Result<[StamResponse; 3], Error> {
+    solve_material(material, &StamSettings::default())
+        .map_err(|e| Error::input(format!("material `{}`: model stam: {e}", material.name)))
+}
+
+/// The report of `responses`, as a table or (with `json`) one JSON object.
+pub fn report(material: &Material, responses: &[StamResponse; 3], json: bool) -> String {
+    if json {
         format!(
             "{}\n",
-            serde_json::to_string_pretty(&as_json(material, &responses)).unwrap_or_default()
+            serde_json::to_string_pretty(&as_json(material, responses)).unwrap_or_default()
         )
     } else {
-        table(material, &responses)
-    })
+        table(material, responses)
+    }
 }
 
 fn degrees(cos: f64) -> f64 {

@@ -296,6 +296,27 @@ fn stam_reports_angles_and_the_library_numbers() {
             .iter()
             .all(|v| *v >= 0.0 && v.is_finite())
     );
+    // The plot: R and T per channel over every ordinate, and a BRDF slice per
+    // channel over both sides of the plane of incidence.
+    let plot = scratch("stam-plot").join("stam.svg");
+    let out = sssbake(&[
+        "profile",
+        "--preset",
+        "stam-dermis",
+        "--model",
+        "stam",
+        "--plot",
+        plot.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    let lines: Vec<usize> = svg
+        .split("<polyline points=\"")
+        .skip(1)
+        .map(|l| l.split('"').next().unwrap().split(' ').count())
+        .collect();
+    let n = cosines.len();
+    assert_eq!(lines, [[n; 6].as_slice(), &[2 * n; 3]].concat());
     // Several layers, radial options and a bake are refused, saying why.
     assert_fails(
         &["profile", "--preset", "skin3layer", "--model", "stam"],
