@@ -174,11 +174,9 @@ impl Kernel {
         let e1 = u / uu.sqrt();
         let e2 = (v - e1 * e1.dot(v)).normalize_or_zero();
         let det = uu * vv - uv * uv;
-        const ANGLES: usize = 64;
         let mut sum = [0.0f32; 3];
-        for k in 0..ANGLES {
-            let phi = (k as f32 + 0.5) * std::f32::consts::TAU / ANGLES as f32;
-            let d = e1 * phi.cos() + e2 * phi.sin();
+        for &(cos, sin) in directions() {
+            let d = e1 * cos + e2 * sin;
             let (du, dv) = (d.dot(u), d.dot(v));
             let alpha = (vv * du - uv * dv) / det;
             let beta = (uu * dv - uv * du) / det;
@@ -308,6 +306,21 @@ fn cumulative(f: impl Fn(f64) -> [f64; 3], radius: &impl Fn(usize) -> f64) -> Ve
         out.push(sum.map(|x| x as f32));
     }
     out
+}
+
+/// Directions about a texel's centre for [`Kernel::parallelogram_mean`].
+const ANGLES: usize = 64;
+
+/// (cos φ, sin φ) of the [`ANGLES`] directions φ = (k + ½)·2π/ANGLES,
+/// computed once rather than for every texel.
+fn directions() -> &'static [(f32, f32); ANGLES] {
+    static DIRECTIONS: std::sync::OnceLock<[(f32, f32); ANGLES]> = std::sync::OnceLock::new();
+    DIRECTIONS.get_or_init(|| {
+        std::array::from_fn(|k| {
+            let phi = (k as f32 + 0.5) * std::f32::consts::TAU / ANGLES as f32;
+            (phi.cos(), phi.sin())
+        })
+    })
 }
 
 /// Linear interpolation in a table indexed by √(r/d_max).
