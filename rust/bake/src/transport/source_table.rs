@@ -226,7 +226,7 @@ fn sub_sample_offsets() -> ([f32; SUB_SAMPLES], [f32; SUB_SAMPLES]) {
 /// is weighed as across the texel (a square's disk is 1.05× its area, a
 /// 2:1 rectangle's 1.31×; the disk of equal area would understate both).
 /// A sample without a shape is the disk of its area.
-fn disk_area(sources: &Sources, i: usize) -> f32 {
+pub(super) fn disk_area(sources: &Sources, i: usize) -> f32 {
     match sources.footprint.get(i) {
         Some(&[u, v]) if u.cross(v).length() > 0.0 => {
             std::f32::consts::PI * (u.length_squared() + v.length_squared()) / 6.0
@@ -254,7 +254,7 @@ pub(super) fn texel_disks<'k>(kernel: &'k Kernel, sources: &Sources) -> DiskKern
 /// to the anisotropic part of the curvature term, which cancels around a
 /// target; a texel stretched beyond 2:1 differs from its disk wherever the
 /// profile curves across it, so it is subdivided four texels out.
-fn subdivision_radius(u: Vec3, v: Vec3) -> f32 {
+pub(super) fn subdivision_radius(u: Vec3, v: Vec3) -> f32 {
     // Eigenvalues of the parallelogram's second-moment tensor u uᵀ + v vᵀ
     // in its plane.
     let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
