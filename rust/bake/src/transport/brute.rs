@@ -89,30 +89,47 @@ impl Sorted {
             &table.y[block.clone()],
             &table.z[block.clone()],
         );
+        let near2 = &table.near2[block.clone()];
         let mut squared = [0.0f32; BLOCK];
-        let mut distance = [0.0f32; BLOCK];
         let mut entry = [0u32; BLOCK];
         let mut fraction = [0.0f32; BLOCK];
+        // 0: beyond the reach, 1: one read, 2: the own texel or the near
+        // field, weighed by `contribution4`.
+        let mut kind = [0u8; BLOCK];
         for k in 0..xs.len().min(BLOCK) {
             let (dx, dy, dz) = (xs[k] - p.x, ys[k] - p.y, zs[k] - p.z);
             let d2 = dx * dx + dy * dy + dz * dz;
             let d = d2.sqrt();
             squared[k] = d2;
-            distance[k] = d;
             (entry[k], fraction[k]) = split_place(disks.place(d));
+            let within = d2 <= reach2 && d <= reach;
+            let special = d2 < near2[k] || block.start + k == own;
+            kind[k] = within as u8 * (1 + special as u8);
+        }
+        // The pairs of each kind, gathered without a branch per pair.
+        let (mut far, mut near) = ([0u8; BLOCK], [0u8; BLOCK]);
+        let (mut far_count, mut near_count) = (0, 0);
+        for (k, &kind) in kind.iter().enumerate().take(xs.len()) {
+            far[far_count] = k as u8;
+            near[near_count] = k as u8;
+            far_count += (kind == 1) as usize;
+            near_count += (kind == 2) as usize;
         }
         let mut sum = Vec4::ZERO;
-        for (k, j) in block.enumerate() {
-            let d2 = squared[k];
-            if d2 > reach2 || distance[k] > reach {
-                continue;
+        if table.tabulated {
+            for &k in &far[..far_count] {
+                let (k, j) = (k as usize, block.start + k as usize);
+                sum += disks.reflected_entry(table.slot[j], entry[k], fraction[k]) * table.flux[j];
             }
-            let slot = table.slot[j];
-            if j == own || d2 < table.near2[j] || !slot.tabulated() {
-                sum += table.contribution4(disks, j, p, n, d2, Some(own));
-                continue;
+        } else {
+            for &k in &far[..far_count] {
+                let (k, j) = (k as usize, block.start + k as usize);
+                sum += table.contribution4(disks, j, p, n, squared[k], Some(own));
             }
-            sum += disks.reflected_entry(slot, entry[k], fraction[k]) * table.flux[j];
+        }
+        for &k in &near[..near_count] {
+            let (k, j) = (k as usize, block.start + k as usize);
+            sum += table.contribution4(disks, j, p, n, squared[k], Some(own));
         }
         sum
     }
@@ -139,6 +156,16 @@ impl Sorted {
     }
 }
 
+/// The grid's cell (mm) for gathering within `reach` from `sources`: a
+/// quarter of the reach where the reach spans many sources, so the rows
+/// walked hug the ball; up to half of it where it spans few, so a row is
+/// not mostly empty cells.
+fn cell_size(reach: f32, sources: &Sources) -> f32 {
+    let area: f64 = sources.area.iter().map(|&a| f64::from(a.max(0.0))).sum();
+    let spacing = (area / sources.len().max(1) as f64).sqrt() as f32;
+    (4.0 * spacing).max(0.25 * reach).min(0.5 * reach)
+}
+
 /// Radiant exitance (W/m²) at each target by the exact sum over `sources`.
 pub fn integrate(
     kernel: &Kernel,
@@ -147,7 +174,7 @@ pub fn integrate(
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
     let disks = texel_disks(kernel, sources);
-    let sorted = Sorted::new(sources, 0.5 * kernel.d_max, &disks);
+    let sorted = Sorted::new(sources, cell_size(kernel.d_max, sources), &disks);
     let mut out = vec![[0.0f32; 3]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {
         sorted

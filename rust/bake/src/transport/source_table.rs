@@ -38,6 +38,8 @@ pub(super) struct SourceTable {
     /// The squared radius (mm²) within which a source is summed in
     /// sub-samples (0 for shapeless samples: never).
     pub near2: Vec<f32>,
+    /// True when every source's size lies inside the disk means' table.
+    pub tabulated: bool,
 }
 
 impl SourceTable {
@@ -64,16 +66,18 @@ impl SourceTable {
         } else {
             (vec![0.0; order.len()], (Vec::new(), Vec::new()))
         };
+        let slot: Vec<Slot> = order
+            .par_iter()
+            .map(|i| disks.slot(disk_area(sources, pick(i))))
+            .collect();
         SourceTable {
+            tabulated: slot.iter().all(Slot::tabulated),
+            slot,
             x: position.iter().map(|p| p.x).collect(),
             y: position.iter().map(|p| p.y).collect(),
             z: position.iter().map(|p| p.z).collect(),
             position,
             normal: order.par_iter().map(|i| sources.normal[pick(i)]).collect(),
-            slot: order
-                .par_iter()
-                .map(|i| disks.slot(disk_area(sources, pick(i))))
-                .collect(),
             flux: order
                 .par_iter()
                 .map(|i| {
