@@ -73,6 +73,40 @@ impl<'k> DiskKernel<'k> {
     /// Tabulates `kernel`'s disk means for sample areas in
     /// [`area_min`, `area_max`] (mm²).
     pub fn new(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {
+        Self::for_areas(kernel, area_min, area_max, |_| {})
+    }
+
+    /// [`DiskKernel::new`] with only the rows that samples of the areas
+    /// `each_area` hands to its argument (all within [`area_min`,
+    /// `area_max`]) read; the others hold zeros and are never read.
+    pub(super) fn for_areas(
+        kernel: &'k Kernel,
+        area_min: f32,
+        area_max: f32,
+        each_area: impl FnOnce(&mut dyn FnMut(f32)),
+    ) -> Self {
+        let mut table = Self::sized(kernel, area_min, area_max);
+        let sizes = table.radii.len();
+        let mut needed = vec![false; sizes];
+        let mut marked = false;
+        each_area(&mut |area| {
+            let slot = table.slot(area);
+            if slot.tabulated() {
+                needed[slot.row as usize] = true;
+                needed[(slot.row as usize + 1).min(sizes - 1)] = true;
+                marked = true;
+            }
+        });
+        if !marked {
+            needed.fill(true);
+        }
+        table.fill(&needed);
+        table
+    }
+
+    /// The table's sizes for sample areas in [`area_min`, `area_max`], its
+    /// rows not yet filled.
+    fn sized(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {
         let radius = |area: f32| (area.max(0.0) * FRAC_1_PI).sqrt().max(1e-9);
         let (lo, hi) = (radius(area_min), radius(area_max));
         let (a0, a1) = (lo.min(hi), lo.max(hi));
@@ -85,28 +119,6 @@ impl<'k> DiskKernel<'k> {
         let radii: Vec<f32> = (0..sizes)
             .map(|i| a0 * (log_step * i as f32).exp())
             .collect();
-        // Rows in parallel: each is independent, and a bake of a few
-        // thousand texels would otherwise wait on them.
-        let rows: Vec<Vec<[[f32; 3]; 2]>> = radii
-            .par_iter()
-            .map(|&a| {
-                (0..ROW)
-                    .map(|j| kernel.disk_mean(distance(j, kernel.d_max), a))
-                    .collect()
-            })
-            .collect();
-        let last = rows.len() - 1;
-        let stored = rows.iter().chain(std::iter::once(&rows[last]));
-        let mut reflected = Vec::with_capacity((sizes + 1) * ROW);
-        let mut transmitted = Vec::new();
-        for row in stored {
-            for &[r, t] in row {
-                reflected.push(Vec4::new(r[0], r[1], r[2], 0.0));
-                if kernel.transmits() {
-                    transmitted.push(Vec4::new(t[0], t[1], t[2], 0.0));
-                }
-            }
-        }
         let per_mm = if kernel.d_max > 0.0 {
             1.0 / kernel.d_max
         } else {
@@ -118,8 +130,40 @@ impl<'k> DiskKernel<'k> {
             log_step,
             radii,
             per_mm,
-            reflected,
-            transmitted,
+            reflected: Vec::new(),
+            transmitted: Vec::new(),
+        }
+    }
+
+    /// Computes the rows marked in `needed` (zeros elsewhere), in parallel:
+    /// each is independent, and a bake of a few thousand texels would
+    /// otherwise wait on them.
+    fn fill(&mut self, needed: &[bool]) {
+        let kernel = self.kernel;
+        let rows: Vec<Vec<[[f32; 3]; 2]>> = self
+            .radii
+            .par_iter()
+            .zip(needed)
+            .map(|(&a, &needed)| {
+                if !needed {
+                    return vec![[[0.0; 3]; 2]; ROW];
+                }
+                (0..ROW)
+                    .map(|j| kernel.disk_mean(distance(j, kernel.d_max), a))
+                    .collect()
+            })
+            .collect();
+        let last = rows.len() - 1;
+        let stored = rows.iter().chain(std::iter::once(&rows[last]));
+        self.reflected = Vec::with_capacity((rows.len() + 1) * ROW);
+        self.transmitted = Vec::new();
+        for row in stored {
+            for &[r, t] in row {
+                self.reflected.push(Vec4::new(r[0], r[1], r[2], 0.0));
+                if kernel.transmits() {
+                    self.transmitted.push(Vec4::new(t[0], t[1], t[2], 0.0));
+                }
+            }
         }
     }
 

@@ -248,7 +248,13 @@ pub(super) fn texel_disks<'k>(kernel: &'k Kernel, sources: &Sources) -> DiskKern
         lo = lo.min(sub).min(disk);
         hi = hi.max(sub).max(disk);
     }
-    DiskKernel::new(kernel, lo, hi)
+    // Only the rows between which these sizes fall are computed.
+    DiskKernel::for_areas(kernel, lo, hi, |mark| {
+        for i in 0..sources.len() {
+            mark(sources.area[i] / (SUBDIVISIONS * SUBDIVISIONS) as f32);
+            mark(disk_area(sources, i));
+        }
+    })
 }
 
 /// The distance (mm) within which a texel with edges `u`, `v` is summed in
