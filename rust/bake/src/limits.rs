@@ -19,9 +19,9 @@ use serde::Serialize;
 pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 16 << 30;
 
 /// The default work limit: kernel evaluations, shadow rays and probes
-/// together. The exact sum, the costliest per evaluation, runs about 7·10⁶
+/// together. The exact sum, the costliest per evaluation, runs about 7·10⁷
 /// pairs a second on two cores (the marble at 512², 1.5·10⁸ pairs, in about
-/// 20 s), so 3·10¹⁰ is about an hour of it.
+/// 2 s), so 3·10¹⁰ is about seven minutes of it.
 pub const DEFAULT_MAX_EVALUATIONS: f64 = 3e10;
 
 /// Memory a bake holds besides its texels, bytes: the scene, the profile

@@ -8,8 +8,14 @@
 //! the centre value by about a²∇²R/8, percents where R curves sharply, so
 //! the far field is averaged too). Sizes are spaced geometrically; a
 //! sample's place among them is found once per sample.
+//!
+//! Each entry is a `Vec4` (three channels and a zero), so a read between
+//! two distances and two sizes is four aligned loads and three vector
+//! lerps; the last row is stored twice so the row above always exists.
 
 use super::kernel::{Kernel, Separation};
+use glam::Vec4;
+use rayon::prelude::*;
 use std::f32::consts::FRAC_1_PI;
 
 /// Distances tabulated in [0, d_max].
@@ -38,6 +44,14 @@ pub struct Slot {
     radius: f32,
 }
 
+impl Slot {
+    /// True when the sample's size lies inside the table.
+    #[inline]
+    pub(super) fn tabulated(&self) -> bool {
+        self.row != u32::MAX
+    }
+}
+
 /// A kernel with disk means tabulated for a range of sample sizes.
 pub struct DiskKernel<'k> {
     kernel: &'k Kernel,
@@ -45,16 +59,54 @@ pub struct DiskKernel<'k> {
     log_step: f32,
     /// Each row's disk radius.
     radii: Vec<f32>,
-    /// [size][distance] → R mean.
-    reflected: Vec<[f32; 3]>,
-    /// [size][distance] → T mean; empty when the kernel transmits nothing.
-    transmitted: Vec<[f32; 3]>,
+    /// Where a distance falls in a row: x = √(d·`per_mm`)·(ROW − 1) with
+    /// `per_mm` = 1/d_max (0 for an empty kernel, so every read is entry 0).
+    per_mm: f32,
+    /// [size][distance] → R mean, the last size repeated.
+    reflected: Vec<Vec4>,
+    /// [size][distance] → T mean, likewise; empty when the kernel
+    /// transmits nothing.
+    transmitted: Vec<Vec4>,
 }
 
 impl<'k> DiskKernel<'k> {
     /// Tabulates `kernel`'s disk means for sample areas in
     /// [`area_min`, `area_max`] (mm²).
     pub fn new(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {
+        Self::for_areas(kernel, area_min, area_max, |_| {})
+    }
+
+    /// [`DiskKernel::new`] with only the rows that samples of the areas
+    /// `each_area` hands to its argument (all within [`area_min`,
+    /// `area_max`]) read; the others hold zeros and are never read.
+    pub(super) fn for_areas(
+        kernel: &'k Kernel,
+        area_min: f32,
+        area_max: f32,
+        each_area: impl FnOnce(&mut dyn FnMut(f32)),
+    ) -> Self {
+        let mut table = Self::sized(kernel, area_min, area_max);
+        let sizes = table.radii.len();
+        let mut needed = vec![false; sizes];
+        let mut marked = false;
+        each_area(&mut |area| {
+            let slot = table.slot(area);
+            if slot.tabulated() {
+                needed[slot.row as usize] = true;
+                needed[(slot.row as usize + 1).min(sizes - 1)] = true;
+                marked = true;
+            }
+        });
+        if !marked {
+            needed.fill(true);
+        }
+        table.fill(&needed);
+        table
+    }
+
+    /// The table's sizes for sample areas in [`area_min`, `area_max`], its
+    /// rows not yet filled.
+    fn sized(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {
         let radius = |area: f32| (area.max(0.0) * FRAC_1_PI).sqrt().max(1e-9);
         let (lo, hi) = (radius(area_min), radius(area_max));
         let (a0, a1) = (lo.min(hi), lo.max(hi));
@@ -67,24 +119,51 @@ impl<'k> DiskKernel<'k> {
         let radii: Vec<f32> = (0..sizes)
             .map(|i| a0 * (log_step * i as f32).exp())
             .collect();
-        let mut reflected = Vec::with_capacity(sizes * ROW);
-        let mut transmitted = Vec::new();
-        for &a in &radii {
-            for j in 0..ROW {
-                let [r, t] = kernel.disk_mean(distance(j, kernel.d_max), a);
-                reflected.push(r);
-                if kernel.transmits() {
-                    transmitted.push(t);
-                }
-            }
-        }
+        let per_mm = if kernel.d_max > 0.0 {
+            1.0 / kernel.d_max
+        } else {
+            0.0
+        };
         DiskKernel {
             kernel,
             a0,
             log_step,
             radii,
-            reflected,
-            transmitted,
+            per_mm,
+            reflected: Vec::new(),
+            transmitted: Vec::new(),
+        }
+    }
+
+    /// Computes the rows marked in `needed` (zeros elsewhere), in parallel:
+    /// each is independent, and a bake of a few thousand texels would
+    /// otherwise wait on them.
+    fn fill(&mut self, needed: &[bool]) {
+        let kernel = self.kernel;
+        let rows: Vec<Vec<[[f32; 3]; 2]>> = self
+            .radii
+            .par_iter()
+            .zip(needed)
+            .map(|(&a, &needed)| {
+                if !needed {
+                    return vec![[[0.0; 3]; 2]; ROW];
+                }
+                (0..ROW)
+                    .map(|j| kernel.disk_mean(distance(j, kernel.d_max), a))
+                    .collect()
+            })
+            .collect();
+        let last = rows.len() - 1;
+        let stored = rows.iter().chain(std::iter::once(&rows[last]));
+        self.reflected = Vec::with_capacity((rows.len() + 1) * ROW);
+        self.transmitted = Vec::new();
+        for row in stored {
+            for &[r, t] in row {
+                self.reflected.push(Vec4::new(r[0], r[1], r[2], 0.0));
+                if kernel.transmits() {
+                    self.transmitted.push(Vec4::new(t[0], t[1], t[2], 0.0));
+                }
+            }
         }
     }
 
@@ -130,38 +209,56 @@ impl<'k> DiskKernel<'k> {
     /// 1/mm². Zero beyond d_max.
     #[inline]
     pub fn weight(&self, separation: Separation, slot: Slot) -> [f32; 3] {
+        let w = self.weight4(separation, slot);
+        [w.x, w.y, w.z]
+    }
+
+    /// [`DiskKernel::weight`] as a `Vec4` (the fourth lane 0).
+    #[inline]
+    pub(super) fn weight4(&self, separation: Separation, slot: Slot) -> Vec4 {
         let k = self.kernel;
         let t = separation.t;
         if separation.distance > k.d_max {
-            return [0.0; 3];
+            return Vec4::ZERO;
         }
         let r = self.mean_at(slot, separation.distance, 0);
         if t <= 0.0 || !k.transmits() {
             return r;
         }
         let tr = self.mean_at(slot, separation.across, 1);
-        [0, 1, 2].map(|c| (1.0 - t) * r[c] + t * tr[c])
+        r + (tr - r) * t
+    }
+
+    /// The disk mean of R for a sample in `slot` inside the table, at a
+    /// distance whose place in a row ([`DiskKernel::place`]) is split into
+    /// `entry` and `fraction` ([`split_place`]): the exact sum's inner loop,
+    /// one bilinear read.
+    #[inline]
+    pub(super) fn reflected_entry(&self, slot: Slot, entry: u32, fraction: f32) -> Vec4 {
+        read(&self.reflected, slot, entry as usize, fraction)
+    }
+
+    /// Where distance `d` (mm, at most d_max) falls in a row: the
+    /// fractional entry index.
+    #[inline]
+    pub(super) fn place(&self, d: f32) -> f32 {
+        (d * self.per_mm).min(1.0).sqrt() * (ROW - 1) as f32
     }
 
     /// The disk mean of R (`which` 0) or T (1) at distance `d`.
     #[inline]
-    fn mean_at(&self, slot: Slot, d: f32, which: usize) -> [f32; 3] {
-        if slot.row == u32::MAX {
-            return self.untabulated(d, slot.radius)[which];
+    fn mean_at(&self, slot: Slot, d: f32, which: usize) -> Vec4 {
+        if !slot.tabulated() {
+            let [r, t] = self.untabulated(d, slot.radius);
+            let v = if which == 0 { r } else { t };
+            return Vec4::new(v[0], v[1], v[2], 0.0);
         }
         let table = if which == 0 {
             &self.reflected
         } else {
             &self.transmitted
         };
-        let (j, f) = index(d, self.kernel.d_max);
-        let at = slot.row as usize * ROW + j;
-        let lower = lerp(table[at], table[at + 1], f);
-        if slot.fraction <= 0.0 {
-            return lower;
-        }
-        let upper = lerp(table[at + ROW], table[at + ROW + 1], f);
-        lerp(lower, upper, slot.fraction)
+        bilinear(table, slot, self.place(d))
     }
 
     /// Sizes outside the table are octree nodes taken whole: their centre
@@ -185,23 +282,30 @@ fn distance(j: usize, d_max: f32) -> f32 {
     d_max * x * x
 }
 
-/// The entry below distance `d` in every row, and the fraction towards the
-/// next.
+/// The table read at fractional entry `x` (clamped to the row) between
+/// the rows of `slot`: linear in distance within each row, then across.
 #[inline]
-fn index(d: f32, d_max: f32) -> (usize, f32) {
-    if d_max.is_nan() || d_max <= 0.0 {
-        return (0, 0.0);
-    }
-    let x = (d / d_max).clamp(0.0, 1.0).sqrt() * (ROW - 1) as f32;
-    let j = (x as usize).min(ROW - 2);
+fn bilinear(table: &[Vec4], slot: Slot, x: f32) -> Vec4 {
+    let (j, f) = split_place(x);
+    read(table, slot, j as usize, f)
+}
+
+/// A place in a row ([`DiskKernel::place`]) as the entry below it and the
+/// fraction towards the next, kept inside the row.
+#[inline]
+pub(super) fn split_place(x: f32) -> (u32, f32) {
+    let j = (x.max(0.0) as u32).min(ROW as u32 - 2);
     (j, x - j as f32)
 }
 
+/// The table between entries `j` and `j` + 1 (fraction `f`) and between
+/// the rows of `slot`.
 #[inline]
-fn lerp(a: [f32; 3], b: [f32; 3], f: f32) -> [f32; 3] {
-    [
-        a[0] + (b[0] - a[0]) * f,
-        a[1] + (b[1] - a[1]) * f,
-        a[2] + (b[2] - a[2]) * f,
-    ]
+fn read(table: &[Vec4], slot: Slot, j: usize, f: f32) -> Vec4 {
+    let at = slot.row as usize * ROW + j;
+    let (a, b) = (table[at], table[at + 1]);
+    let (c, e) = (table[at + ROW], table[at + ROW + 1]);
+    let lower = a + (b - a) * f;
+    let upper = c + (e - c) * f;
+    lower + (upper - lower) * slot.fraction
 }

@@ -9,6 +9,7 @@
 //! exactly the reflectance within its own disk).
 
 use sssbake_profile::profile::Profile;
+use std::sync::OnceLock;
 
 /// Table entries per channel; radii grow quadratically so the sharp
 /// centre of a profile is resolved as finely as its tail.
@@ -174,15 +175,20 @@ impl Kernel {
         let e1 = u / uu.sqrt();
         let e2 = (v - e1 * e1.dot(v)).normalize_or_zero();
         let det = uu * vv - uv * uv;
-        const ANGLES: usize = 64;
-        let mut sum = [0.0f32; 3];
+        // The distance to the edge in every direction, a vector at a time
+        // (component by component, as Vec3's own operations would).
+        let (cos, sin) = directions();
+        let mut rho = [0.0f32; ANGLES];
         for k in 0..ANGLES {
-            let phi = (k as f32 + 0.5) * std::f32::consts::TAU / ANGLES as f32;
-            let d = e1 * phi.cos() + e2 * phi.sin();
-            let (du, dv) = (d.dot(u), d.dot(v));
+            let d = [0, 1, 2].map(|i| e1[i] * cos[k] + e2[i] * sin[k]);
+            let du = d[0] * u.x + d[1] * u.y + d[2] * u.z;
+            let dv = d[0] * v.x + d[1] * v.y + d[2] * v.z;
             let alpha = (vv * du - uv * dv) / det;
             let beta = (uu * dv - uv * du) / det;
-            let rho = 0.5 / alpha.abs().max(beta.abs()).max(1e-30);
+            rho[k] = 0.5 / alpha.abs().max(beta.abs()).max(1e-30);
+        }
+        let mut sum = [0.0f32; 3];
+        for rho in rho {
             let enclosed = lookup(&self.reflectance, rho, self.d_max);
             for c in 0..3 {
                 sum[c] += enclosed[c];
@@ -214,11 +220,9 @@ impl Kernel {
             let e = |r: f32| lookup(table, r, self.d_max);
             let mut sum = if d < a { e(lo) } else { [0.0; 3] };
             // Rings clustered at both ends, where g has square-root ends.
-            let rings = 48;
-            let radius = |i: usize| {
-                let x = i as f32 / rings as f32;
-                lo + (hi - lo) * 0.5 * (1.0 - (std::f32::consts::PI * x).cos())
-            };
+            let spacing = ring_spacing();
+            let rings = RINGS;
+            let radius = |i: usize| lo + (hi - lo) * 0.5 * spacing[i];
             let mut previous = e(radius(0));
             for i in 0..rings {
                 let r1 = radius(i + 1);
@@ -308,6 +312,38 @@ fn cumulative(f: impl Fn(f64) -> [f64; 3], radius: &impl Fn(usize) -> f64) -> Ve
         out.push(sum.map(|x| x as f32));
     }
     out
+}
+
+/// Directions about a texel's centre for [`Kernel::parallelogram_mean`].
+const ANGLES: usize = 64;
+
+/// cos φ and sin φ of the [`ANGLES`] directions φ = (k + ½)·2π/ANGLES,
+/// computed once rather than for every texel.
+fn directions() -> &'static ([f32; ANGLES], [f32; ANGLES]) {
+    static DIRECTIONS: OnceLock<([f32; ANGLES], [f32; ANGLES])> = OnceLock::new();
+    DIRECTIONS.get_or_init(|| {
+        let phi = |k: usize| (k as f32 + 0.5) * std::f32::consts::TAU / ANGLES as f32;
+        (
+            std::array::from_fn(|k| phi(k).cos()),
+            std::array::from_fn(|k| phi(k).sin()),
+        )
+    })
+}
+
+/// Rings of [`Kernel::disk_mean`].
+const RINGS: usize = 48;
+
+/// 1 − cos(πi/RINGS) for i in 0..=RINGS: where the rings of a disk mean
+/// lie between their ends (clustered at both), computed once rather than
+/// for every ring of every mean.
+fn ring_spacing() -> &'static [f32; RINGS + 1] {
+    static SPACING: OnceLock<[f32; RINGS + 1]> = OnceLock::new();
+    SPACING.get_or_init(|| {
+        std::array::from_fn(|i| {
+            let x = i as f32 / RINGS as f32;
+            1.0 - (std::f32::consts::PI * x).cos()
+        })
+    })
 }
 
 /// Linear interpolation in a table indexed by √(r/d_max).

@@ -6,6 +6,8 @@ pub mod brute;
 pub mod choice;
 pub mod clusters;
 pub mod disk_kernel;
+#[cfg(test)]
+mod exact_sum_tests;
 pub mod importance;
 pub mod integrator;
 pub mod kernel;

@@ -3,10 +3,11 @@
 //! pair's weight that the exact sum and the octree's leaves share, so the
 //! octree at ε = 0 is the exact sum, not an approximation of it.
 
-use super::disk_kernel::{DiskKernel, Slot};
+use super::disk_kernel::{DiskKernel, Slot, split_place};
 use super::kernel::{Kernel, Separation};
 use super::sources::Sources;
-use glam::Vec3;
+use glam::{Vec3, Vec4};
+use rayon::prelude::*;
 
 /// Sub-samples per side of a texel's parallelogram in the near field.
 pub(super) const SUBDIVISIONS: usize = 4;
@@ -14,65 +15,96 @@ pub(super) const SUBDIVISIONS: usize = 4;
 /// Sources in a walking order, structure of arrays.
 pub(super) struct SourceTable {
     pub position: Vec<Vec3>,
+    /// The positions' coordinates apart, so distances to a run of sources
+    /// are computed a vector at a time.
+    pub x: Vec<f32>,
+    pub y: Vec<f32>,
+    pub z: Vec<f32>,
     pub normal: Vec<Vec3>,
     pub slot: Vec<Slot>,
-    pub flux: Vec<[f32; 3]>,
+    /// E·A per channel (fourth lane 0).
+    pub flux: Vec<Vec4>,
     /// Each source's area, mm², for the weight of its own light when it has
     /// no parallelogram.
     pub area: Vec<f32>,
-    /// Each source's place in this order, by its index in the sources.
+    /// Each source's place in this order, by its index in the sources
+    /// (`u32::MAX` for a source the order leaves out).
     pub rank: Vec<u32>,
-    /// Texel parallelograms (empty for shapeless samples), with the slot of
-    /// a sub-sample and the squared radius within which they are used.
-    pub footprint: Vec<([Vec3; 2], Slot, f32)>,
+    /// Texel parallelograms (empty for shapeless samples).
+    pub edges: Vec<[Vec3; 2]>,
+    /// The slot of a parallelogram's sub-sample (empty for shapeless
+    /// samples).
+    pub sub_slot: Vec<Slot>,
+    /// The squared radius (mm²) within which a source is summed in
+    /// sub-samples (0 for shapeless samples: never).
+    pub near2: Vec<f32>,
+    /// True when every source's size lies inside the disk means' table.
+    pub tabulated: bool,
 }
 
 impl SourceTable {
-    /// `sources` in `order` (indices into them), with slots in `disks`.
+    /// `sources` in `order` (indices into them, each at most once; sources
+    /// left out are not in the table), with slots in `disks`.
     pub fn new(sources: &Sources, order: &[u32], disks: &DiskKernel) -> Self {
         let pick = |i: &u32| *i as usize;
         let shaped = sources.footprint.len() == sources.len();
         let sub = (SUBDIVISIONS * SUBDIVISIONS) as f32;
+        let position: Vec<Vec3> = order
+            .par_iter()
+            .map(|i| sources.position[pick(i)])
+            .collect();
+        let (near2, (edges, sub_slot)) = if shaped {
+            order
+                .par_iter()
+                .map(|i| {
+                    let [u, v] = sources.footprint[pick(i)];
+                    let near = subdivision_radius(u, v);
+                    let slot = disks.slot(sources.area[pick(i)] / sub);
+                    (near * near, ([u, v], slot))
+                })
+                .unzip()
+        } else {
+            (vec![0.0; order.len()], (Vec::new(), Vec::new()))
+        };
+        let slot: Vec<Slot> = order
+            .par_iter()
+            .map(|i| disks.slot(disk_area(sources, pick(i))))
+            .collect();
         SourceTable {
-            position: order.iter().map(|i| sources.position[pick(i)]).collect(),
-            normal: order.iter().map(|i| sources.normal[pick(i)]).collect(),
-            slot: order
-                .iter()
-                .map(|i| disks.slot(disk_area(sources, pick(i))))
-                .collect(),
+            tabulated: slot.iter().all(Slot::tabulated),
+            slot,
+            x: position.iter().map(|p| p.x).collect(),
+            y: position.iter().map(|p| p.y).collect(),
+            z: position.iter().map(|p| p.z).collect(),
+            position,
+            normal: order.par_iter().map(|i| sources.normal[pick(i)]).collect(),
             flux: order
-                .iter()
+                .par_iter()
                 .map(|i| {
                     let a = sources.area[pick(i)];
-                    sources.irradiance[pick(i)].map(|e| e * a)
+                    let [r, g, b] = sources.irradiance[pick(i)].map(|e| e * a);
+                    Vec4::new(r, g, b, 0.0)
                 })
                 .collect(),
-            area: order.iter().map(|i| sources.area[pick(i)]).collect(),
+            area: order.par_iter().map(|i| sources.area[pick(i)]).collect(),
             rank: {
-                let mut rank = vec![0u32; order.len()];
+                let mut rank = vec![u32::MAX; sources.len()];
                 for (sorted, &i) in order.iter().enumerate() {
                     rank[i as usize] = sorted as u32;
                 }
                 rank
             },
-            footprint: if shaped {
-                order
-                    .iter()
-                    .map(|i| {
-                        let [u, v] = sources.footprint[pick(i)];
-                        let near = subdivision_radius(u, v);
-                        ([u, v], disks.slot(sources.area[pick(i)] / sub), near * near)
-                    })
-                    .collect()
-            } else {
-                Vec::new()
-            },
+            edges,
+            sub_slot,
+            near2,
         }
     }
 
     /// The place in this order of source `i`, if it is one.
     pub fn rank_of(&self, i: Option<usize>) -> Option<usize> {
-        i.and_then(|i| self.rank.get(i)).map(|&r| r as usize)
+        i.and_then(|i| self.rank.get(i))
+            .filter(|&&r| r != u32::MAX)
+            .map(|&r| r as usize)
     }
 
     /// P·flux of source `j` (this order) at exit `p` with normal `n`,
@@ -91,20 +123,31 @@ impl SourceTable {
         d2: f32,
         own: Option<usize>,
     ) -> [f32; 3] {
-        let w = match self.footprint.get(j) {
-            _ if own == Some(j) => self.own_weight(disks, j),
-            Some(&(edges, sub_slot, near2)) if d2 < near2 => {
-                self.footprint_weight(disks, j, edges, sub_slot, p, n)
-            }
-            _ => {
-                let transmits = disks.kernel().transmits();
-                let separation =
-                    Separation::new(self.position[j], self.normal[j], p, n, d2, transmits);
-                disks.weight(separation, self.slot[j])
-            }
+        let m = self.contribution4(disks, j, p, n, d2, own);
+        [m.x, m.y, m.z]
+    }
+
+    /// [`SourceTable::contribution`] as a `Vec4` (the fourth lane 0).
+    #[inline]
+    pub fn contribution4(
+        &self,
+        disks: &DiskKernel,
+        j: usize,
+        p: Vec3,
+        n: Vec3,
+        d2: f32,
+        own: Option<usize>,
+    ) -> Vec4 {
+        let w = if own == Some(j) {
+            self.own_weight(disks, j)
+        } else if d2 < self.near2[j] {
+            self.footprint_weight(disks, j, p, n)
+        } else {
+            let transmits = disks.kernel().transmits();
+            let separation = Separation::new(self.position[j], self.normal[j], p, n, d2, transmits);
+            disks.weight4(separation, self.slot[j])
         };
-        let f = self.flux[j];
-        [w[0] * f[0], w[1] * f[1], w[2] * f[2]]
+        w * self.flux[j]
     }
 
     /// Source `j`'s weight for its own light: the reflectance within its
@@ -113,47 +156,72 @@ impl SourceTable {
     /// which for a profile sharper than a texel would misstate all of it.
     /// Computed when asked (once per target), so a check of a few texels
     /// does not pay for every texel's.
-    fn own_weight(&self, disks: &DiskKernel, j: usize) -> [f32; 3] {
-        match self.footprint.get(j) {
-            Some(&([u, v], _, _)) if u.cross(v).length() > 0.0 => {
-                disks.kernel().parallelogram_mean(u, v)
-            }
+    fn own_weight(&self, disks: &DiskKernel, j: usize) -> Vec4 {
+        let [r, g, b] = match self.edges.get(j) {
+            Some(&[u, v]) if u.cross(v).length() > 0.0 => disks.kernel().parallelogram_mean(u, v),
             _ => {
                 let radius = (self.area[j].max(0.0) * std::f32::consts::FRAC_1_PI).sqrt();
                 disks.kernel().disk_mean(0.0, radius)[0]
             }
-        }
+        };
+        Vec4::new(r, g, b, 0.0)
     }
 
-    /// The mean weight over source `j`'s parallelogram `edges`, from
-    /// SUBDIVISIONS² sub-samples each standing for its share of the area.
-    fn footprint_weight(
-        &self,
-        disks: &DiskKernel,
-        j: usize,
-        edges: [Vec3; 2],
-        sub_slot: Slot,
-        p: Vec3,
-        n: Vec3,
-    ) -> [f32; 3] {
-        let transmits = disks.kernel().transmits();
-        let mut w = [0.0f32; 3];
+    /// The mean weight over source `j`'s parallelogram, from SUBDIVISIONS²
+    /// sub-samples each standing for its share of the area.
+    fn footprint_weight(&self, disks: &DiskKernel, j: usize, p: Vec3, n: Vec3) -> Vec4 {
+        let [u, v] = self.edges[j];
+        let sub_slot = self.sub_slot[j];
+        let centre = self.position[j];
+        let (along_u, along_v) = sub_sample_offsets();
         let step = 1.0 / SUBDIVISIONS as f32;
-        for a in 0..SUBDIVISIONS {
-            for b in 0..SUBDIVISIONS {
-                let offset = edges[0] * ((a as f32 + 0.5) * step - 0.5)
-                    + edges[1] * ((b as f32 + 0.5) * step - 0.5);
-                let q = self.position[j] + offset;
+        let mut w = Vec4::ZERO;
+        let transmits = disks.kernel().transmits();
+        if transmits || !sub_slot.tabulated() {
+            for k in 0..SUB_SAMPLES {
+                let q = centre + (u * along_u[k] + v * along_v[k]);
                 let d2 = (q - p).length_squared();
                 let separation = Separation::new(q, self.normal[j], p, n, d2, transmits);
-                let v = disks.weight(separation, sub_slot);
-                for c in 0..3 {
-                    w[c] += v[c];
-                }
+                w += disks.weight4(separation, sub_slot);
+            }
+            return w * (step * step);
+        }
+        // Reflection only: the sub-samples' distances a vector at a time,
+        // then one read each.
+        let mut distance = [0.0f32; SUB_SAMPLES];
+        let mut entry = [0u32; SUB_SAMPLES];
+        let mut fraction = [0.0f32; SUB_SAMPLES];
+        for k in 0..SUB_SAMPLES {
+            let qx = centre.x + (u.x * along_u[k] + v.x * along_v[k]);
+            let qy = centre.y + (u.y * along_u[k] + v.y * along_v[k]);
+            let qz = centre.z + (u.z * along_u[k] + v.z * along_v[k]);
+            let (dx, dy, dz) = (qx - p.x, qy - p.y, qz - p.z);
+            let d = (dx * dx + dy * dy + dz * dz).sqrt();
+            distance[k] = d;
+            (entry[k], fraction[k]) = split_place(disks.place(d));
+        }
+        let reach = disks.kernel().d_max;
+        for k in 0..SUB_SAMPLES {
+            if distance[k] <= reach {
+                w += disks.reflected_entry(sub_slot, entry[k], fraction[k]);
             }
         }
-        w.map(|v| v * step * step)
+        w * (step * step)
     }
+}
+
+/// Sub-samples of a texel's parallelogram.
+const SUB_SAMPLES: usize = SUBDIVISIONS * SUBDIVISIONS;
+
+/// The sub-samples' offsets from a texel's centre along its edges u and v
+/// (in units of the edge), u's index slowest.
+fn sub_sample_offsets() -> ([f32; SUB_SAMPLES], [f32; SUB_SAMPLES]) {
+    let step = 1.0 / SUBDIVISIONS as f32;
+    let along = |i: usize| (i as f32 + 0.5) * step - 0.5;
+    (
+        std::array::from_fn(|k| along(k / SUBDIVISIONS)),
+        std::array::from_fn(|k| along(k % SUBDIVISIONS)),
+    )
 }
 
 /// The area (mm²) of the disk that stands for source `i` beyond its
@@ -162,7 +230,7 @@ impl SourceTable {
 /// is weighed as across the texel (a square's disk is 1.05× its area, a
 /// 2:1 rectangle's 1.31×; the disk of equal area would understate both).
 /// A sample without a shape is the disk of its area.
-fn disk_area(sources: &Sources, i: usize) -> f32 {
+pub(super) fn disk_area(sources: &Sources, i: usize) -> f32 {
     match sources.footprint.get(i) {
         Some(&[u, v]) if u.cross(v).length() > 0.0 => {
             std::f32::consts::PI * (u.length_squared() + v.length_squared()) / 6.0
@@ -180,7 +248,13 @@ pub(super) fn texel_disks<'k>(kernel: &'k Kernel, sources: &Sources) -> DiskKern
         lo = lo.min(sub).min(disk);
         hi = hi.max(sub).max(disk);
     }
-    DiskKernel::new(kernel, lo, hi)
+    // Only the rows between which these sizes fall are computed.
+    DiskKernel::for_areas(kernel, lo, hi, |mark| {
+        for i in 0..sources.len() {
+            mark(sources.area[i] / (SUBDIVISIONS * SUBDIVISIONS) as f32);
+            mark(disk_area(sources, i));
+        }
+    })
 }
 
 /// The distance (mm) within which a texel with edges `u`, `v` is summed in
@@ -190,7 +264,7 @@ pub(super) fn texel_disks<'k>(kernel: &'k Kernel, sources: &Sources) -> DiskKern
 /// to the anisotropic part of the curvature term, which cancels around a
 /// target; a texel stretched beyond 2:1 differs from its disk wherever the
 /// profile curves across it, so it is subdivided four texels out.
-fn subdivision_radius(u: Vec3, v: Vec3) -> f32 {
+pub(super) fn subdivision_radius(u: Vec3, v: Vec3) -> f32 {
     // Eigenvalues of the parallelogram's second-moment tensor u uᵀ + v vᵀ
     // in its plane.
     let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));

@@ -147,7 +147,8 @@ impl Grid {
 
     /// Calls `visit(range)` with the positions in [`Grid::order`] of every
     /// row of cells that meets the ball of `radius` around `p` (a superset
-    /// of the ball).
+    /// of the ball: each row's cells from the first to the last that the
+    /// ball's chord through the row's slab reaches).
     pub fn for_each_run(
         &self,
         p: Vec3,
@@ -162,14 +163,34 @@ impl Grid {
             .floor()
             .as_ivec3()
             .min(self.dims - 1);
+        if lo.x > hi.x {
+            return;
+        }
+        // A little wider than the ball, so a point rounded into a cell at
+        // its edge is never missed.
+        let r2 = (radius + 1e-4 * self.cell).powi(2);
+        // The distance from p to the slab of cells k along one axis.
+        let gap = |k: i32, at: f32, origin: f32| {
+            let near = origin + k as f32 * self.cell;
+            (near - at).max(at - (near + self.cell)).max(0.0)
+        };
         for z in lo.z..=hi.z {
+            let dz = gap(z, p.z, self.origin.z);
             for y in lo.y..=hi.y {
-                let row = (self.dims.x * (y + self.dims.y * z)) as usize;
-                if lo.x > hi.x {
+                let dy = gap(y, p.y, self.origin.y);
+                let left = r2 - dy * dy - dz * dz;
+                if left < 0.0 {
                     continue;
                 }
-                let a = self.starts[row + lo.x as usize] as usize;
-                let b = self.starts[row + hi.x as usize + 1] as usize;
+                let chord = left.sqrt();
+                let first = (((p.x - chord - self.origin.x) / self.cell).floor() as i32).max(lo.x);
+                let last = (((p.x + chord - self.origin.x) / self.cell).floor() as i32).min(hi.x);
+                if first > last {
+                    continue;
+                }
+                let row = (self.dims.x * (y + self.dims.y * z)) as usize;
+                let a = self.starts[row + first as usize] as usize;
+                let b = self.starts[row + last as usize + 1] as usize;
                 if b > a {
                     visit(a..b);
                 }

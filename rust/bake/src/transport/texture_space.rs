@@ -101,8 +101,7 @@ pub fn integrate(
             let step = ((v - variance).max(0.0)) as f32;
             variance = v.max(variance);
             for axis in [Axis::U, Axis::V] {
-                light = blur(&light, &frame, step, axis, control)?;
-                known = blur(&known, &frame, step, axis, control)?;
+                (light, known) = blur(&light, &known, &frame, step, axis, control)?;
             }
             for (s, &t) in surfels.texel.iter().enumerate() {
                 let at = frame.at(t as usize);
@@ -245,55 +244,65 @@ enum Axis {
 }
 
 /// One 1-D Gaussian pass of `variance` (mm²) along `axis` over the framed
-/// image, gathering: each texel's σ in texels is √variance over its own
-/// stretch along the axis. Taps beyond the frame read nothing.
+/// light and the mask of known surface alike (the same taps, computed
+/// once for both), gathering: each texel's σ in texels is √variance over
+/// its own stretch along the axis. Taps beyond the frame read nothing.
 fn blur(
-    image: &[f32],
+    light: &[f32],
+    known: &[f32],
     frame: &Frame,
     variance: f32,
     axis: Axis,
     control: &Control,
-) -> Result<Vec<f32>, Cancelled> {
+) -> Result<(Vec<f32>, Vec<f32>), Cancelled> {
     let n = frame.side;
     if variance <= 0.0 {
-        control.advance(image.len() as u64)?;
-        return Ok(image.to_vec());
+        control.advance(2 * light.len() as u64)?;
+        return Ok((light.to_vec(), known.to_vec()));
     }
     let sigma_mm = variance.sqrt();
-    let mut out = vec![0.0f32; image.len()];
-    out.par_chunks_mut(n).enumerate().try_for_each(|(y, row)| {
-        control.check()?;
-        let mut weights: Vec<f32> = Vec::new();
-        for (x, value) in row.iter_mut().enumerate() {
-            let texel = y * n + x;
-            let step = match axis {
-                Axis::U => frame.stretch[texel].x,
-                Axis::V => frame.stretch[texel].y,
-            };
-            let sigma = if step > 0.0 { sigma_mm / step } else { 0.0 };
-            if sigma.is_nan() || sigma < SHARP {
-                *value = image[texel];
-                continue;
-            }
-            let reach = ((3.0 * sigma).ceil() as u32).min(MAX_REACH) as i64;
-            gaussian_taps(sigma, reach, &mut weights);
-            let norm: f32 = weights.iter().sum();
-            let mut sum = 0.0f32;
-            for (i, k) in (-reach..=reach).enumerate() {
-                let (sx, sy) = match axis {
-                    Axis::U => (x as i64 + k, y as i64),
-                    Axis::V => (x as i64, y as i64 + k),
+    let mut out = vec![0.0f32; light.len()];
+    let mut out_known = vec![0.0f32; known.len()];
+    out.par_chunks_mut(n)
+        .zip(out_known.par_chunks_mut(n))
+        .enumerate()
+        .try_for_each(|(y, (row, row_known))| {
+            control.check()?;
+            let mut weights: Vec<f32> = Vec::new();
+            for (x, (value, value_known)) in row.iter_mut().zip(row_known).enumerate() {
+                let texel = y * n + x;
+                let step = match axis {
+                    Axis::U => frame.stretch[texel].x,
+                    Axis::V => frame.stretch[texel].y,
                 };
-                if sx < 0 || sy < 0 || sx >= n as i64 || sy >= n as i64 {
+                let sigma = if step > 0.0 { sigma_mm / step } else { 0.0 };
+                if sigma.is_nan() || sigma < SHARP {
+                    *value = light[texel];
+                    *value_known = known[texel];
                     continue;
                 }
-                sum += weights[i] * image[sy as usize * n + sx as usize];
+                let reach = ((3.0 * sigma).ceil() as u32).min(MAX_REACH) as i64;
+                gaussian_taps(sigma, reach, &mut weights);
+                let norm: f32 = weights.iter().sum();
+                let (mut sum, mut sum_known) = (0.0f32, 0.0f32);
+                for (i, k) in (-reach..=reach).enumerate() {
+                    let (sx, sy) = match axis {
+                        Axis::U => (x as i64 + k, y as i64),
+                        Axis::V => (x as i64, y as i64 + k),
+                    };
+                    if sx < 0 || sy < 0 || sx >= n as i64 || sy >= n as i64 {
+                        continue;
+                    }
+                    let at = sy as usize * n + sx as usize;
+                    sum += weights[i] * light[at];
+                    sum_known += weights[i] * known[at];
+                }
+                *value = sum / norm;
+                *value_known = sum_known / norm;
             }
-            *value = sum / norm;
-        }
-        control.advance(n as u64)
-    })?;
-    Ok(out)
+            control.advance(2 * n as u64)
+        })?;
+    Ok((out, out_known))
 }
 
 /// The weights exp(−k²/2σ²) for k in −reach..=reach into `weights`, by
