@@ -173,6 +173,9 @@ def test_bad_settings_give_a_report_not_an_exception(addon, tmp_path, capfd):
         ),
         ({"destination": "FOLDER", "folder": ""}, "choose a folder"),
         ({"outputs": set()}, "choose at least one output"),
+        # Below what any bake holds: refused by the library's plan, naming the limit.
+        ({"max_memory": 0.001}, "max_memory: the bake would hold about"),
+        ({"max_memory": 0.001}, "over the limit of 1.0 MiB"),
     ]
     for settings, message in cases:
         assert bpy.ops.sssbake.bake(resolution=16, **settings) == {"CANCELLED"}

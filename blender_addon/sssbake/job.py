@@ -9,7 +9,7 @@ import os
 import bpy
 
 from . import changes, folder, images, native, report, scene_export, unwrap, wiring
-from .properties import QUALITY_SAMPLES
+from .properties import GIB, QUALITY_SAMPLES
 
 
 class Job:
@@ -214,6 +214,7 @@ def _native_settings(settings):
     native_settings.outputs = sum(
         1 << i for i, output in enumerate(native.OUTPUTS) if output.upper() in settings.outputs
     )
+    native_settings.max_memory_bytes = round(settings.max_memory * GIB)
     return native_settings
 
 

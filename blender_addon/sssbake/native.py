@@ -6,7 +6,7 @@ import os
 import pathlib
 import sys
 
-ABI_VERSION = 6
+ABI_VERSION = 7
 
 LIGHT_SUN, LIGHT_POINT, LIGHT_SPOT, LIGHT_RECTANGLE, LIGHT_DISK = range(5)
 MATERIAL_PRESET, MATERIAL_PRINCIPLED, MATERIAL_TOML, MATERIAL_SCENE, MATERIAL_SIDECAR, MATERIAL_NONE = range(
@@ -109,6 +109,8 @@ class Settings(ctypes.Structure):
         ("samples", ctypes.c_uint32),
         ("outputs", ctypes.c_uint32),
         ("tolerance", ctypes.c_float),
+        ("max_memory_bytes", ctypes.c_uint64),
+        ("max_evaluations", ctypes.c_double),
     ]
 
 
@@ -152,7 +154,7 @@ def library():
     lib.sssbake_scene_new.argtypes = [ctypes.c_double, ctypes.POINTER(ctypes.c_void_p)]
     lib.sssbake_scene_new.restype = status
     lib.sssbake_scene_free.argtypes = [ctypes.c_void_p]
-    lib.sssbake_scene_free.restype = None
+    lib.sssbake_scene_free.restype = status
     lib.sssbake_scene_add_mesh.argtypes = [ctypes.c_void_p, ctypes.POINTER(Mesh)]
     lib.sssbake_scene_add_mesh.restype = status
     lib.sssbake_scene_add_light.argtypes = [ctypes.c_void_p, ctypes.POINTER(Light)]
@@ -185,7 +187,7 @@ def library():
     ]
     lib.sssbake_bake_materials.restype = status
     lib.sssbake_result_free.argtypes = [ctypes.c_void_p]
-    lib.sssbake_result_free.restype = None
+    lib.sssbake_result_free.restype = status
     lib.sssbake_result_resolution.argtypes = [ctypes.c_void_p]
     lib.sssbake_result_resolution.restype = ctypes.c_uint32
     lib.sssbake_result_summary.argtypes = [ctypes.c_void_p]
@@ -216,7 +218,7 @@ def library():
     lib.sssbake_names.argtypes = [ctypes.c_uint32, ctypes.POINTER(ctypes.c_void_p)]
     lib.sssbake_names.restype = status
     lib.sssbake_string_free.argtypes = [ctypes.c_void_p]
-    lib.sssbake_string_free.restype = None
+    lib.sssbake_string_free.restype = status
     _names.clear()
     _library = lib
     return lib
@@ -235,7 +237,7 @@ def names(kind):
         try:
             _names[kind] = json.loads(ctypes.string_at(text).decode("utf-8"))
         finally:
-            library().sssbake_string_free(text)
+            check(library().sssbake_string_free(text))
     return _names[kind]
 
 
@@ -290,8 +292,8 @@ class Scene:
 
     def close(self):
         if self.handle:
-            library().sssbake_scene_free(self.handle)
-            self.handle = ctypes.c_void_p()
+            handle, self.handle = self.handle, ctypes.c_void_p()
+            check(library().sssbake_scene_free(handle))
 
     def add_mesh(self, name, positions, normals, uvs, indices, material_indices=None, texture_uvs=()):
         """Flat float32 arrays (3 per vertex; normals and uvs may be None), uint32 indices,
@@ -369,8 +371,8 @@ class Result:
 
     def close(self):
         if self.handle:
-            library().sssbake_result_free(self.handle)
-            self.handle = None
+            handle, self.handle = self.handle, None
+            check(library().sssbake_result_free(handle))
 
     @property
     def resolution(self):

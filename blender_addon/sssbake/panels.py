@@ -17,6 +17,7 @@ def draw_settings(layout, context, settings):
     layout.prop(settings, "method")
     layout.prop(settings, "quality")
     layout.prop(settings, "margin")
+    layout.prop(settings, "max_memory")
     column = layout.column(heading="Outputs")
     column.prop(settings, "outputs")
     layout.prop(settings, "unwrap")

@@ -83,7 +83,10 @@ FALLBACK_DEFAULTS = {
     "margin": 8,
     "outputs": {"SUBSURFACE", "IRRADIANCE", "DIFFUSE"},
     "quality": "GOOD",
+    "max_memory": 16.0,
 }
+
+GIB = 1 << 30
 
 
 def library_defaults():
@@ -99,6 +102,7 @@ def library_defaults():
         "margin": settings.margin,
         "outputs": outputs,
         "quality": quality,
+        "max_memory": settings.max_memory_bytes / GIB,
     }
 
 
@@ -221,6 +225,19 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
             min=0,
             max=64,
             subtype="PIXEL",
+        ),
+        "max_memory": bpy.props.FloatProperty(
+            name="Memory Limit (GiB)",
+            description="Memory each object's bake may hold, in GiB (2³⁰ bytes); the library "
+            "estimates it before the bake starts and refuses a bake that would need more, "
+            "saying what drives it, rather than running out of memory",
+            default=defaults["max_memory"],
+            min=0.001,
+            max=1024.0,
+            soft_min=0.25,
+            soft_max=256.0,
+            step=100,
+            precision=2,
         ),
     }
 

@@ -13,7 +13,7 @@
 /**
  * The version of this ABI: hosts refuse a library of another version.
  */
-#define SSSBAKE_ABI_VERSION 6
+#define SSSBAKE_ABI_VERSION 7
 
 /**
  * [`sssbake_bake_to_folder`] flag: replace files already in the folder.
@@ -241,6 +241,17 @@ typedef struct SssbakeSettings {
    * object to, moving to a more exact method above it (0.01 is 1%).
    */
   float tolerance;
+  /**
+   * Peak memory the bake may hold, bytes; the plan refuses a bake
+   * estimated to need more, before any work. 0: the library's default.
+   */
+  uint64_t max_memory_bytes;
+  /**
+   * Shadow rays, kernel evaluations and probes the bake may take; the
+   * plan refuses more, before any work. 0: the library's default;
+   * infinity lifts the limit.
+   */
+  double max_evaluations;
 } SssbakeSettings;
 
 /**
@@ -515,9 +526,10 @@ enum SssbakeStatus sssbake_settings_default(struct SssbakeSettings *out);
  * null) becomes nonzero. On success `*out` holds the result.
  *
  * # Safety
- * `scene` is live; `object` is NUL-terminated; `material` and `settings`
- * point to valid values; `cancel` is null or stays readable (and is only
- * written atomically) until the call returns; `out` is writable.
+ * `object` is NUL-terminated; `material` and `settings` point to valid
+ * values; `cancel` is null or stays readable (and is only written
+ * atomically) until the call returns; `out` is writable. A `scene` that
+ * is not a live scene is refused.
  */
 enum SssbakeStatus sssbake_bake(const struct SssbakeScene *scene,
                                 const char *object,
@@ -554,28 +566,24 @@ enum SssbakeStatus sssbake_bake_materials(const struct SssbakeScene *scene,
                                           struct SssbakeResult **out);
 
 /**
- * Frees a result (null is allowed).
- *
- * # Safety
- * `result` came from [`sssbake_bake`] and is not used again.
+ * Frees a result (null is allowed and frees nothing). A result freed
+ * already, never handed out, or a handle of another kind is refused with
+ * [`SssbakeStatus::InvalidArgument`] and frees nothing.
  */
-void sssbake_result_free(struct SssbakeResult *result);
+enum SssbakeStatus sssbake_result_free(struct SssbakeResult *result);
 
 /**
- * The maps' side in texels (0 for null).
- *
- * # Safety
- * `result` is null or a live result.
+ * The maps' side in texels; 0 for a handle that is not a live result,
+ * with [`sssbake_last_error`](crate::sssbake_last_error) saying why.
  */
 uint32_t sssbake_result_resolution(const struct SssbakeResult *result);
 
 /**
  * What the bake did, as JSON: the summary `sssbake bake --json` prints
- * (README, "The summary"), for this one object.
- * Owned by the result; do not free it.
- *
- * # Safety
- * `result` is null or a live result.
+ * (README, "The summary"), for this one object. Owned by the result
+ * (valid until it is freed; do not free it); null for a handle that is
+ * not a live result, with [`sssbake_last_error`](crate::sssbake_last_error)
+ * saying why.
  */
 const char *sssbake_result_summary(const struct SssbakeResult *result);
 
@@ -586,7 +594,8 @@ const char *sssbake_result_summary(const struct SssbakeResult *result);
  * and OpenGL's order), alpha 1 on covered and filled texels, 0 elsewhere.
  *
  * # Safety
- * `result` is a live result; `rgba` points to `len` writable floats.
+ * `rgba` points to `len` writable floats (a `result` that is not a live
+ * result is refused).
  */
 enum SssbakeStatus sssbake_result_image(const struct SssbakeResult *result,
                                         uint32_t output,
@@ -600,7 +609,8 @@ enum SssbakeStatus sssbake_result_image(const struct SssbakeResult *result,
  * all: it is written beside its place and renamed.
  *
  * # Safety
- * `result` is a live result; `path` is NUL-terminated UTF-8.
+ * `path` is NUL-terminated UTF-8 (a `result` that is not a live result is
+ * refused).
  */
 enum SssbakeStatus sssbake_result_write_exr(const struct SssbakeResult *result,
                                             uint32_t output,
@@ -644,10 +654,10 @@ enum SssbakeStatus sssbake_scene_read(const char *path,
  * [`sssbake_string_free`].
  *
  * # Safety
- * `scene` is live; `material` and `settings` point to valid values;
- * `out_dir` is NUL-terminated; `cancel` is null or stays readable (and is
- * only written atomically) until the call returns; `summary_out` is
- * writable.
+ * `material` and `settings` point to valid values; `out_dir` is
+ * NUL-terminated; `cancel` is null or stays readable (and is only written
+ * atomically) until the call returns; `summary_out` is writable. A
+ * `scene` that is not a live scene is refused.
  */
 enum SssbakeStatus sssbake_bake_to_folder(const struct SssbakeScene *scene,
                                           const struct SssbakeMaterial *material,
@@ -660,13 +670,12 @@ enum SssbakeStatus sssbake_bake_to_folder(const struct SssbakeScene *scene,
                                           char **summary_out);
 
 /**
- * Frees a string the library handed out (null is allowed).
- *
- * # Safety
- * `string` came from [`sssbake_bake_to_folder`] or [`sssbake_names`] and is
- * not used again.
+ * Frees a string [`sssbake_bake_to_folder`] or [`sssbake_names`] handed
+ * out (null is allowed and frees nothing). A string freed already, or one
+ * the library did not hand out to be freed (such as a result's summary),
+ * is refused with [`SssbakeStatus::InvalidArgument`] and frees nothing.
  */
-void sssbake_string_free(char *string);
+enum SssbakeStatus sssbake_string_free(char *string);
 
 /**
  * The library's names of one `kind` (`SSSBAKE_NAMES_*`) as a JSON array:
@@ -688,21 +697,20 @@ enum SssbakeStatus sssbake_names(uint32_t kind, char **out);
 enum SssbakeStatus sssbake_scene_new(double millimetres_per_unit, struct SssbakeScene **out);
 
 /**
- * Frees a scene (null is allowed).
- *
- * # Safety
- * `scene` came from [`sssbake_scene_new`] or
- * [`sssbake_scene_read`](crate::sssbake_scene_read) and is not used again.
+ * Frees a scene (null is allowed and frees nothing). A scene freed
+ * already, never handed out, or a handle of another kind is refused with
+ * [`SssbakeStatus::InvalidArgument`] and frees nothing. A bake running
+ * with the scene on another thread keeps it until the bake returns.
  */
-void sssbake_scene_free(struct SssbakeScene *scene);
+enum SssbakeStatus sssbake_scene_free(struct SssbakeScene *scene);
 
 /**
  * Adds a mesh; identical vertices (same position, normal and UV) are
  * shared, so a host may pass one vertex per triangle corner.
  *
  * # Safety
- * `scene` is a live scene; `mesh` points to a mesh whose arrays hold the
- * lengths it states.
+ * `mesh` points to a mesh whose arrays hold the lengths it states (a
+ * `scene` that is not a live scene is refused).
  */
 enum SssbakeStatus sssbake_scene_add_mesh(struct SssbakeScene *scene,
                                           const struct SssbakeMesh *mesh);
@@ -711,7 +719,8 @@ enum SssbakeStatus sssbake_scene_add_mesh(struct SssbakeScene *scene,
  * Adds a light in the host's units (see [`SssbakeLight`]).
  *
  * # Safety
- * `scene` is a live scene; `light` points to a light.
+ * `light` points to a light (a `scene` that is not a live scene is
+ * refused).
  */
 enum SssbakeStatus sssbake_scene_add_light(struct SssbakeScene *scene,
                                            const struct SssbakeLight *light);
@@ -721,7 +730,8 @@ enum SssbakeStatus sssbake_scene_add_light(struct SssbakeScene *scene,
  * radiance in W/(m²·sr) as Blender's Background shader gives it.
  *
  * # Safety
- * `scene` is a live scene; `colour` points to 3 floats.
+ * `colour` points to 3 floats (a `scene` that is not a live scene is
+ * refused).
  */
 enum SssbakeStatus sssbake_scene_set_world(struct SssbakeScene *scene,
                                            const float *colour,

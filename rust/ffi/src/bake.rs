@@ -3,15 +3,18 @@
 //! plans and bakes; this file only converts.
 
 use crate::errors::{Failure, SssbakeStatus, guarded, slice, text};
+use crate::handles::{self, Handles};
 use crate::material::SssbakeMaterial;
-use crate::scene::SssbakeScene;
+use crate::scene::{SCENES, SssbakeScene, reading};
 use crate::slots::{Composite, bake_materials};
 use sssbake::control::{Control, watch_while};
+use sssbake::limits::Limits;
 use sssbake::transport::integrator::IntegratorSettings;
 use sssbake::{BakeRequest, Method, Output, UvPolicy};
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
 use std::ffi::{CString, c_char, c_void};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::time::Duration;
 
@@ -43,6 +46,13 @@ pub struct SssbakeSettings {
     /// Relative RMSE against the exact sum that method 0 (auto) holds each
     /// object to, moving to a more exact method above it (0.01 is 1%).
     pub tolerance: f32,
+    /// Peak memory the bake may hold, bytes; the plan refuses a bake
+    /// estimated to need more, before any work. 0: the library's default.
+    pub max_memory_bytes: u64,
+    /// Shadow rays, kernel evaluations and probes the bake may take; the
+    /// plan refuses more, before any work. 0: the library's default;
+    /// infinity lifts the limit.
+    pub max_evaluations: f64,
 }
 
 /// The method of number `code` (the order of [`SssbakeSettings::method`]).
@@ -77,6 +87,8 @@ pub unsafe extern "C" fn sssbake_settings_default(out: *mut SssbakeSettings) -> 
             samples: integrators.importance.samples,
             outputs: output_mask(&request.outputs),
             tolerance: request.tolerance as f32,
+            max_memory_bytes: request.limits.max_memory_bytes,
+            max_evaluations: request.limits.max_evaluations,
         };
         // SAFETY: the caller gives writable storage or null.
         let out = unsafe { out.as_mut() }.ok_or_else(|| Failure::argument("out is null"))?;
@@ -103,6 +115,9 @@ pub struct SssbakeResult {
     composite: Composite,
     summary: CString,
 }
+
+/// The live results.
+static RESULTS: Handles<SssbakeResult> = Handles::new(handles::RESULT);
 
 /// The host's user pointer, handed back to its callback on another thread.
 pub(crate) struct UserData(pub(crate) *mut c_void);
@@ -132,6 +147,18 @@ pub(crate) fn request_from_host(
     integrators.texture.gaussians = settings.gaussians as usize;
     integrators.importance.samples = settings.samples;
     integrators.seed(settings.seed);
+    // 0 is the default; any other value is the library's to check.
+    let defaults = Limits::default();
+    let limits = Limits {
+        max_memory_bytes: match settings.max_memory_bytes {
+            0 => defaults.max_memory_bytes,
+            bytes => bytes,
+        },
+        max_evaluations: match settings.max_evaluations {
+            0.0 => defaults.max_evaluations,
+            count => count,
+        },
+    };
     Ok(BakeRequest {
         resolution: settings.resolution,
         method,
@@ -150,6 +177,7 @@ pub(crate) fn request_from_host(
         } else {
             UvPolicy::Auto
         },
+        limits,
         ..BakeRequest::default()
     })
 }
@@ -163,9 +191,10 @@ pub(crate) fn request_from_host(
 /// null) becomes nonzero. On success `*out` holds the result.
 ///
 /// # Safety
-/// `scene` is live; `object` is NUL-terminated; `material` and `settings`
-/// point to valid values; `cancel` is null or stays readable (and is only
-/// written atomically) until the call returns; `out` is writable.
+/// `object` is NUL-terminated; `material` and `settings` point to valid
+/// values; `cancel` is null or stays readable (and is only written
+/// atomically) until the call returns; `out` is writable. A `scene` that
+/// is not a live scene is refused.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_bake(
     scene: *const SssbakeScene,
@@ -221,83 +250,50 @@ pub unsafe extern "C" fn sssbake_bake_materials(
     guarded(|| {
         // SAFETY: forwarded from the caller.
         unsafe { clear(out, "out") }?;
+        let scene = SCENES.get(scene, "scene")?;
         // SAFETY: forwarded from the caller.
-        let (scene, settings, cancel) = unsafe { host_arguments(scene, settings, cancel) }?;
+        let (settings, cancel) = unsafe { host_arguments(settings, cancel) }?;
         // SAFETY: forwarded from the caller.
         let materials = unsafe { slice(materials, material_count, "materials") }?;
         // SAFETY: forwarded from the caller.
         let object = unsafe { text(object, "object name") }?;
         let user = UserData(user);
-        let (composite, summary) =
-            bake_materials(scene, object, materials, settings, progress, &user, cancel)?;
+        let (composite, summary) = bake_materials(
+            &reading(&scene),
+            object,
+            materials,
+            settings,
+            progress,
+            &user,
+            cancel,
+        )?;
         let summary = serde_json::to_string(&summary).unwrap_or_default();
         let result = SssbakeResult {
             composite,
             summary: CString::new(summary).unwrap_or_default(),
         };
+        let handle = RESULTS.issue(result)?;
         // SAFETY: checked non-null; the caller gives writable storage.
-        unsafe { *out = Box::into_raw(Box::new(result)) };
+        unsafe { *out = handle };
         Ok(())
     })
 }
 
-/// The scene, settings and cancel flag a host's bake takes, checked for
-/// null.
-///
-/// # Safety
-/// As [`bake_arguments`].
-unsafe fn host_arguments<'a>(
-    scene: *const SssbakeScene,
-    settings: *const SssbakeSettings,
-    cancel: *const i32,
-) -> Result<(&'a SssbakeScene, &'a SssbakeSettings, Option<&'a AtomicI32>), Failure> {
-    // SAFETY: as the caller promises.
-    let (scene, settings, cancel) = unsafe {
-        (
-            scene.as_ref(),
-            settings.as_ref(),
-            cancel.cast::<AtomicI32>().as_ref(),
-        )
-    };
-    match (scene, settings) {
-        (Some(scene), Some(settings)) => Ok((scene, settings, cancel)),
-        _ => Err(Failure::argument("scene or settings is null")),
-    }
-}
-
-/// The arguments every bake call takes, checked for null.
+/// The settings and cancel flag a host's bake takes, the settings checked
+/// for null.
 ///
 /// # Safety
 /// Each pointer is null or points to a valid value that outlives the call;
 /// an i32 the host writes atomically reads as an AtomicI32 (same size and
 /// alignment).
-pub(crate) unsafe fn bake_arguments<'a>(
-    scene: *const SssbakeScene,
-    material: *const SssbakeMaterial,
+pub(crate) unsafe fn host_arguments<'a>(
     settings: *const SssbakeSettings,
     cancel: *const i32,
-) -> Result<
-    (
-        &'a SssbakeScene,
-        &'a SssbakeMaterial,
-        &'a SssbakeSettings,
-        Option<&'a AtomicI32>,
-    ),
-    Failure,
-> {
+) -> Result<(&'a SssbakeSettings, Option<&'a AtomicI32>), Failure> {
     // SAFETY: as the caller promises.
-    let (scene, material, settings, cancel) = unsafe {
-        (
-            scene.as_ref(),
-            material.as_ref(),
-            settings.as_ref(),
-            cancel.cast::<AtomicI32>().as_ref(),
-        )
-    };
-    match (scene, material, settings) {
-        (Some(scene), Some(material), Some(settings)) => Ok((scene, material, settings, cancel)),
-        _ => Err(Failure::argument("scene, material or settings is null")),
-    }
+    let (settings, cancel) = unsafe { (settings.as_ref(), cancel.cast::<AtomicI32>().as_ref()) };
+    let settings = settings.ok_or_else(|| Failure::argument("settings is null"))?;
+    Ok((settings, cancel))
 }
 
 /// Clears the caller's result slot `out` (named `what` in errors), so a
@@ -317,15 +313,16 @@ pub(crate) unsafe fn clear<T>(out: *mut *mut T, what: &str) -> Result<(), Failur
 /// Runs `work` while a thread reports progress and passes the host's
 /// cancel flag on to `control`, and once more after it; `(part, parts)`: the work is part `part` of
 /// `parts` equal parts of the call, so the fraction reported runs from
-/// part / parts to (part + 1) / parts.
-pub(crate) fn watched<T>(
+/// part / parts to (part + 1) / parts. Work that fails is not reported
+/// done.
+pub(crate) fn watched<T, E>(
     control: &Control,
     progress: SssbakeProgress,
     user: &UserData,
     cancel: Option<&AtomicI32>,
     (part, parts): (usize, usize),
-    work: impl FnOnce() -> T,
-) -> T {
+    work: impl FnOnce() -> Result<T, E>,
+) -> Result<T, E> {
     let tick = || {
         if cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0) {
             control.cancel();
@@ -341,7 +338,7 @@ pub(crate) fn watched<T>(
     // `control` and discards what the work made.
     if cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0) {
         control.cancel();
-    } else if let Some(callback) = progress {
+    } else if let (Some(callback), true) = (progress, result.is_ok()) {
         // The last tick may have come before the end: the part is done.
         // SAFETY: the host's callback, called as documented.
         unsafe { callback(user.0, ((part + 1) as f64 / parts.max(1) as f64) as f32) };
@@ -349,38 +346,40 @@ pub(crate) fn watched<T>(
     result
 }
 
-/// Frees a result (null is allowed).
-///
-/// # Safety
-/// `result` came from [`sssbake_bake`] and is not used again.
+/// Frees a result (null is allowed and frees nothing). A result freed
+/// already, never handed out, or a handle of another kind is refused with
+/// [`SssbakeStatus::InvalidArgument`] and frees nothing.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn sssbake_result_free(result: *mut SssbakeResult) {
-    if !result.is_null() {
-        // SAFETY: made by Box::into_raw in sssbake_bake, freed once.
-        drop(unsafe { Box::from_raw(result) });
-    }
+pub extern "C" fn sssbake_result_free(result: *mut SssbakeResult) -> SssbakeStatus {
+    guarded(|| RESULTS.free(result, "result"))
 }
 
-/// The maps' side in texels (0 for null).
-///
-/// # Safety
-/// `result` is null or a live result.
+/// The maps' side in texels; 0 for a handle that is not a live result,
+/// with [`sssbake_last_error`](crate::sssbake_last_error) saying why.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn sssbake_result_resolution(result: *const SssbakeResult) -> u32 {
-    // SAFETY: the caller passes a live result or null.
-    unsafe { result.as_ref() }.map_or(0, |r| r.composite.resolution())
+pub extern "C" fn sssbake_result_resolution(result: *const SssbakeResult) -> u32 {
+    let mut resolution = 0;
+    guarded(|| {
+        resolution = RESULTS.get(result, "result")?.composite.resolution();
+        Ok(())
+    });
+    resolution
 }
 
 /// What the bake did, as JSON: the summary `sssbake bake --json` prints
-/// (README, "The summary"), for this one object.
-/// Owned by the result; do not free it.
-///
-/// # Safety
-/// `result` is null or a live result.
+/// (README, "The summary"), for this one object. Owned by the result
+/// (valid until it is freed; do not free it); null for a handle that is
+/// not a live result, with [`sssbake_last_error`](crate::sssbake_last_error)
+/// saying why.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn sssbake_result_summary(result: *const SssbakeResult) -> *const c_char {
-    // SAFETY: the caller passes a live result or null.
-    unsafe { result.as_ref() }.map_or(std::ptr::null(), |r| r.summary.as_ptr())
+pub extern "C" fn sssbake_result_summary(result: *const SssbakeResult) -> *const c_char {
+    let mut summary = std::ptr::null();
+    guarded(|| {
+        // The text stays where it is while the registry holds the result.
+        summary = RESULTS.get(result, "result")?.summary.as_ptr();
+        Ok(())
+    });
+    summary
 }
 
 /// Copies map `output` (0 subsurface, 1 irradiance, 2 diffuse, 3 thickness,
@@ -389,7 +388,8 @@ pub unsafe extern "C" fn sssbake_result_summary(result: *const SssbakeResult) ->
 /// and OpenGL's order), alpha 1 on covered and filled texels, 0 elsewhere.
 ///
 /// # Safety
-/// `result` is a live result; `rgba` points to `len` writable floats.
+/// `rgba` points to `len` writable floats (a `result` that is not a live
+/// result is refused).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_result_image(
     result: *const SssbakeResult,
@@ -398,8 +398,7 @@ pub unsafe extern "C" fn sssbake_result_image(
     len: usize,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: forwarded from the caller.
-        let (result, image) = unsafe { rendered(result, output) }?;
+        let (result, image) = rendered(result, output)?;
         let n = result.composite.resolution() as usize;
         if len != 4 * n * n || rgba.is_null() {
             return Err(Failure::argument(format!(
@@ -429,7 +428,8 @@ pub unsafe extern "C" fn sssbake_result_image(
 /// all: it is written beside its place and renamed.
 ///
 /// # Safety
-/// `result` is a live result; `path` is NUL-terminated UTF-8.
+/// `path` is NUL-terminated UTF-8 (a `result` that is not a live result is
+/// refused).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_result_write_exr(
     result: *const SssbakeResult,
@@ -438,8 +438,7 @@ pub unsafe extern "C" fn sssbake_result_write_exr(
     half: u32,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: forwarded from the caller.
-        let (_, image) = unsafe { rendered(result, output) }?;
+        let (_, image) = rendered(result, output)?;
         // SAFETY: forwarded from the caller.
         let path = std::path::Path::new(unsafe { text(path, "path") }?);
         let precision = if half != 0 {
@@ -457,18 +456,13 @@ pub unsafe extern "C" fn sssbake_result_write_exr(
     })
 }
 
-/// Map `output` of `result` as an image (rows top to bottom).
-///
-/// # Safety
-/// `result` is null or a live result.
-unsafe fn rendered<'a>(
+/// The live result of `result` and its map `output` as an image (rows
+/// top to bottom).
+fn rendered(
     result: *const SssbakeResult,
     output: u32,
-) -> Result<(&'a SssbakeResult, sssbake::image::Image), Failure> {
-    // SAFETY: the caller passes a live result or null.
-    let Some(result) = (unsafe { result.as_ref() }) else {
-        return Err(Failure::argument("result is null"));
-    };
+) -> Result<(Arc<SssbakeResult>, sssbake::image::Image), Failure> {
+    let result = RESULTS.get(result, "result")?;
     let output = *Output::ALL
         .get(output as usize)
         .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;

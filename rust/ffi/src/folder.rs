@@ -3,17 +3,18 @@
 //! library's name tables, so a host does not restate them.
 
 use crate::bake::{
-    METHODS, SssbakeProgress, SssbakeSettings, UserData, bake_arguments, clear, request_from_host,
+    METHODS, SssbakeProgress, SssbakeSettings, UserData, clear, host_arguments, request_from_host,
     watched,
 };
 use crate::errors::{Failure, SssbakeStatus, guarded, text};
+use crate::handles::{free_string, issue_string};
 use crate::material::{SssbakeMaterial, assignment_from_host};
-use crate::scene::{SceneFile, SssbakeScene};
+use crate::scene::{SCENES, SceneFile, SssbakeScene, reading};
 use sssbake::Output;
 use sssbake::control::Control;
 use sssbake_io::image_writer::Precision;
 use sssbake_io::{FolderOptions, ReadOptions, bake_to_folder, read_scene, scene_lighting};
-use std::ffi::{CString, c_char, c_void};
+use std::ffi::{c_char, c_void};
 use std::path::Path;
 
 /// [`sssbake_bake_to_folder`] flag: replace files already in the folder.
@@ -78,8 +79,9 @@ pub unsafe extern "C" fn sssbake_scene_read(
             }),
             face_materials: std::collections::HashMap::new(),
         };
+        let handle = SCENES.issue(std::sync::RwLock::new(scene))?;
         // SAFETY: checked non-null; the caller gives writable storage.
-        unsafe { *out = Box::into_raw(Box::new(scene)) };
+        unsafe { *out = handle };
         Ok(())
     })
 }
@@ -98,10 +100,10 @@ pub unsafe extern "C" fn sssbake_scene_read(
 /// [`sssbake_string_free`].
 ///
 /// # Safety
-/// `scene` is live; `material` and `settings` point to valid values;
-/// `out_dir` is NUL-terminated; `cancel` is null or stays readable (and is
-/// only written atomically) until the call returns; `summary_out` is
-/// writable.
+/// `material` and `settings` point to valid values; `out_dir` is
+/// NUL-terminated; `cancel` is null or stays readable (and is only written
+/// atomically) until the call returns; `summary_out` is writable. A
+/// `scene` that is not a live scene is refused.
 #[unsafe(no_mangle)]
 #[allow(clippy::too_many_arguments)] // one per part of the request, as C passes them
 pub unsafe extern "C" fn sssbake_bake_to_folder(
@@ -117,10 +119,14 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
 ) -> SssbakeStatus {
     guarded(|| {
         // SAFETY: forwarded from the caller.
-        let (scene, material, settings, cancel) =
-            unsafe { bake_arguments(scene, material, settings, cancel) }?;
-        // SAFETY: forwarded from the caller.
         unsafe { clear(summary_out, "summary_out") }?;
+        let scene = SCENES.get(scene, "scene")?;
+        let scene = reading(&scene);
+        // SAFETY: forwarded from the caller.
+        let (settings, cancel) = unsafe { host_arguments(settings, cancel) }?;
+        // SAFETY: the caller passes a valid material or null.
+        let material =
+            unsafe { material.as_ref() }.ok_or_else(|| Failure::argument("material is null"))?;
         let Some(file) = &scene.file else {
             return Err(Failure::argument(
                 "a host's scene has no file to bake beside: bake it with sssbake_bake, \
@@ -160,29 +166,18 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
         })?;
         let json = serde_json::to_string(&summary).unwrap_or_default();
         // SAFETY: checked non-null; the caller gives writable storage.
-        unsafe { *summary_out = owned_string(json) };
+        unsafe { *summary_out = issue_string(json) };
         Ok(())
     })
 }
 
-/// A string for the caller, freed by [`sssbake_string_free`].
-fn owned_string(text: String) -> *mut c_char {
-    CString::new(text.replace('\0', " "))
-        .unwrap_or_default()
-        .into_raw()
-}
-
-/// Frees a string the library handed out (null is allowed).
-///
-/// # Safety
-/// `string` came from [`sssbake_bake_to_folder`] or [`sssbake_names`] and is
-/// not used again.
+/// Frees a string [`sssbake_bake_to_folder`] or [`sssbake_names`] handed
+/// out (null is allowed and frees nothing). A string freed already, or one
+/// the library did not hand out to be freed (such as a result's summary),
+/// is refused with [`SssbakeStatus::InvalidArgument`] and frees nothing.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn sssbake_string_free(string: *mut c_char) {
-    if !string.is_null() {
-        // SAFETY: made by CString::into_raw in owned_string, freed once.
-        drop(unsafe { CString::from_raw(string) });
-    }
+pub extern "C" fn sssbake_string_free(string: *mut c_char) -> SssbakeStatus {
+    guarded(|| free_string(string))
 }
 
 /// The library's names of one `kind` (`SSSBAKE_NAMES_*`) as a JSON array:
@@ -217,7 +212,7 @@ pub unsafe extern "C" fn sssbake_names(kind: u32, out: *mut *mut c_char) -> Sssb
             }
         };
         // SAFETY: checked non-null; the caller gives writable storage.
-        unsafe { *out = owned_string(names.to_string()) };
+        unsafe { *out = issue_string(names.to_string()) };
         Ok(())
     })
 }

@@ -4,14 +4,17 @@
 //!
 //! Conventions: every function returns an [`SssbakeStatus`]; on failure
 //! [`sssbake_last_error`] says why. Handles are opaque and freed by the
-//! `_free` function of their kind; buffers the caller passes stay the
-//! caller's. No panic crosses the boundary. Lengths count elements, not
+//! `_free` function of their kind; every call checks the handles it takes
+//! against the live ones, so a handle freed already, never handed out, of
+//! another kind, null or misaligned is refused, never read or freed twice.
+//! Buffers the caller passes stay the caller's. No panic crosses the boundary. Lengths count elements, not
 //! bytes. Positions and sizes are in scene units, converted with the
 //! scene's millimetres per unit.
 
 mod bake;
 mod errors;
 mod folder;
+mod handles;
 mod lights;
 mod material;
 mod scene;
@@ -27,7 +30,7 @@ pub use scene::*;
 pub use unwrap::*;
 
 /// The version of this ABI: hosts refuse a library of another version.
-pub const SSSBAKE_ABI_VERSION: u32 = 6;
+pub const SSSBAKE_ABI_VERSION: u32 = 7;
 
 /// The version of this ABI ([`SSSBAKE_ABI_VERSION`]).
 #[unsafe(no_mangle)]

@@ -1,11 +1,35 @@
 //! A scene built up by the host: meshes as flat arrays, lights, a world.
 
 use crate::errors::{Failure, SssbakeStatus, guarded, slice, text};
+use crate::handles::{self, Handles};
 use crate::lights::{SssbakeLight, light_from_host};
 use glam::{Vec2, Vec3};
 use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
 use std::collections::HashMap;
 use std::ffi::c_char;
+use std::sync::{PoisonError, RwLock, RwLockReadGuard, RwLockWriteGuard, TryLockError};
+
+/// The live scenes. A bake reads its scene under the lock, so adding to a
+/// scene while it is baked is refused rather than raced.
+pub(crate) static SCENES: Handles<RwLock<SssbakeScene>> = Handles::new(handles::SCENE);
+
+/// A scene to read; a panic in an earlier call changed nothing it reads.
+pub(crate) fn reading(scene: &RwLock<SssbakeScene>) -> RwLockReadGuard<'_, SssbakeScene> {
+    scene.read().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// The scene of `handle` to change, refused while a bake reads it.
+fn changing<'a>(
+    scene: &'a RwLock<SssbakeScene>,
+) -> Result<RwLockWriteGuard<'a, SssbakeScene>, Failure> {
+    match scene.try_write() {
+        Ok(guard) => Ok(guard),
+        Err(TryLockError::Poisoned(poisoned)) => Ok(poisoned.into_inner()),
+        Err(TryLockError::WouldBlock) => Err(Failure::argument(
+            "the scene is being baked: change it before or after the bake",
+        )),
+    }
+}
 
 /// A scene (opaque): built up by the host, or read from a file by
 /// [`sssbake_scene_read`](crate::sssbake_scene_read).
@@ -106,41 +130,39 @@ pub unsafe extern "C" fn sssbake_scene_new(
             file: None,
             face_materials: HashMap::new(),
         };
+        let handle = SCENES.issue(RwLock::new(scene))?;
         // SAFETY: checked non-null; the caller gives writable storage.
-        unsafe { *out = Box::into_raw(Box::new(scene)) };
+        unsafe { *out = handle };
         Ok(())
     })
 }
 
-/// Frees a scene (null is allowed).
-///
-/// # Safety
-/// `scene` came from [`sssbake_scene_new`] or
-/// [`sssbake_scene_read`](crate::sssbake_scene_read) and is not used again.
+/// Frees a scene (null is allowed and frees nothing). A scene freed
+/// already, never handed out, or a handle of another kind is refused with
+/// [`SssbakeStatus::InvalidArgument`] and frees nothing. A bake running
+/// with the scene on another thread keeps it until the bake returns.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn sssbake_scene_free(scene: *mut SssbakeScene) {
-    if !scene.is_null() {
-        // SAFETY: made by Box::into_raw when the scene was made, freed once.
-        drop(unsafe { Box::from_raw(scene) });
-    }
+pub extern "C" fn sssbake_scene_free(scene: *mut SssbakeScene) -> SssbakeStatus {
+    guarded(|| SCENES.free(scene, "scene"))
 }
 
 /// Adds a mesh; identical vertices (same position, normal and UV) are
 /// shared, so a host may pass one vertex per triangle corner.
 ///
 /// # Safety
-/// `scene` is a live scene; `mesh` points to a mesh whose arrays hold the
-/// lengths it states.
+/// `mesh` points to a mesh whose arrays hold the lengths it states (a
+/// `scene` that is not a live scene is refused).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_scene_add_mesh(
     scene: *mut SssbakeScene,
     mesh: *const SssbakeMesh,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: the caller passes a live scene and a valid mesh or null.
-        let (scene, mesh) = unsafe { (scene.as_mut(), mesh.as_ref()) };
-        let (Some(scene), Some(mesh)) = (scene, mesh) else {
-            return Err(Failure::argument("scene or mesh is null"));
+        let scene = SCENES.get(scene, "scene")?;
+        let mut scene = changing(&scene)?;
+        // SAFETY: the caller passes a valid mesh or null.
+        let Some(mesh) = (unsafe { mesh.as_ref() }) else {
+            return Err(Failure::argument("mesh is null"));
         };
         if let Some(file) = &scene.file {
             // The glTF copy or USD layer a folder bake writes follows the
@@ -312,17 +334,19 @@ unsafe fn object_from_host(
 /// Adds a light in the host's units (see [`SssbakeLight`]).
 ///
 /// # Safety
-/// `scene` is a live scene; `light` points to a light.
+/// `light` points to a light (a `scene` that is not a live scene is
+/// refused).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_scene_add_light(
     scene: *mut SssbakeScene,
     light: *const SssbakeLight,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: the caller passes a live scene and a light or null.
-        let (scene, light) = unsafe { (scene.as_mut(), light.as_ref()) };
-        let (Some(scene), Some(light)) = (scene, light) else {
-            return Err(Failure::argument("scene or light is null"));
+        let scene = SCENES.get(scene, "scene")?;
+        let mut scene = changing(&scene)?;
+        // SAFETY: the caller passes a light or null.
+        let Some(light) = (unsafe { light.as_ref() }) else {
+            return Err(Failure::argument("light is null"));
         };
         let converted = light_from_host(light, scene.scene.millimetres_per_unit)?;
         scene.scene.lights.push(converted);
@@ -334,7 +358,8 @@ pub unsafe extern "C" fn sssbake_scene_add_light(
 /// radiance in W/(m²·sr) as Blender's Background shader gives it.
 ///
 /// # Safety
-/// `scene` is a live scene; `colour` points to 3 floats.
+/// `colour` points to 3 floats (a `scene` that is not a live scene is
+/// refused).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn sssbake_scene_set_world(
     scene: *mut SssbakeScene,
@@ -342,10 +367,8 @@ pub unsafe extern "C" fn sssbake_scene_set_world(
     strength: f32,
 ) -> SssbakeStatus {
     guarded(|| {
-        // SAFETY: the caller passes a live scene or null.
-        let Some(scene) = (unsafe { scene.as_mut() }) else {
-            return Err(Failure::argument("scene is null"));
-        };
+        let scene = SCENES.get(scene, "scene")?;
+        let mut scene = changing(&scene)?;
         // SAFETY: the caller passes 3 floats.
         let colour = unsafe { slice(colour, 3, "world colour") }?;
         if !(strength.is_finite() && strength >= 0.0)

@@ -4,6 +4,7 @@
 
 use sssbake_ffi::*;
 use std::ffi::{CStr, CString, c_void};
+use std::path::Path;
 use std::ptr::{null, null_mut};
 
 fn last_error() -> String {
@@ -44,7 +45,7 @@ struct Scene(*mut SssbakeScene);
 
 impl Drop for Scene {
     fn drop(&mut self) {
-        unsafe { sssbake_scene_free(self.0) };
+        sssbake_scene_free(self.0);
     }
 }
 
@@ -169,7 +170,7 @@ fn a_bake_gives_physical_maps_and_reports_progress() {
         )
     };
     assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
-    assert_eq!(unsafe { sssbake_result_resolution(result) }, 64);
+    assert_eq!(sssbake_result_resolution(result), 64);
     let summary = unsafe { CStr::from_ptr(sssbake_result_summary(result)) }
         .to_str()
         .unwrap();
@@ -230,7 +231,7 @@ fn a_bake_gives_physical_maps_and_reports_progress() {
     assert_eq!(status, SssbakeStatus::CannotWrite);
     assert!(last_error().contains("no/such/folder"), "{}", last_error());
     std::fs::remove_dir_all(&dir).unwrap();
-    unsafe { sssbake_result_free(result) };
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
 }
 
 #[test]
@@ -309,7 +310,7 @@ fn a_cancel_flag_raised_at_any_stage_stops_the_bake_cleanly() {
                 mid_bake[method as usize] |= *state.last.lock().unwrap() > 0.0;
             } else {
                 assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
-                unsafe { sssbake_result_free(result) };
+                assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
             }
         }
     }
@@ -361,7 +362,7 @@ fn principled_inputs_bake_their_colour() {
     let material = &summary["objects"][0]["material"];
     assert_eq!(material["name"], "Wax", "{summary}");
     assert_eq!(material["source"], "Principled BSDF", "{summary}");
-    unsafe { sssbake_result_free(result) };
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
     let none = SssbakeMaterial {
         subsurface_weight: 0.0,
         ..wax
@@ -586,12 +587,7 @@ fn misuse_gets_a_status_and_a_message() {
     assert!(last_error().contains("needs 1024"), "{}", last_error());
     let status = unsafe { sssbake_result_image(result, 6, short.as_mut_ptr(), short.len()) };
     assert_eq!(status, SssbakeStatus::InvalidArgument);
-    unsafe { sssbake_result_free(result) };
-    // Null everywhere.
-    unsafe { sssbake_result_free(null_mut()) };
-    unsafe { sssbake_scene_free(null_mut()) };
-    assert_eq!(unsafe { sssbake_result_resolution(null()) }, 0);
-    assert!(unsafe { sssbake_result_summary(null()) }.is_null());
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
 }
 
 #[test]
@@ -665,4 +661,426 @@ fn hostile_arrays_get_a_status_and_a_message() {
         unsafe { sssbake_scene_add_mesh(scene.0, &good) },
         SssbakeStatus::Ok
     );
+}
+
+/// A small result of `scene`'s Ball, 8² by the exact sum.
+fn small_result(scene: *mut SssbakeScene) -> *mut SssbakeResult {
+    let (skin, ball) = (
+        CString::new("skin1").unwrap(),
+        CString::new("Ball").unwrap(),
+    );
+    let mut result = null_mut();
+    let status = unsafe {
+        sssbake_bake(
+            scene,
+            ball.as_ptr(),
+            &preset(&skin),
+            &settings(8, 1),
+            None,
+            null_mut(),
+            null(),
+            &mut result,
+        )
+    };
+    assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
+    result
+}
+
+/// Asserts `status` refused a handle with a message containing `words`.
+#[track_caller]
+fn refused(status: SssbakeStatus, words: &str) {
+    assert_eq!(status, SssbakeStatus::InvalidArgument, "{}", last_error());
+    assert!(
+        last_error().contains(words),
+        "{words:?} not in {:?}",
+        last_error()
+    );
+}
+
+/// Every call taking a scene, called with `scene`: each status (a result
+/// made is freed; a host's scene has no file to bake into a folder).
+fn scene_calls(scene: *mut SssbakeScene) -> Vec<SssbakeStatus> {
+    let (skin, ball) = (
+        CString::new("skin1").unwrap(),
+        CString::new("Ball").unwrap(),
+    );
+    let name = CString::new("Quad").unwrap();
+    let p = [0.0f32, 0.0, 0.0, 10.0, 0.0, 0.0, 0.0, 10.0, 0.0];
+    let idx = [0u32, 1, 2];
+    let mesh = SssbakeMesh {
+        name: name.as_ptr(),
+        positions: p.as_ptr(),
+        vertex_count: 3,
+        indices: idx.as_ptr(),
+        index_count: 3,
+        ..SssbakeMesh::default()
+    };
+    let light = SssbakeLight {
+        kind: SSSBAKE_LIGHT_SUN,
+        colour: [1.0; 3],
+        power: 1.0,
+        position: [0.0; 3],
+        direction: [0.0, 0.0, -1.0],
+        tangent: [1.0, 0.0, 0.0],
+        size: 0.0,
+        size_y: 0.0,
+        angle: 0.0,
+        spot_size: 0.0,
+        spot_blend: 0.0,
+        exposure: 0.0,
+        temperature_colour: [1.0; 3],
+        diffuse_factor: 1.0,
+        spread: 0.0,
+        normalize: 1,
+        casts_shadow: 1,
+    };
+    let material = preset(&skin);
+    let settings = settings(8, 1);
+    let out_dir = CString::new("never-written").unwrap();
+    let (mut result, mut summary) = (null_mut(), null_mut());
+    let mut statuses = Vec::new();
+    let mut call = |status: SssbakeStatus, words: &str| {
+        if status != SssbakeStatus::Ok {
+            assert!(
+                last_error().contains(words),
+                "{words:?} not in {:?}",
+                last_error()
+            );
+        }
+        statuses.push(status);
+    };
+    let scene_words = "scene";
+    call(unsafe { sssbake_scene_add_mesh(scene, &mesh) }, scene_words);
+    call(
+        unsafe { sssbake_scene_add_light(scene, &light) },
+        scene_words,
+    );
+    let world = [0.1f32; 3];
+    call(
+        unsafe { sssbake_scene_set_world(scene, world.as_ptr(), 1.0) },
+        scene_words,
+    );
+    let bake = unsafe {
+        sssbake_bake(
+            scene,
+            ball.as_ptr(),
+            &material,
+            &settings,
+            None,
+            null_mut(),
+            null(),
+            &mut result,
+        )
+    };
+    call(bake, scene_words);
+    let bake = unsafe {
+        sssbake_bake_materials(
+            scene,
+            ball.as_ptr(),
+            &material,
+            1,
+            &settings,
+            None,
+            null_mut(),
+            null(),
+            &mut result,
+        )
+    };
+    call(bake, scene_words);
+    let folder = unsafe {
+        sssbake_bake_to_folder(
+            scene,
+            &material,
+            &settings,
+            out_dir.as_ptr(),
+            0,
+            None,
+            null_mut(),
+            null(),
+            &mut summary,
+        )
+    };
+    call(folder, scene_words);
+    if !result.is_null() {
+        assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
+    }
+    assert!(summary.is_null());
+    assert!(!Path::new("never-written").exists());
+    statuses
+}
+
+/// Every call taking a result, called with `result`: each status, with
+/// the resolution and summary calls' failure read as invalid argument.
+fn result_calls(result: *mut SssbakeResult) -> Vec<SssbakeStatus> {
+    let mut statuses = Vec::new();
+    let mut pixels = vec![0.0f32; 4 * 8 * 8];
+    statuses.push(unsafe { sssbake_result_image(result, 0, pixels.as_mut_ptr(), pixels.len()) });
+    let path = std::env::temp_dir().join(format!("sssbake-handle-{}.exr", std::process::id()));
+    let c_path = CString::new(path.to_str().unwrap()).unwrap();
+    statuses.push(unsafe { sssbake_result_write_exr(result, 0, c_path.as_ptr(), 0) });
+    let written = path.exists();
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(written, statuses[1] == SssbakeStatus::Ok);
+    let as_status = |ok: bool| {
+        if ok {
+            SssbakeStatus::Ok
+        } else {
+            SssbakeStatus::InvalidArgument
+        }
+    };
+    statuses.push(as_status(sssbake_result_resolution(result) == 8));
+    statuses.push(as_status(!sssbake_result_summary(result).is_null()));
+    statuses
+}
+
+#[test]
+fn scene_handles_freed_made_up_or_null_are_refused_and_never_freed_twice() {
+    let live = lit_sphere();
+    let mut fresh = null_mut();
+    assert_eq!(
+        unsafe { sssbake_scene_new(1.0, &mut fresh) },
+        SssbakeStatus::Ok
+    );
+    assert!(fresh.addr().is_multiple_of(std::mem::align_of::<usize>()));
+    assert_eq!(sssbake_scene_free(fresh), SssbakeStatus::Ok);
+    // Freed twice, and used after it is freed.
+    refused(sssbake_scene_free(fresh), "was freed already");
+    let freed = scene_calls(fresh);
+    assert!(freed.iter().all(|&s| s == SssbakeStatus::InvalidArgument));
+    refused(
+        unsafe { sssbake_scene_add_light(fresh, null()) },
+        "is a scene that was freed already",
+    );
+    // Made up: an address on the stack, a live handle one byte off, a
+    // result's handle.
+    let mut stack = [0u64; 4];
+    let made_up = stack.as_mut_ptr().cast::<SssbakeScene>();
+    refused(
+        sssbake_scene_free(made_up),
+        "not a scene handle this library handed out",
+    );
+    assert!(
+        scene_calls(made_up)
+            .iter()
+            .all(|&s| s == SssbakeStatus::InvalidArgument)
+    );
+    assert_eq!(stack, [0; 4], "a made-up handle was written through");
+    let off = live.0.wrapping_byte_add(1);
+    refused(sssbake_scene_free(off), "misaligned");
+    let result = small_result(live.0);
+    refused(
+        sssbake_scene_free(result.cast()),
+        "is a result handle, not a scene",
+    );
+    // Null: refused by every call but the free, which frees nothing.
+    assert!(
+        scene_calls(null_mut())
+            .iter()
+            .all(|&s| s == SssbakeStatus::InvalidArgument)
+    );
+    refused(
+        unsafe { sssbake_scene_add_mesh(null_mut(), null()) },
+        "scene is null",
+    );
+    assert_eq!(sssbake_scene_free(null_mut()), SssbakeStatus::Ok);
+    // None of it touched the live scene and its result.
+    assert_eq!(sssbake_result_resolution(result), 8);
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
+    use SssbakeStatus::{InvalidArgument, Ok};
+    assert_eq!(scene_calls(live.0), [Ok, Ok, Ok, Ok, Ok, InvalidArgument]);
+}
+
+#[test]
+fn result_handles_freed_made_up_or_null_are_refused_and_never_freed_twice() {
+    let scene = lit_sphere();
+    let result = small_result(scene.0);
+    assert_eq!(result_calls(result), [SssbakeStatus::Ok; 4]);
+    let summary = sssbake_result_summary(result);
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
+    // Freed twice, and used after it is freed.
+    refused(
+        sssbake_result_free(result),
+        "is a result that was freed already",
+    );
+    assert_eq!(result_calls(result), [SssbakeStatus::InvalidArgument; 4]);
+    assert!(last_error().contains("freed already"), "{}", last_error());
+    // Made up: a stack address, a scene's handle, a summary's text.
+    let mut stack = [0u64; 4];
+    let made_up = stack.as_mut_ptr().cast::<SssbakeResult>();
+    refused(sssbake_result_free(made_up), "not a result handle");
+    assert_eq!(result_calls(made_up), [SssbakeStatus::InvalidArgument; 4]);
+    refused(
+        sssbake_result_free(scene.0.cast()),
+        "is a scene handle, not a result",
+    );
+    refused(sssbake_result_free(summary.cast_mut().cast()), "result");
+    // Null: refused by every call but the free, which frees nothing.
+    assert_eq!(
+        result_calls(null_mut()),
+        [SssbakeStatus::InvalidArgument; 4]
+    );
+    assert!(last_error().contains("result is null"), "{}", last_error());
+    assert_eq!(sssbake_result_free(null_mut()), SssbakeStatus::Ok);
+    assert_eq!(stack, [0; 4]);
+}
+
+#[test]
+fn strings_freed_twice_made_up_or_a_summary_are_refused_and_never_freed() {
+    let mut names = null_mut();
+    assert_eq!(
+        unsafe { sssbake_names(SSSBAKE_NAMES_OUTPUTS, &mut names) },
+        SssbakeStatus::Ok
+    );
+    assert_eq!(sssbake_string_free(names), SssbakeStatus::Ok);
+    refused(
+        sssbake_string_free(names),
+        "not a live string of this library",
+    );
+    // A string of the host's own, and a result's summary: not the library's
+    // to free, and still whole after the refusal.
+    let own = CString::new("the host's").unwrap().into_raw();
+    refused(sssbake_string_free(own), "never handed out");
+    assert_eq!(unsafe { CString::from_raw(own) }.to_str(), Ok("the host's"));
+    let scene = lit_sphere();
+    let result = small_result(scene.0);
+    let summary = sssbake_result_summary(result);
+    refused(
+        sssbake_string_free(summary.cast_mut()),
+        "a result's summary belongs to its result",
+    );
+    let text = unsafe { CStr::from_ptr(sssbake_result_summary(result)) };
+    assert!(text.to_str().unwrap().starts_with('{'));
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
+    assert_eq!(sssbake_string_free(null_mut()), SssbakeStatus::Ok);
+}
+
+/// What the progress callback of a bake did to its own scene.
+struct Meddler {
+    scene: *mut SssbakeScene,
+    /// The status and message of adding a light during the bake, and of
+    /// freeing the scene.
+    seen: std::sync::Mutex<Vec<(SssbakeStatus, String)>>,
+}
+
+unsafe extern "C" fn meddle(user: *mut c_void, _fraction: f32) {
+    let meddler = unsafe { &*(user as *const Meddler) };
+    let mut seen = meddler.seen.lock().unwrap();
+    if !seen.is_empty() {
+        return;
+    }
+    let world = [1.0f32; 3];
+    let status = unsafe { sssbake_scene_set_world(meddler.scene, world.as_ptr(), 1.0) };
+    seen.push((status, last_error()));
+    let status = sssbake_scene_free(meddler.scene);
+    seen.push((status, last_error()));
+}
+
+#[test]
+fn a_scene_freed_during_its_bake_lives_until_the_bake_returns() {
+    let scene = lit_sphere();
+    let meddler = Meddler {
+        scene: scene.0,
+        seen: std::sync::Mutex::new(Vec::new()),
+    };
+    let (skin, ball) = (
+        CString::new("skin1").unwrap(),
+        CString::new("Ball").unwrap(),
+    );
+    let mut result = null_mut();
+    let status = unsafe {
+        sssbake_bake(
+            scene.0,
+            ball.as_ptr(),
+            &preset(&skin),
+            &settings(16, 1),
+            Some(meddle),
+            &meddler as *const Meddler as *mut c_void,
+            null(),
+            &mut result,
+        )
+    };
+    assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
+    let seen = meddler.seen.lock().unwrap();
+    assert_eq!(seen[0].0, SssbakeStatus::InvalidArgument);
+    assert!(seen[0].1.contains("being baked"), "{}", seen[0].1);
+    assert_eq!(seen[1], (SssbakeStatus::Ok, String::new()));
+    // The bake finished with the scene; the handle is gone after it.
+    assert_eq!(sssbake_result_resolution(result), 16);
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
+    refused(sssbake_scene_free(scene.0), "freed already");
+}
+
+#[test]
+fn limits_in_the_settings_refuse_a_bake_before_it_starts() {
+    let scene = lit_sphere();
+    let defaults = settings(8, 1);
+    assert_eq!(defaults.max_memory_bytes, 16 << 30);
+    assert_eq!(defaults.max_evaluations, 3e10);
+    let (skin, ball) = (
+        CString::new("skin1").unwrap(),
+        CString::new("Ball").unwrap(),
+    );
+    let bake = |settings: &SssbakeSettings| {
+        let seen = std::sync::Mutex::new(Vec::<f32>::new());
+        let mut result = null_mut();
+        let status = unsafe {
+            sssbake_bake(
+                scene.0,
+                ball.as_ptr(),
+                &preset(&skin),
+                settings,
+                Some(record),
+                &seen as *const _ as *mut c_void,
+                null(),
+                &mut result,
+            )
+        };
+        let message = last_error();
+        let done = seen.into_inner().unwrap();
+        if !result.is_null() {
+            assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
+        }
+        (status, message, result.is_null(), done)
+    };
+    // 1 MiB is less than the bake's fixed 16 MiB, whatever its size; 10⁴
+    // evaluations are fewer than the exact sum over a 64² map needs.
+    let tight_memory = SssbakeSettings {
+        max_memory_bytes: 1 << 20,
+        ..settings(64, 1)
+    };
+    let tight_work = SssbakeSettings {
+        max_evaluations: 1e4,
+        ..settings(64, 1)
+    };
+    for (tight, limit, named) in [
+        (tight_memory, "max_memory: ", "over the limit of 1.0 MiB"),
+        (tight_work, "max_evaluations: ", "over the limit of 1.0e4"),
+    ] {
+        let (status, message, empty, progress) = bake(&tight);
+        // A setting's error: the library's Setting kind.
+        assert_eq!(status, SssbakeStatus::InvalidArgument, "{message}");
+        assert!(message.starts_with(limit), "{message}");
+        assert!(message.contains(named), "{message}");
+        assert!(empty);
+        // Refused by the plan: no part of the bake ran or was reported done.
+        assert!(progress.iter().all(|&f| f == 0.0), "{progress:?}");
+    }
+    // 0 is the default, and the defaults bake; a negative or NaN count is
+    // refused.
+    let zero = SssbakeSettings {
+        max_memory_bytes: 0,
+        max_evaluations: 0.0,
+        ..settings(8, 1)
+    };
+    let (status, message, _, progress) = bake(&zero);
+    assert_eq!(status, SssbakeStatus::Ok, "{message}");
+    assert_eq!(progress.last(), Some(&1.0));
+    for bad in [-1.0, f64::NAN] {
+        let (status, message, _, _) = bake(&SssbakeSettings {
+            max_evaluations: bad,
+            ..settings(8, 1)
+        });
+        assert_eq!(status, SssbakeStatus::InvalidArgument);
+        assert!(message.starts_with("max_evaluations: "), "{message}");
+    }
 }

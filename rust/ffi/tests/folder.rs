@@ -61,7 +61,7 @@ fn take(string: *mut c_char) -> String {
         .to_str()
         .unwrap()
         .to_owned();
-    unsafe { sssbake_string_free(string) };
+    assert_eq!(sssbake_string_free(string), SssbakeStatus::Ok);
     text
 }
 
@@ -120,7 +120,7 @@ fn a_file_baked_into_a_folder_writes_the_librarys_bytes() {
     assert_eq!(status, SssbakeStatus::CannotWrite);
     assert!(last_error().contains("exists"), "{}", last_error());
     assert!(summary.is_null());
-    unsafe { sssbake_scene_free(scene) };
+    assert_eq!(sssbake_scene_free(scene), SssbakeStatus::Ok);
 
     // What `sssbake bake marble.gltf --resolution 32` asks for: the
     // library's default request at 32², baked into a folder by the library.
@@ -216,7 +216,7 @@ fn the_name_tables_are_the_librarys() {
         unsafe { sssbake_names(0, null_mut()) },
         SssbakeStatus::InvalidArgument
     );
-    unsafe { sssbake_string_free(null_mut()) };
+    assert_eq!(sssbake_string_free(null_mut()), SssbakeStatus::Ok);
 }
 
 #[test]
@@ -247,7 +247,7 @@ fn misuse_of_files_and_folders_gets_a_status_and_a_message() {
         last_error()
     );
     assert!(summary.is_null() && !out.exists());
-    unsafe { sssbake_scene_free(scene) };
+    assert_eq!(sssbake_scene_free(scene), SssbakeStatus::Ok);
 
     // A file that is not there is named.
     let missing = CString::new("/no/such/scene.gltf").unwrap();
@@ -300,6 +300,21 @@ fn misuse_of_files_and_folders_gets_a_status_and_a_message() {
         bake(scene, &bad, 0, &mut summary),
         SssbakeStatus::InvalidArgument
     );
+    // A memory limit below what the bake needs is refused by the plan,
+    // before the folder is made.
+    let tight = SssbakeSettings {
+        max_memory_bytes: 1 << 20,
+        ..settings
+    };
+    assert_eq!(
+        bake(scene, &tight, 0, &mut summary),
+        SssbakeStatus::InvalidArgument
+    );
+    assert!(
+        last_error().starts_with("max_memory: ") && last_error().contains("limit of 1.0 MiB"),
+        "{}",
+        last_error()
+    );
     // The input's own folder is refused: a bake never writes beside its asset.
     let beside = CString::new(marble().parent().unwrap().to_str().unwrap()).unwrap();
     let status = bake_into(
@@ -316,5 +331,5 @@ fn misuse_of_files_and_folders_gets_a_status_and_a_message() {
         last_error()
     );
     assert!(summary.is_null() && !out.exists());
-    unsafe { sssbake_scene_free(scene) };
+    assert_eq!(sssbake_scene_free(scene), SssbakeStatus::Ok);
 }

@@ -66,7 +66,7 @@ struct Scene(*mut SssbakeScene);
 
 impl Drop for Scene {
     fn drop(&mut self) {
-        unsafe { sssbake_scene_free(self.0) };
+        sssbake_scene_free(self.0);
     }
 }
 
@@ -177,7 +177,7 @@ fn bake(scene: &Scene, materials: &[SssbakeMaterial]) -> Result<(Vec<f32>, Strin
     let summary = unsafe { CStr::from_ptr(sssbake_result_summary(result)) }
         .to_string_lossy()
         .into_owned();
-    unsafe { sssbake_result_free(result) };
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
     Ok((pixels, summary))
 }
 

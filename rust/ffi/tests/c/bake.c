@@ -79,7 +79,10 @@ int main(int argc, char **argv) {
     if (status != SSSBAKE_STATUS_OK) return failed("sssbake_bake", status);
     status = sssbake_result_write_exr(result, 0, argv[1], 0);
     if (status != SSSBAKE_STATUS_OK) return failed("sssbake_result_write_exr", status);
-    sssbake_result_free(result);
-    sssbake_scene_free(scene);
+    /* A handle freed twice would be refused with a status; each is freed once. */
+    status = sssbake_result_free(result);
+    if (status != SSSBAKE_STATUS_OK) return failed("sssbake_result_free", status);
+    status = sssbake_scene_free(scene);
+    if (status != SSSBAKE_STATUS_OK) return failed("sssbake_scene_free", status);
     return 0;
 }
