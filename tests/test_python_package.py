@@ -182,6 +182,10 @@ def test_the_librarys_errors_are_exceptions_naming_kind_file_and_field(tmp_path)
     assert "exists" in exists.value.message
     sssbake.bake(MARBLE, tmp_path / "taken", resolution=16, force=True)
 
+    with pytest.raises(sssbake.SettingError, match="only a USD scene") as no_layer:
+        sssbake.bake(MARBLE, tmp_path / "gltf", resolution=16, look_on=object())
+    assert no_layer.value.field == "look_on" and not (tmp_path / "gltf").exists()
+
     with pytest.raises(sssbake.InputError, match="unknown preset"):
         sssbake.profile("no-such-preset")
     with pytest.raises(sssbake.SettingError):

@@ -107,6 +107,11 @@ def bake(
     its strongest sublayer, so the stage shows the baked look at once.
     """
     name, stage = _source(scene, options)
+    if look_on is not None and stage is None:
+        raise SettingError(
+            f"{name}: only a USD scene gets a layer to add (a stage, or a USD file with usd-core)",
+            field="look_on",
+        )
     summary = json.loads(
         _native.bake(
             name,

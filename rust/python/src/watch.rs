@@ -33,7 +33,12 @@ pub fn run_watched<T: Send>(
     work: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
     let finished = (Mutex::new(false), Condvar::new());
-    let mut raised: Option<PyErr> = None;
+    // Watched once before the work starts: a cancel already asked for, or a
+    // callback that fails at once, stops it however quick it would be.
+    let mut raised: Option<PyErr> = watch_once(py, control, watchers).err();
+    if raised.is_some() {
+        control.cancel();
+    }
     let result = std::thread::scope(|scope| {
         let worker = scope.spawn(|| {
             let value = work();
@@ -95,7 +100,9 @@ fn watch_once(py: Python<'_>, control: &Control, watchers: &Watchers<'_>) -> PyR
         control.cancel();
     }
     if let Some(progress) = &watchers.progress {
-        progress.call1((control.fraction(), control.stage_label()))?;
+        let stage = control.stage_label();
+        let stage = if stage.is_empty() { "starting" } else { &stage };
+        progress.call1((control.fraction(), stage))?;
     }
     Ok(())
 }
