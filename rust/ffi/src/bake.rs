@@ -334,14 +334,17 @@ pub(crate) fn watched<T, E>(
         }
     };
     let result = watch_while(Duration::from_millis(200), tick, work);
-    // A flag raised since the last tick still counts: the caller sees it in
-    // `control` and discards what the work made.
-    if cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0) {
-        control.cancel();
-    } else if let (Some(callback), true) = (progress, result.is_ok()) {
+    let raised = || cancel.is_some_and(|c| c.load(Ordering::Relaxed) != 0);
+    if let (Some(callback), true, false) = (progress, result.is_ok(), raised()) {
         // The last tick may have come before the end: the part is done.
         // SAFETY: the host's callback, called as documented.
         unsafe { callback(user.0, ((part + 1) as f64 / parts.max(1) as f64) as f32) };
+    }
+    // A flag raised since the last tick, the host's answer to that last
+    // report included, still counts: the caller sees it in `control` and
+    // discards what the work made.
+    if raised() {
+        control.cancel();
     }
     result
 }
