@@ -49,6 +49,30 @@ impl Drop for Scene {
     }
 }
 
+/// A white light of `kind` and `power` pointing down −z, with no size, cone
+/// or exposure: what a test changes it from.
+fn light(kind: u32, power: f32) -> SssbakeLight {
+    SssbakeLight {
+        kind,
+        colour: [1.0; 3],
+        power,
+        position: [0.0; 3],
+        direction: [0.0, 0.0, -1.0],
+        tangent: [1.0, 0.0, 0.0],
+        size: 0.0,
+        size_y: 0.0,
+        angle: 0.0,
+        spot_size: 0.0,
+        spot_blend: 0.0,
+        exposure: 0.0,
+        temperature_colour: [1.0; 3],
+        diffuse_factor: 1.0,
+        spread: 0.0,
+        normalize: 1,
+        casts_shadow: 1,
+    }
+}
+
 fn lit_sphere() -> Scene {
     let mut scene = null_mut();
     assert_eq!(
@@ -74,23 +98,9 @@ fn lit_sphere() -> Scene {
         last_error()
     );
     let sun = SssbakeLight {
-        kind: SSSBAKE_LIGHT_SUN,
         colour: [1.0, 0.9, 0.8],
-        power: 3.0,
-        position: [0.0; 3],
         direction: [0.0, -0.6, -0.8],
-        tangent: [1.0, 0.0, 0.0],
-        size: 0.0,
-        size_y: 0.0,
-        angle: 0.0,
-        spot_size: 0.0,
-        spot_blend: 0.0,
-        exposure: 0.0,
-        temperature_colour: [1.0; 3],
-        diffuse_factor: 1.0,
-        spread: 0.0,
-        normalize: 1,
-        casts_shadow: 1,
+        ..light(SSSBAKE_LIGHT_SUN, 3.0)
     };
     assert_eq!(
         unsafe { sssbake_scene_add_light(scene, &sun) },
@@ -494,23 +504,8 @@ fn misuse_gets_a_status_and_a_message() {
     );
     // A light that is not finite, or of no kind.
     let mut light = SssbakeLight {
-        kind: SSSBAKE_LIGHT_POINT,
-        colour: [1.0; 3],
-        power: f32::NAN,
-        position: [0.0; 3],
-        direction: [0.0, 0.0, -1.0],
-        tangent: [1.0, 0.0, 0.0],
         size: 0.1,
-        size_y: 0.0,
-        angle: 0.0,
-        spot_size: 0.0,
-        spot_blend: 0.0,
-        exposure: 0.0,
-        temperature_colour: [1.0; 3],
-        diffuse_factor: 1.0,
-        spread: 0.0,
-        normalize: 1,
-        casts_shadow: 1,
+        ..light(SSSBAKE_LIGHT_POINT, f32::NAN)
     };
     assert_eq!(
         unsafe { sssbake_scene_add_light(scene.0, &light) },
@@ -715,25 +710,7 @@ fn scene_calls(scene: *mut SssbakeScene) -> Vec<SssbakeStatus> {
         index_count: 3,
         ..SssbakeMesh::default()
     };
-    let light = SssbakeLight {
-        kind: SSSBAKE_LIGHT_SUN,
-        colour: [1.0; 3],
-        power: 1.0,
-        position: [0.0; 3],
-        direction: [0.0, 0.0, -1.0],
-        tangent: [1.0, 0.0, 0.0],
-        size: 0.0,
-        size_y: 0.0,
-        angle: 0.0,
-        spot_size: 0.0,
-        spot_blend: 0.0,
-        exposure: 0.0,
-        temperature_colour: [1.0; 3],
-        diffuse_factor: 1.0,
-        spread: 0.0,
-        normalize: 1,
-        casts_shadow: 1,
-    };
+    let light = light(SSSBAKE_LIGHT_SUN, 1.0);
     let material = preset(&skin);
     let settings = settings(8, 1);
     let out_dir = CString::new("never-written").unwrap();
