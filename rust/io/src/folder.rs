@@ -7,6 +7,7 @@ use crate::image_writer::{Precision, exr_bytes, png_bytes};
 use crate::look::{LOOK, emissive};
 use crate::staging::Staging;
 use crate::usd_writer::LayerWriter;
+use rayon::prelude::*;
 use sssbake::control::Control;
 use sssbake::{Error, Plan, Scene, Summary, bake_each};
 use std::path::{Path, PathBuf};
@@ -63,23 +64,36 @@ pub fn bake_to_folder(
     let encode_look = AssetKind::of(input) == Some(AssetKind::Gltf);
     let mut looks = Vec::new();
     let mut summary = bake_each(scene, plan, control, |object| {
-        for (_, output, path) in maps.iter().filter(|(n, _, _)| n == object.name()) {
-            let mut image = object.render(*output)?;
-            let png = path.extension().is_some_and(|e| e == "png");
-            if encode_look && *output == LOOK && !png {
-                let look = emissive(&image).map_err(|e| Error::output(path.display(), e))?;
+        // The object's maps are rendered and encoded side by side (the
+        // encoders are serial), then staged in order.
+        let encoded: Vec<(&Path, Vec<u8>, Option<_>)> = maps
+            .par_iter()
+            .filter(|(n, _, _)| n == object.name())
+            .map(|(_, output, path)| {
+                let mut image = object.render(*output)?;
+                let png = path.extension().is_some_and(|e| e == "png");
+                let look = if encode_look && *output == LOOK && !png {
+                    Some(emissive(&image).map_err(|e| Error::output(path.display(), e))?)
+                } else {
+                    None
+                };
+                let bytes = if png {
+                    let scale = options.exposure.exp2();
+                    for texel in &mut image.texels {
+                        *texel = texel.map(|v| v * scale);
+                    }
+                    png_bytes(&image)
+                } else {
+                    exr_bytes(&image, options.precision)
+                }
+                .map_err(|e| Error::output(path.display(), e))?;
+                Ok((path.as_path(), bytes, look))
+            })
+            .collect::<Result<_, Error>>()?;
+        for (path, bytes, look) in encoded {
+            if let Some(look) = look {
                 looks.push((object.name().to_string(), look));
             }
-            let bytes = if png {
-                let scale = options.exposure.exp2();
-                for texel in &mut image.texels {
-                    *texel = texel.map(|v| v * scale);
-                }
-                png_bytes(&image)
-            } else {
-                exr_bytes(&image, options.precision)
-            }
-            .map_err(|e| Error::output(path.display(), e))?;
             staging.stage(path, &bytes)?;
         }
         Ok(())

@@ -145,29 +145,10 @@ fn fit_channel(
 
     let (v_lo, v_hi) = ((10.0 * r_lo).powi(2), (reach / 3.0).powi(2));
     let (x_min, x_max) = ((r_lo * r_lo).ln(), (reach * reach).ln());
-    let objective = |log_vars: &[f64]| -> (f64, Vec<f64>) {
-        let columns: Vec<Vec<f64>> = log_vars
-            .iter()
-            .map(|lv| {
-                radii
-                    .iter()
-                    .map(|&r| gaussian(lv.exp(), r))
-                    .chain([1.0])
-                    .collect()
-            })
-            .collect();
-        let weights = non_negative_least_squares(&columns, &target, &quad);
-        let error: f64 = (0..samples)
-            .map(|i| {
-                let fit: f64 = columns
-                    .iter()
-                    .zip(&weights)
-                    .map(|(col, w)| w * col[i])
-                    .sum();
-                quad[i] * (target[i] - fit).powi(2)
-            })
-            .sum();
-        (error, weights)
+    let system = System {
+        radii: &radii,
+        target: &target,
+        quad: &quad,
     };
 
     // Start from variances spread geometrically over the profile's range.
@@ -181,28 +162,33 @@ fn fit_channel(
             v_lo.ln() + t * (v_hi.ln() - v_lo.ln())
         })
         .collect();
-    let mut best = objective(&x).0;
+    // A pattern search moves one variance at a time, so only that
+    // Gaussian's column and its row of the normal equations are recomputed
+    // for a trial; the rest are kept.
+    let mut normal = Normal::new(&system, &x);
+    let mut best = normal.fit(&system).0;
     let mut step = 1.0;
     while step > 1e-3 {
         let mut improved = false;
-        for k in 0..count {
+        for (k, x_k) in x.iter_mut().enumerate() {
             for direction in [1.0, -1.0] {
-                let mut trial = x.clone();
-                trial[k] = (trial[k] + direction * step).clamp(x_min, x_max);
-                let value = objective(&trial).0;
+                let moved = (*x_k + direction * step).clamp(x_min, x_max);
+                let kept = normal.replace(&system, k, moved);
+                let value = normal.fit(&system).0;
                 if value < best {
                     best = value;
-                    x = trial;
+                    *x_k = moved;
                     improved = true;
                     break;
                 }
+                normal.restore(k, kept);
             }
         }
         if !improved {
             step *= 0.5;
         }
     }
-    let (error, weights) = objective(&x);
+    let (error, weights) = normal.fit(&system);
     let mut terms: Vec<(f64, f64)> = weights
         .into_iter()
         .zip(x.iter().map(|lv| lv.exp()))
@@ -211,26 +197,121 @@ fn fit_channel(
     (terms, (error / norm).sqrt())
 }
 
-/// Minimises Σ q_i (t_i − Σ_k w_k a_ki)² over w ≥ 0 by the normal equations,
-/// dropping the most negative weight until none is negative.
-fn non_negative_least_squares(columns: &[Vec<f64>], target: &[f64], quad: &[f64]) -> Vec<f64> {
-    let n = columns.len();
+/// The least-squares problem of a fit: the profile's samples at `radii`
+/// (then the total), weighed by `quad`.
+struct System<'a> {
+    radii: &'a [f64],
+    target: &'a [f64],
+    quad: &'a [f64],
+}
+
+impl System<'_> {
+    /// The Gaussian of ln-variance `log_var` at each sample radius, then 1
+    /// (its share of the total).
+    fn column(&self, log_var: f64) -> Vec<f64> {
+        let v = log_var.exp();
+        self.radii
+            .iter()
+            .map(|&r| gaussian(v, r))
+            .chain([1.0])
+            .collect()
+    }
+
+    /// Σ_s q_s a_s b_s.
+    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        (0..self.target.len())
+            .map(|s| self.quad[s] * a[s] * b[s])
+            .sum()
+    }
+}
+
+/// The columns of a set of Gaussians and their normal equations.
+struct Normal {
+    columns: Vec<Vec<f64>>,
+    gram: Vec<Vec<f64>>,
+    rhs: Vec<f64>,
+}
+
+/// What [`Normal::replace`] displaced, for [`Normal::restore`].
+struct Kept {
+    column: Vec<f64>,
+    row: Vec<f64>,
+    rhs: f64,
+}
+
+impl Normal {
+    fn new(system: &System, log_vars: &[f64]) -> Self {
+        let columns: Vec<Vec<f64>> = log_vars.iter().map(|&lv| system.column(lv)).collect();
+        let gram = columns
+            .iter()
+            .map(|a| columns.iter().map(|b| system.dot(a, b)).collect())
+            .collect();
+        let rhs = columns
+            .iter()
+            .map(|a| system.dot(a, system.target))
+            .collect();
+        Normal { columns, gram, rhs }
+    }
+
+    /// Moves Gaussian `k` to ln-variance `log_var`.
+    fn replace(&mut self, system: &System, k: usize, log_var: f64) -> Kept {
+        let column = std::mem::replace(&mut self.columns[k], system.column(log_var));
+        let row: Vec<f64> = self.gram[k].clone();
+        for j in 0..self.columns.len() {
+            let g = system.dot(&self.columns[k], &self.columns[j]);
+            self.gram[k][j] = g;
+            self.gram[j][k] = g;
+        }
+        let rhs = std::mem::replace(
+            &mut self.rhs[k],
+            system.dot(&self.columns[k], system.target),
+        );
+        Kept { column, row, rhs }
+    }
+
+    /// Undoes the [`Normal::replace`] of Gaussian `k`.
+    fn restore(&mut self, k: usize, kept: Kept) {
+        self.columns[k] = kept.column;
+        for (j, &g) in kept.row.iter().enumerate() {
+            self.gram[k][j] = g;
+            self.gram[j][k] = g;
+        }
+        self.rhs[k] = kept.rhs;
+    }
+
+    /// The non-negative weights and the squared error they leave over the
+    /// profile's samples (the total's row is a constraint, not error).
+    fn fit(&self, system: &System) -> (f64, Vec<f64>) {
+        let weights = non_negative_least_squares(&self.gram, &self.rhs);
+        let samples = system.radii.len();
+        let error = (0..samples)
+            .map(|i| {
+                let fit: f64 = self
+                    .columns
+                    .iter()
+                    .zip(&weights)
+                    .map(|(col, w)| w * col[i])
+                    .sum();
+                system.quad[i] * (system.target[i] - fit).powi(2)
+            })
+            .sum();
+        (error, weights)
+    }
+}
+
+/// Minimises Σ q_i (t_i − Σ_k w_k a_ki)² over w ≥ 0, given its normal
+/// equations (`gram` = AᵀQA, `rhs` = AᵀQt), dropping the most negative
+/// weight until none is negative.
+fn non_negative_least_squares(gram: &[Vec<f64>], rhs: &[f64]) -> Vec<f64> {
+    let n = rhs.len();
     let mut active: Vec<usize> = (0..n).collect();
     loop {
-        let m = active.len();
-        let mut gram = vec![vec![0.0; m]; m];
-        let mut rhs = vec![0.0; m];
-        for (a, &i) in active.iter().enumerate() {
-            for (b, &j) in active.iter().enumerate() {
-                gram[a][b] = (0..target.len())
-                    .map(|s| quad[s] * columns[i][s] * columns[j][s])
-                    .sum();
-            }
-            rhs[a] = (0..target.len())
-                .map(|s| quad[s] * columns[i][s] * target[s])
-                .sum();
-        }
-        let solution = solve_symmetric(gram, rhs);
+        let sub_gram = active
+            .iter()
+            .map(|&i| active.iter().map(|&j| gram[i][j]).collect())
+            .collect();
+        let sub_rhs = active.iter().map(|&i| rhs[i]).collect();
+        let solution = solve_symmetric(sub_gram, sub_rhs);
         let mut weights = vec![0.0; n];
         for (a, &i) in active.iter().enumerate() {
             weights[i] = solution[a];

@@ -82,7 +82,7 @@ pub fn integrate(
     let pad = border(n, widest, &stretch, &dilation.open_beyond_image);
     let frame = Frame::new(n, pad, &stretch, &dilation.open_beyond_image);
     let blurs: usize = gaussians.terms.iter().map(Vec::len).sum();
-    control.plan((4 * blurs * frame.texels()) as u64);
+    control.plan((2 * blurs * frame.texels()) as u64);
     let mut out = vec![[0.0f32; 3]; surfels.len()];
     for c in 0..3 {
         let mut image = vec![0.0f32; n * n];
@@ -173,8 +173,9 @@ struct Frame {
     n: usize,
     pad: usize,
     side: usize,
-    /// Stretch per framed texel, the border's copied from the nearest edge.
-    stretch: Vec<glam::Vec2>,
+    /// mm per texel step along u and v at each framed texel, the
+    /// border's copied from the nearest edge.
+    step: [Vec<f32>; 2],
     /// 1 where the surface is known (the image, and the border beyond open
     /// edges), 0 beyond the image where the chart continues.
     known: Vec<f32>,
@@ -213,7 +214,10 @@ impl Frame {
             n,
             pad,
             side,
-            stretch: framed,
+            step: [
+                framed.iter().map(|s| s.x).collect(),
+                framed.iter().map(|s| s.y).collect(),
+            ],
             known,
         }
     }
@@ -243,10 +247,21 @@ enum Axis {
     V,
 }
 
+/// Texels of a row blurred together: their taps are stepped in lock-step,
+/// so each step is a vector instruction over the block.
+const BLOCK: usize = 32;
+
 /// One 1-D Gaussian pass of `variance` (mm²) along `axis` over the framed
-/// light and the mask of known surface alike (the same taps, computed
-/// once for both), gathering: each texel's σ in texels is √variance over
-/// its own stretch along the axis. Taps beyond the frame read nothing.
+/// light and the mask of known surface alike (the same taps for both),
+/// gathering: each texel's σ in texels is √variance over its own step (mm
+/// per texel along the axis), its taps reach ⌈3σ⌉ and are normalised by
+/// their sum. Taps beyond the frame read nothing.
+///
+/// The taps at ±k are walked for a block of texels of a row at once: along
+/// v they read rows y ± k, along u the row shifted by ±k, both contiguous.
+/// Each texel's weights exp(−k²/2σ²) follow the recurrence
+/// w(k+1) = w(k)·q^(2k+1), q = exp(−1/2σ²): two products a tap instead of
+/// an exponential, with a relative drift of a few ulps per tap.
 fn blur(
     light: &[f32],
     known: &[f32],
@@ -255,71 +270,133 @@ fn blur(
     axis: Axis,
     control: &Control,
 ) -> Result<(Vec<f32>, Vec<f32>), Cancelled> {
-    let n = frame.side;
+    let side = frame.side;
     if variance <= 0.0 {
-        control.advance(2 * light.len() as u64)?;
+        control.advance(light.len() as u64)?;
         return Ok((light.to_vec(), known.to_vec()));
     }
     let sigma_mm = variance.sqrt();
+    let step = &frame.step[axis as usize];
     let mut out = vec![0.0f32; light.len()];
     let mut out_known = vec![0.0f32; known.len()];
-    out.par_chunks_mut(n)
-        .zip(out_known.par_chunks_mut(n))
+    out.par_chunks_mut(side)
+        .zip(out_known.par_chunks_mut(side))
         .enumerate()
         .try_for_each(|(y, (row, row_known))| {
             control.check()?;
-            let mut weights: Vec<f32> = Vec::new();
-            for (x, (value, value_known)) in row.iter_mut().zip(row_known).enumerate() {
-                let texel = y * n + x;
-                let step = match axis {
-                    Axis::U => frame.stretch[texel].x,
-                    Axis::V => frame.stretch[texel].y,
+            let line = y * side;
+            for x0 in (0..side).step_by(BLOCK) {
+                let width = BLOCK.min(side - x0);
+                let taps = Taps::new(&step[line + x0..][..width], sigma_mm);
+                let source = Source { light, known, side };
+                let (y, x0) = (y as isize, x0 as isize);
+                let (sum, sum_known) = match axis {
+                    Axis::U => taps.gather(width, |k| {
+                        let k = k as isize;
+                        (source.run(y, x0 + k, width), source.run(y, x0 - k, width))
+                    }),
+                    Axis::V => taps.gather(width, |k| {
+                        let k = k as isize;
+                        (source.run(y + k, x0, width), source.run(y - k, x0, width))
+                    }),
                 };
-                let sigma = if step > 0.0 { sigma_mm / step } else { 0.0 };
-                if sigma.is_nan() || sigma < SHARP {
-                    *value = light[texel];
-                    *value_known = known[texel];
-                    continue;
-                }
-                let reach = ((3.0 * sigma).ceil() as u32).min(MAX_REACH) as i64;
-                gaussian_taps(sigma, reach, &mut weights);
-                let norm: f32 = weights.iter().sum();
-                let (mut sum, mut sum_known) = (0.0f32, 0.0f32);
-                for (i, k) in (-reach..=reach).enumerate() {
-                    let (sx, sy) = match axis {
-                        Axis::U => (x as i64 + k, y as i64),
-                        Axis::V => (x as i64, y as i64 + k),
-                    };
-                    if sx < 0 || sy < 0 || sx >= n as i64 || sy >= n as i64 {
-                        continue;
-                    }
-                    let at = sy as usize * n + sx as usize;
-                    sum += weights[i] * light[at];
-                    sum_known += weights[i] * known[at];
-                }
-                *value = sum / norm;
-                *value_known = sum_known / norm;
+                let x0 = x0 as usize;
+                row[x0..x0 + width].copy_from_slice(&sum[..width]);
+                row_known[x0..x0 + width].copy_from_slice(&sum_known[..width]);
             }
-            control.advance(2 * n as u64)
+            control.advance(side as u64)
         })?;
     Ok((out, out_known))
 }
 
-/// The weights exp(−k²/2σ²) for k in −reach..=reach into `weights`, by
-/// the recurrence w(k+1) = w(k)·q^(2k+1), q = exp(−1/2σ²): two products a
-/// tap instead of an exponential (the blur's cost was mostly these), with
-/// a relative drift of a few ulps per tap.
-fn gaussian_taps(sigma: f32, reach: i64, weights: &mut Vec<f32>) {
-    let reach = reach as usize;
-    let q = (-0.5 / (sigma * sigma)).exp();
-    weights.clear();
-    weights.resize(2 * reach + 1, 0.0);
-    let (mut w, mut ratio) = (1.0f32, q);
-    for k in 0..=reach {
-        weights[reach + k] = w;
-        weights[reach - k] = w;
-        w *= ratio;
-        ratio *= q * q;
+/// A run of source values: (texels of the block before it starts, light,
+/// known); values past its end read nothing.
+type Run<'a> = (usize, &'a [f32], &'a [f32]);
+
+/// The framed light and mask a pass reads.
+struct Source<'a> {
+    light: &'a [f32],
+    known: &'a [f32],
+    side: usize,
+}
+
+impl<'a> Source<'a> {
+    /// The `width` texels of row `y` from column `x`, clipped to the frame.
+    fn run(&self, y: isize, x: isize, width: usize) -> Run<'a> {
+        let side = self.side as isize;
+        if !(0..side).contains(&y) {
+            return (0, &self.light[..0], &self.known[..0]);
+        }
+        let (from, to) = (x.clamp(0, side), (x + width as isize).clamp(0, side));
+        let line = y as usize * self.side;
+        let range = line + from as usize..line + to.max(from) as usize;
+        (
+            (from - x).max(0) as usize,
+            &self.light[range.clone()],
+            &self.known[range],
+        )
+    }
+}
+
+/// The Gaussian taps of a block of texels.
+struct Taps {
+    /// Reach per texel in taps either side (0: the texel is left as it is).
+    reach: [u32; BLOCK],
+    /// q = exp(−1/2σ²) per texel.
+    q: [f32; BLOCK],
+    /// The widest reach in the block.
+    widest: u32,
+}
+
+impl Taps {
+    fn new(step: &[f32], sigma_mm: f32) -> Self {
+        let (mut reach, mut q) = ([0u32; BLOCK], [0.0f32; BLOCK]);
+        for (i, &s) in step.iter().enumerate() {
+            let sigma = if s > 0.0 { sigma_mm / s } else { 0.0 };
+            if sigma >= SHARP {
+                reach[i] = ((3.0 * sigma).ceil() as u32).min(MAX_REACH);
+                q[i] = (-0.5 / (sigma * sigma)).exp();
+            }
+        }
+        let widest = reach.iter().copied().max().unwrap_or(0);
+        Taps { reach, q, widest }
+    }
+
+    /// The normalised sums of light and known over each texel's taps;
+    /// `runs(k)` gives the sources k taps ahead and behind.
+    #[inline]
+    fn gather<'a>(
+        &self,
+        width: usize,
+        runs: impl Fn(u32) -> (Run<'a>, Run<'a>),
+    ) -> ([f32; BLOCK], [f32; BLOCK]) {
+        let ((_, centre, centre_known), _) = runs(0);
+        let (mut sum, mut sum_known) = ([0.0f32; BLOCK], [0.0f32; BLOCK]);
+        sum[..width].copy_from_slice(&centre[..width]);
+        sum_known[..width].copy_from_slice(&centre_known[..width]);
+        let (mut weight, mut ratio, mut norm) = ([1.0f32; BLOCK], self.q, [1.0f32; BLOCK]);
+        let mut tap = [0.0f32; BLOCK];
+        for k in 1..=self.widest {
+            for i in 0..BLOCK {
+                weight[i] *= ratio[i];
+                ratio[i] *= self.q[i] * self.q[i];
+                tap[i] = if k <= self.reach[i] { weight[i] } else { 0.0 };
+                norm[i] += 2.0 * tap[i];
+            }
+            let (ahead, behind) = runs(k);
+            for (skip, values, known) in [ahead, behind] {
+                let end = (skip + values.len()).min(width);
+                for i in skip..end {
+                    sum[i] += tap[i] * values[i - skip];
+                    sum_known[i] += tap[i] * known[i - skip];
+                }
+            }
+        }
+        for i in 0..BLOCK {
+            sum[i] /= norm[i];
+            sum_known[i] /= norm[i];
+        }
+        (sum, sum_known)
     }
 }
 
