@@ -72,6 +72,8 @@ pub struct Accuracy {
     /// The tolerance `auto` held the object to; `None` when a method was
     /// asked for.
     pub tolerance: Option<f64>,
+    /// The octree's solid-angle threshold (sr) when `method` is the octree.
+    pub octree_epsilon: Option<f32>,
     /// Methods `auto` ran and set aside for missing the tolerance.
     pub set_aside: Vec<SetAside>,
 }
@@ -81,6 +83,9 @@ pub struct Accuracy {
 pub struct SetAside {
     /// The method.
     pub method: Method,
+    /// The octree's solid-angle threshold (sr) when the method is the
+    /// octree.
+    pub octree_epsilon: Option<f32>,
     /// Its estimated relative RMSE.
     pub estimated_error: f64,
     /// Seconds it took, integration and check.
@@ -97,7 +102,8 @@ struct Scattered {
 
 /// Integrates by `method` and estimates the error against the exact sum;
 /// under `auto`, moves to a more exact method while the estimate exceeds
-/// the request's tolerance.
+/// the request's tolerance: the octree once more at a finer threshold
+/// before the exact sum.
 fn scatter(
     prepared: &Prepared,
     object: &ObjectPlan,
@@ -114,10 +120,11 @@ fn scatter(
     );
     let mut set_aside = Vec::new();
     let mut seconds = 0.0;
+    let mut integrators = request.integrators.clone();
+    let mut refined = false;
     loop {
         let start = Instant::now();
-        let integration =
-            prepared.integrate(scattering, request.integrators.get(method), control)?;
+        let integration = prepared.integrate(scattering, integrators.get(method), control)?;
         let estimate = if method == Method::Brute {
             ErrorEstimate {
                 relative_rmse: 0.0,
@@ -135,15 +142,27 @@ fn scatter(
         };
         let elapsed = start.elapsed().as_secs_f64();
         seconds += elapsed;
-        let next = choice::more_exact(method, texels, neighbours)
-            .filter(|_| chosen && estimate.relative_rmse > request.tolerance);
+        let epsilon = (method == Method::Octree).then_some(integrators.octree.epsilon);
+        let missed = chosen && estimate.relative_rmse > request.tolerance;
+        let finer = epsilon
+            .filter(|_| missed && !refined)
+            .and_then(|e| choice::finer_epsilon(e, estimate.relative_rmse, request.tolerance));
+        let next = match finer {
+            Some(_) => Some(Method::Octree),
+            None => choice::more_exact(method, texels, neighbours).filter(|_| missed),
+        };
         match next {
             Some(next) => {
                 set_aside.push(SetAside {
                     method,
+                    octree_epsilon: epsilon,
                     estimated_error: estimate.relative_rmse,
                     seconds: elapsed,
                 });
+                if let Some(finer) = finer {
+                    integrators.octree.epsilon = finer;
+                    refined = true;
+                }
                 method = next;
             }
             None => {
@@ -153,6 +172,7 @@ fn scatter(
                     sources: integration.sources,
                     accuracy: Accuracy {
                         method,
+                        octree_epsilon: epsilon,
                         estimated_error: estimate.relative_rmse,
                         texels_checked: estimate.texels,
                         tolerance: chosen.then_some(request.tolerance),
@@ -373,9 +393,10 @@ impl fmt::Display for Summary {
                 for aside in &a.set_aside {
                     writeln!(
                         f,
-                        "{}: {} set aside: estimated error {:.2}% is above the tolerance ({:.2} s)",
+                        "{}: {}{} set aside: estimated error {:.2}% is above the tolerance ({:.2} s)",
                         p.name,
                         aside.method,
+                        at_epsilon(aside.octree_epsilon),
                         100.0 * aside.estimated_error,
                         aside.seconds
                     )?;
@@ -391,9 +412,10 @@ impl fmt::Display for Summary {
                     };
                     writeln!(
                         f,
-                        "{}: {}: estimated error {:.2}% (relative RMSE against the exact sum at {} texels){over}",
+                        "{}: {}{}: estimated error {:.2}% (relative RMSE against the exact sum at {} texels){over}",
                         p.name,
                         a.method,
+                        at_epsilon(a.octree_epsilon),
                         100.0 * a.estimated_error,
                         a.texels_checked
                     )?;
@@ -421,4 +443,9 @@ impl fmt::Display for Summary {
         }
         Ok(())
     }
+}
+
+/// " at ε …" for an octree's threshold, else nothing.
+fn at_epsilon(epsilon: Option<f32>) -> String {
+    epsilon.map_or(String::new(), |e| format!(" at ε {e:.3} sr"))
 }

@@ -16,6 +16,7 @@ use crate::pipeline::Prepared;
 use crate::rays::RayScene;
 use crate::surface::dilation::seam_aware_offsets;
 use crate::surface::texels::TexelSurfels;
+use crate::transport::thin::inward_thickness;
 use serde::{Deserialize, Serialize};
 
 /// A map sssbake can write.
@@ -157,17 +158,6 @@ fn thickness(prepared: &Prepared) -> Vec<[f32; 3]> {
     let surfels = &prepared.surfels;
     (0..surfels.len())
         .into_par_iter()
-        .map(|s| {
-            let inward = -surfels.normal[s];
-            let origin = surfels.position[s] + inward * rays.epsilon();
-            let mut nearest = f32::INFINITY;
-            rays.for_each_hit(origin, inward, rays.epsilon(), f32::MAX, |hit| {
-                if hit.triangle != surfels.triangle[s] {
-                    nearest = nearest.min(hit.t);
-                }
-            });
-            let t = if nearest.is_finite() { nearest } else { 0.0 };
-            [t; 3]
-        })
+        .map(|s| [inward_thickness(&rays, surfels, s, f32::MAX).unwrap_or(0.0); 3])
         .collect()
 }

@@ -14,7 +14,8 @@ use crate::scattering::Scattering;
 use crate::scene::Scene;
 use crate::surface::topology::{TopologyReport, topology_report};
 use crate::transport::Method;
-use crate::transport::choice::{Choice, choose};
+use crate::transport::choice::{Choice, avoid_thin_parts, choose};
+use crate::transport::thin::crossing_share;
 use serde::Serialize;
 use std::fmt;
 use std::sync::Arc;
@@ -334,7 +335,7 @@ fn plan_object(
         }
     };
     let (scattering_stage, integrator) = if request.scatters() {
-        let choice = choose_integrator(request.method, texels, texel_area_mm2, &scattering);
+        let choice = choose_integrator(request, &layout, &scattering);
         let plan = IntegratorPlan {
             method: choice.method,
             reason: choice.reason,
@@ -480,27 +481,33 @@ fn plan_colour(
     ))
 }
 
-/// `method` itself, or for `auto` the method that suits the texels and
-/// the profile, with the reason.
-fn choose_integrator(
-    method: Method,
-    texels: usize,
-    texel_area_mm2: f64,
-    scattering: &Scattering,
-) -> Choice {
-    if method != Method::Auto {
+/// The request's method itself, or for `auto` the method that suits the
+/// texels, the profile and the object's thin parts, with the reason.
+fn choose_integrator(request: &BakeRequest, layout: &Layout, scattering: &Scattering) -> Choice {
+    if request.method != Method::Auto {
         return Choice {
-            method,
+            method: request.method,
             reason: "asked for".to_string(),
         };
     }
-    let mean_area = texel_area_mm2 / texels.max(1) as f64;
-    choose(
+    let texels = layout.surfels.len();
+    let mean_area = layout.surfels.total_area() / texels.max(1) as f64;
+    let choice = choose(
         texels,
         mean_area,
         f64::from(scattering.kernel.d_max),
         scattering.kernel.transmits(),
-    )
+    );
+    if choice.method != Method::Texture {
+        return choice;
+    }
+    let crossing = crossing_share(
+        &layout.mesh,
+        &layout.surfels,
+        scattering.profile.as_ref(),
+        scattering.kernel.d_max,
+    );
+    avoid_thin_parts(choice, crossing, request.tolerance)
 }
 
 /// The lights that give light, described; those that give none go to

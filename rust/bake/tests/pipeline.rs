@@ -11,6 +11,7 @@ use sssbake::image::Image;
 use sssbake::materials::MaterialAssignment;
 use sssbake::transport::Method;
 use sssbake::transport::integrator::IntegratorSettings;
+use sssbake::transport::thin::crossing_share;
 use sssbake::{BakeRequest, Error, Lighting, Output, bake, plan};
 use sssbake_profile::material::{Layer, Material, Optics};
 use sssbake_profile::model::Model;
@@ -237,6 +238,61 @@ fn auto_says_what_it_chose_and_why() {
         chosen(1024, skin1, Method::Importance).method,
         Method::Importance
     );
+}
+
+/// The share of the light that crosses a thin part, as `auto` estimates
+/// it, is what the exact sum carries across: on a sheet lit from above
+/// only, the far face at the centre shows that share of the near face's
+/// exitance (the near face gathers the whole profile R, the far face the
+/// part beyond the thickness, R − E(t)).
+#[test]
+fn the_share_crossing_a_thin_sheet_is_what_the_exact_sum_carries_across() {
+    let scene = scene(vec![sheet(1.0)], vec![sun_from(Vec3::NEG_Z)]);
+    let skin = scattering_of("skin1", Model::Dipole);
+    let prepared = prepared(&scene, "sheet", 192);
+    let share = crossing_share(
+        &prepared.mesh,
+        &prepared.surfels,
+        skin.profile.as_ref(),
+        skin.kernel.d_max,
+    );
+    let m = exitance(
+        &prepared,
+        &skin,
+        Method::Brute,
+        &IntegratorSettings::default(),
+    );
+    let centre = |top: bool| {
+        let texels: Vec<usize> = (0..prepared.surfels.len())
+            .filter(|&s| {
+                let p = prepared.surfels.position[s];
+                (p.z > 0.0) == top && p.x.abs() < 5.0 && p.y.abs() < 5.0
+            })
+            .collect();
+        let sum: [f64; 3] =
+            std::array::from_fn(|c| texels.iter().map(|&s| f64::from(m[s][c])).sum());
+        sum.map(|v| v / texels.len() as f64)
+    };
+    let (near, far) = (centre(true), centre(false));
+    let carried = (0..3).map(|c| far[c] / near[c]).fold(0.0, f64::max);
+    assert!(share > 0.05, "{share}");
+    assert!((carried / share - 1.0).abs() < 0.05, "{carried} vs {share}");
+}
+
+#[test]
+fn auto_turns_texture_space_away_where_thin_parts_carry_light() {
+    let chosen = |gap: f32| {
+        let scene = scene(vec![sheet(gap)], vec![sun_from(Vec3::NEG_Z)]);
+        plan(&scene, &request(1024)).unwrap().objects[0]
+            .integrator
+            .clone()
+            .unwrap()
+    };
+    let thin = chosen(1.0);
+    assert_eq!(thin.method, Method::Octree, "{}", thin.reason);
+    assert!(thin.reason.contains("thinner"), "{}", thin.reason);
+    let thick = chosen(60.0);
+    assert_eq!(thick.method, Method::Texture, "{}", thick.reason);
 }
 
 #[test]

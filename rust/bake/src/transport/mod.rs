@@ -15,6 +15,7 @@ pub mod octree;
 mod source_table;
 pub mod sources;
 pub mod texture_space;
+pub mod thin;
 pub mod verify;
 
 use serde::{Deserialize, Serialize};
