@@ -160,6 +160,9 @@ def test_bad_arrays_materials_and_options_name_the_object_and_the_field():
     with pytest.raises(sssbake.SettingError, match="`glass` is not") as error:
         scene.bake_object("Card", [{"kind": "glass"}], resolution=8)
     assert error.value.field == "materials[0].kind"
+    with pytest.raises(sssbake.SettingError, match="needs its kind") as error:
+        scene.bake_object("Card", [{"name": "Skin"}], resolution=8)
+    assert error.value.field == "materials[0].kind"
     with pytest.raises(sssbake.SettingError, match="unknown field `colour`") as error:
         scene.bake_object("Card", [{"kind": "principled", "colour": (1, 1, 1)}], resolution=8)
     with pytest.raises(sssbake.SettingError) as error:

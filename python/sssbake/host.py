@@ -134,7 +134,7 @@ class Scene:
             [_floats(s) for s in texture_uvs],
         )
 
-    def add_light(self, kind: str = "sun", **fields: Any) -> None:
+    def add_light(self, kind: str, **fields: Any) -> None:
         """Adds a light in Blender's terms (README, the Blender light table): `kind`
         sun, point, spot, rectangle or disk, and any of `colour`, `power` (W, or a sun's
         W/m²), `position`, `direction` (where it shines), `tangent` (its X axis), `size`,

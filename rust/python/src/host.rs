@@ -191,11 +191,11 @@ impl PyScene {
             cancel,
             part: (0, 1),
         };
-        let scene = &self.host.scene;
+        let host = &self.host;
         let summary = run_watched(py, &control, &watchers, || {
-            let (_, request) = options.load_with(Path::new(HOST_SCENE), |_| Ok(scene.clone()))?;
-            let plan = sssbake::plan(scene, &request)?;
-            bake_to_folder(Path::new(HOST_SCENE), scene, &plan, &folder, &control)
+            let request = request_for(&options, host)?;
+            let plan = sssbake::plan(&host.scene, &request)?;
+            bake_to_folder(Path::new(HOST_SCENE), &host.scene, &plan, &folder, &control)
         })?;
         let summary = or_raise(py, summary)?;
         finish(&watchers, "done")?;
@@ -242,13 +242,19 @@ fn object_request(options_json: &str, host: &HostScene) -> Result<BakeRequest, E
         }
     }
     options.uvs.get_or_insert(UvPolicy::Keep);
-    // Only the request is wanted; the lighting it reads is the scene's
-    // lights (a host's scene names no environment file).
-    let empty = sssbake::Scene {
+    request_for(&options, host)
+}
+
+/// The request `options` make for the host's scene. Only the request is
+/// wanted of `BakeOptions::load_with`, and the one thing it reads of the
+/// scene is its lights (a host's scene names no environment file), so it
+/// gets a scene of those alone rather than a copy of the meshes.
+fn request_for(options: &BakeOptions, host: &HostScene) -> Result<BakeRequest, Error> {
+    let lights = sssbake::Scene {
         lights: host.scene.lights.clone(),
         ..sssbake::Scene::default()
     };
-    let (_, request) = options.load_with(Path::new(HOST_SCENE), |_| Ok(empty))?;
+    let (_, request) = options.load_with(Path::new(HOST_SCENE), |_| Ok(lights))?;
     Ok(request)
 }
 
@@ -271,7 +277,12 @@ fn host_material<'a>(
             Some(other) => Err(Error::field(field(key), format!("{other} is not text"))),
         }
     };
-    let kind_name = text("kind")?.unwrap_or("principled");
+    let kind_name = text("kind")?.ok_or_else(|| {
+        Error::field(
+            field("kind"),
+            "a material needs its kind: principled, preset, toml or none",
+        )
+    })?;
     let name = text("name")?;
     let mut rest = map.clone();
     for key in ["kind", "name", "toml", "image"] {
