@@ -42,6 +42,7 @@ pub struct PyScene {
 
 #[pymethods]
 impl PyScene {
+    /// An empty scene whose unit is `millimetres_per_unit` mm.
     #[new]
     fn new(py: Python<'_>, millimetres_per_unit: f64) -> PyResult<Self> {
         let host = or_raise(py, HostScene::new(millimetres_per_unit))?;
@@ -58,6 +59,8 @@ impl PyScene {
             .collect()
     }
 
+    /// Adds a mesh from contiguous float32 and uint32 arrays (see
+    /// `sssbake_host::HostMesh`).
     #[pyo3(signature = (name, positions, indices, normals=None, uvs=None, material_indices=None, texture_uvs=Vec::new()))]
     #[allow(clippy::too_many_arguments)] // one per array of a mesh
     fn add_mesh(
@@ -101,6 +104,7 @@ impl PyScene {
         or_raise(py, added)
     }
 
+    /// Sets a uniform world: `colour` × `strength`, W/(m²·sr).
     fn set_world(&mut self, py: Python<'_>, colour: [f32; 3], strength: f32) -> PyResult<()> {
         or_raise(py, self.host.set_world(colour, strength))
     }
