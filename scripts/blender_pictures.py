@@ -2,13 +2,12 @@
 under a sun and a point light, rendered by Cycles with its own subsurface scattering, and
 the same head baked by the add-on and shown through Show in Material, rendered in EEVEE.
 
-    cargo build --release -p sssbake-ffi
+    PATH=$PWD/.venv/bin:$PATH .venv/bin/python -m pip install --no-build-isolation .
     .venv/bin/python scripts/blender_pictures.py   # writes docs/blender_cycles.png, docs/blender_eevee.png
 
 EEVEE compiles its shaders in software without a GPU; the whole script took about a minute
 on two cores."""
 
-import os
 import pathlib
 import sys
 import time
@@ -69,14 +68,15 @@ def render(bpy, engine, path):
 
 
 def main():
-    os.environ.setdefault("SSSBAKE_LIBRARY", str(ROOT / "target" / "release" / "libsssbake_ffi.so"))
-    sys.path.insert(0, str(ROOT / "blender_addon"))
+    # The add-on loaded as Blender loads the extension, baking through the installed
+    # `sssbake` package (`pip install .`).
+    sys.path.insert(0, str(ROOT / "tests"))
     import bpy
-    import sssbake
+    from conftest import load_extension
 
     head_scene(bpy)
     render(bpy, "CYCLES", ROOT / "docs" / "blender_cycles.png")
-    sssbake.register()
+    load_extension("sssbake", ROOT / "blender_addon").register()
     result = bpy.ops.sssbake.bake(
         resolution=1024, margin=8, unwrap=True, outputs={"DIFFUSE"}, wire_material=True
     )

@@ -17,29 +17,41 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 os.environ.setdefault("SSSBAKE_PYTHON", sys.executable)
 
 
-LIBRARY = ROOT / "target" / "release" / "libsssbake_ffi.so"
+# The repository the tests load the add-on from, as Blender loads an extension of a
+# repository: `bl_ext.<repository>.sssbake`.
+REPOSITORY = "sssbake_tests"
+
+
+def load_extension(name: str, folder: pathlib.Path, repository: str = REPOSITORY):
+    """Imports the extension in `folder`/`name` as Blender does, as
+    `bl_ext.<repository>.<name>`, so its `import sssbake` is the Python package (which
+    Blender installs from the extension's wheels), not the add-on itself."""
+    import importlib
+    import types
+
+    if "bl_ext" not in sys.modules:
+        namespace = types.ModuleType("bl_ext")
+        namespace.__path__ = []
+        sys.modules["bl_ext"] = namespace
+    parent = types.ModuleType(f"bl_ext.{repository}")
+    parent.__path__ = [str(folder)]
+    sys.modules[parent.__name__] = parent
+    _take_modules(f"{parent.__name__}.{name}")
+    return importlib.import_module(f"{parent.__name__}.{name}")
 
 
 @pytest.fixture
-def addon(monkeypatch):
+def addon():
     """The Blender add-on registered from blender_addon/ in a factory-fresh headless bpy,
-    loading the release library."""
+    loaded as Blender loads the extension, baking through the `sssbake` package."""
     import bpy
 
-    assert LIBRARY.exists(), "scripts/test.sh builds it (cargo build --release -p sssbake-ffi)"
-    monkeypatch.setenv("SSSBAKE_LIBRARY", str(LIBRARY))
-    monkeypatch.syspath_prepend(str(ROOT / "blender_addon"))
-    # The add-on's module and the Python package are both `sssbake` (Blender keeps
-    # them apart as `bl_ext.<repo>.sssbake`): the package is set aside meanwhile.
-    package = _take_modules("sssbake")
-    import sssbake
-
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    sssbake.register()
-    yield sssbake
-    sssbake.unregister()
-    _take_modules("sssbake")
-    sys.modules.update(package)
+    module = load_extension("sssbake", ROOT / "blender_addon")
+    module.register()
+    yield module
+    module.unregister()
+    _take_modules(module.__name__)
 
 
 def _take_modules(name: str) -> dict:

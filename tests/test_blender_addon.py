@@ -189,16 +189,13 @@ def test_bad_settings_give_a_report_not_an_exception(addon, tmp_path, capfd):
     assert len(bpy.data.images) == 0
 
 
-def test_a_library_of_another_abi_version_is_refused(addon, monkeypatch):
-    native = addon.native
-    monkeypatch.setattr(native, "_library", None)
-    monkeypatch.setattr(native, "ABI_VERSION", native.ABI_VERSION + 1)
-    version = native.ABI_VERSION - 1
-    with pytest.raises(
-        native.NativeError, match=f"speaks ABI version {version}, but this add-on needs {version + 1}"
-    ):
-        native.library()
-    monkeypatch.setattr(native, "_library", None)
+def test_a_package_of_another_release_is_refused(addon, monkeypatch):
+    import sssbake
+
+    binding = addon.binding
+    monkeypatch.setattr(binding, "VERSION", "0.0.0")
+    with pytest.raises(binding.Error, match=f"is version {sssbake.__version__}, but this add-on is 0.0.0"):
+        binding.package()
 
 
 def xatlas_source():
@@ -214,21 +211,50 @@ def xatlas_source():
     return pathlib.Path(package["manifest_path"]).parent / "vendor" / "xatlas.cpp"
 
 
-def test_the_packaged_extension_loads_its_own_library(tmp_path):
+# Run in a fresh process: the extension as Blender installs it (the wheel it lists unpacked
+# into a site folder, the add-on imported as `bl_ext.<repository>.sssbake`) bakes a plane;
+# prints where `sssbake` came from and every library of sssbake mapped into the process.
+PROBE = """
+import json, pathlib, sys
+import bpy
+sys.path.insert(0, {tests!r})
+from conftest import load_extension
+addon = load_extension("sssbake", pathlib.Path({extension!r}), repository="user_default")
+addon.register()
+bpy.ops.mesh.primitive_plane_add(size=1.0)
+bpy.ops.object.light_add(type="SUN")
+bpy.data.objects["Plane"].select_set(True)
+bpy.context.view_layer.objects.active = bpy.data.objects["Plane"]
+result = bpy.ops.sssbake.bake(resolution=8, preset="skin1", outputs={{"SUBSURFACE"}})
+maps = [line.split()[-1] for line in open("/proc/self/maps") if "sssbake" in line]
+print(json.dumps([sorted(result), addon.binding.package().__file__, sorted(set(maps))]))
+"""
+
+
+def test_the_packaged_extension_carries_the_package_as_a_wheel_and_loads_no_shared_library(tmp_path):
     build = subprocess.run(
         [str(ROOT / "scripts" / "build-addon.sh")], capture_output=True, text=True, check=False
     )
     assert build.returncode == 0, build.stderr
     package = next((ROOT / "target").glob("sssbake-*-linux-x64.zip"))
+    extension = tmp_path / "extension" / "sssbake"
     with zipfile.ZipFile(package) as archive:
-        archive.extractall(tmp_path / "sssbake")
+        archive.extractall(extension)
     # The licenses, and xatlas's notice as the source the library is built from states it.
     for notice in ("LICENSE-MIT", "LICENSE-APACHE", "THIRD-PARTY-NOTICES"):
-        assert (tmp_path / "sssbake" / notice).read_bytes() == (ROOT / notice).read_bytes()
+        assert (extension / notice).read_bytes() == (ROOT / notice).read_bytes()
     copyright_line = next(
         line for line in xatlas_source().read_text().splitlines() if line.startswith("Copyright")
     )
     assert copyright_line in (ROOT / "THIRD-PARTY-NOTICES").read_text()
+    # One abi3 wheel of the package, listed in the manifest; no library of its own.
+    wheels = sorted(p.relative_to(extension).as_posix() for p in extension.glob("wheels/*.whl"))
+    assert len(wheels) == 1 and "-abi3-" in wheels[0], wheels
+    import tomllib
+
+    manifest = tomllib.loads((extension / "blender_manifest.toml").read_text())
+    assert manifest["wheels"] == [f"./{wheels[0]}"]
+    assert not (extension / "lib").exists() and "native.py" not in os.listdir(extension)
     # Blender's own check of an extension (`blender --command extension validate`).
     import bpy
 
@@ -244,18 +270,22 @@ def test_the_packaged_extension_loads_its_own_library(tmp_path):
     with zipfile.ZipFile(broken, "w") as archive:
         archive.writestr("__init__.py", "")
     assert subprocess.run([*validate, str(broken)], capture_output=True, check=False).returncode != 0
-    probe = (
-        "import sssbake, json; from sssbake import native; "
-        "print(json.dumps([str(native.library_path()), native.library().sssbake_abi_version(), native.ABI_VERSION]))"
-    )
-    env = {k: v for k, v in os.environ.items() if k != "SSSBAKE_LIBRARY"}
+    # Blender installs a wheel by unpacking it into a site folder on its path.
+    site = tmp_path / "site"
+    with zipfile.ZipFile(extension / wheels[0]) as wheel:
+        wheel.extractall(site)
+    probe = PROBE.format(tests=str(ROOT / "tests"), extension=str(extension.parent))
+    env = {**os.environ, "PYTHONPATH": str(site)}
     loaded = subprocess.run(
         [sys.executable, "-c", probe], cwd=tmp_path, capture_output=True, text=True, check=False, env=env
     )
     assert loaded.returncode == 0, loaded.stderr
-    path, version, wanted = json.loads(loaded.stdout.strip().splitlines()[-1])
-    assert path == str(tmp_path / "sssbake" / "lib" / "libsssbake.so")
-    assert version == wanted
+    result, origin, libraries = json.loads(loaded.stdout.strip().splitlines()[-1])
+    assert result == ["FINISHED"]
+    assert pathlib.Path(origin).is_relative_to(site)
+    # The package's extension module alone: no libsssbake loaded through ctypes.
+    assert libraries and all(pathlib.Path(p).is_relative_to(site / "sssbake") for p in libraries), libraries
+    assert not any("libsssbake" in p for p in libraries)
 
 
 def test_results_saved_to_a_folder_are_openexr_files(addon, tmp_path):
@@ -323,10 +353,11 @@ def test_baking_again_updates_the_images_in_place(addon, tmp_path):
 
 def test_the_panels_defaults_are_the_librarys(addon):
     import bpy
+    import sssbake
 
-    library = addon.native.default_settings()
+    library = sssbake.defaults()
     panel = bpy.context.scene.sssbake
-    assert (panel.resolution, panel.margin) == (library.resolution, library.margin)
-    chosen = {i for i, name in enumerate(addon.native.OUTPUTS) if name.upper() in panel.outputs}
-    assert chosen == {i for i in range(len(addon.native.OUTPUTS)) if library.outputs & (1 << i)}
-    assert addon.properties.QUALITY_SAMPLES[panel.quality] == library.light_samples
+    assert (panel.resolution, panel.margin) == (library["resolution"], library["margin"])
+    assert {name.lower() for name in panel.outputs} == set(library["outputs"])
+    assert addon.properties.QUALITY_SAMPLES[panel.quality] == library["light_samples"]
+    assert panel.max_memory * addon.properties.GIB == library["max_memory_bytes"]

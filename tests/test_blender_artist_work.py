@@ -97,7 +97,7 @@ STAGES = {
     # Before the bake: the scene could not be sent to the library (after Unwrap ran).
     "before": ("scene_export", "build_scene"),
     # During: the library failed.
-    "during": ("native", "bake"),
+    "during": ("binding", "bake"),
     # While making the images: the second image fails, after the first was updated.
     "images": ("images", "store_packed"),
     # While wiring Show in Material.

@@ -10,7 +10,8 @@ from conftest import bake_summary, exr
 
 def test_a_blender_light_carries_what_cycles_reads(addon):
     import bpy
-    from sssbake import native, scene_export
+
+    scene_export = addon.scene_export
 
     data = bpy.data.lights.new("Area", "AREA")
     data.energy, data.exposure, data.diffuse_factor = 10.0, 1.5, 0.25
@@ -18,18 +19,18 @@ def test_a_blender_light_carries_what_cycles_reads(addon):
     data.normalize, data.use_shadow, data.spread = False, False, 1.0
     obj = bpy.data.objects.new("Area", data)
     bpy.context.scene.collection.objects.link(obj)
-    light = scene_export.light_struct(obj)
-    assert light.kind == native.LIGHT_RECTANGLE
-    assert light.exposure == pytest.approx(1.5) and light.diffuse_factor == pytest.approx(0.25)
-    assert tuple(light.temperature_colour) == pytest.approx(tuple(data.temperature_color))
-    assert (light.normalize, light.casts_shadow) == (0, 0)
-    assert light.spread == pytest.approx(1.0)
+    light = scene_export.light_fields(obj)
+    assert light["kind"] == "rectangle"
+    assert light["exposure"] == pytest.approx(1.5) and light["diffuse_factor"] == pytest.approx(0.25)
+    assert tuple(light["temperature_colour"]) == pytest.approx(tuple(data.temperature_color))
+    assert (light["normalize"], light["casts_shadow"]) == (False, False)
+    assert light["spread"] == pytest.approx(1.0)
     # Without use_temperature the colour is the light's own.
     data.use_temperature = False
-    assert tuple(scene_export.light_struct(obj).temperature_colour) == (1.0, 1.0, 1.0)
+    assert tuple(scene_export.light_fields(obj)["temperature_colour"]) == (1.0, 1.0, 1.0)
     # A light that reaches no diffuse rays lights no subsurface.
     obj.visible_diffuse = False
-    assert scene_export.light_struct(obj) is None
+    assert scene_export.light_fields(obj) is None
 
 
 def floor_under_a_blocker():

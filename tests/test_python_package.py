@@ -48,6 +48,13 @@ def test_the_readmes_python_examples_run(tmp_path, monkeypatch):
     assert all(pathlib.Path(f).exists() for f in namespace["summary"]["files"])
     assert namespace["stage"].GetRootLayer().subLayerPaths[0].endswith("baked/head_usd/head_sssbake.usda")
     assert namespace["two_layer"]["reflectance"].shape == (3, 3)
+    card = namespace["card"].summary["objects"][0]["materials"]
+    assert [m["name"] for m in card] == ["skin1", "Wax"] and all(m["texels"] > 0 for m in card)
+    assert (tmp_path / "baked" / "card_diffuse.exr").exists()
+    assert sorted(p.name for p in (tmp_path / "baked" / "card").iterdir()) == [
+        "Card_subsurface.exr",
+        "Card_subsurface.png",
+    ]
 
 
 def maps(folder: pathlib.Path) -> dict:

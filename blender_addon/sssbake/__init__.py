@@ -1,6 +1,6 @@
 """sssbake for Blender: bakes subsurface scattering of the selected objects into images,
-through the sssbake library (loaded with ctypes from this folder's lib/, or from
-$SSSBAKE_LIBRARY). No physics lives here: the add-on moves Blender's data across."""
+through the sssbake Python package (the wheel blender_manifest.toml lists, which Blender
+installs with the extension). No physics lives here: the add-on moves Blender's data across."""
 
 import bpy
 

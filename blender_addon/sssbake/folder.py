@@ -6,15 +6,14 @@ import os
 
 import bpy
 
-from . import native
+from .binding import OutputError, SettingError
 
 
 def resolve(folder):
     """The absolute path of the folder setting; `//` is relative to the saved .blend file,
     and refused while the file has never been saved (it would mean the process's folder)."""
     if folder.startswith("//") and not bpy.data.filepath:
-        raise native.NativeError(
-            native.INVALID_ARGUMENT,
+        raise SettingError(
             f"the folder `{folder}` is relative to the .blend file (`//`), which is not saved yet: "
             "save the file first or choose an absolute folder",
         )
@@ -43,8 +42,8 @@ class Staging:
         try:
             os.makedirs(self.folder, exist_ok=True)
         except OSError as error:
-            raise native.NativeError(
-                native.CANNOT_WRITE, f"cannot make the folder {self.folder}: {error.strerror or error}"
+            raise OutputError(
+                f"cannot make the folder {self.folder}: {error.strerror or error}", file=self.folder
             ) from error
         for made in missing:  # deepest first, so each is empty when its turn comes
             changes.record(lambda made=made: _remove_empty(made))

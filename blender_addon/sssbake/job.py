@@ -3,12 +3,13 @@ library, the `sssbake` UV map made), baked on any thread, and finished on the ma
 (files, images, Show in Material). Every change to the artist's scene is logged, so a
 failure at any stage, or Esc, leaves the scene exactly as it was."""
 
-import ctypes
 import os
+import threading
 
 import bpy
 
-from . import changes, folder, images, native, report, scene_export, unwrap, wiring
+from . import binding, changes, folder, images, report, scene_export, unwrap, wiring
+from .binding import SettingError
 from .properties import GIB, QUALITY_SAMPLES
 
 
@@ -22,19 +23,18 @@ class Job:
         self.names = [o.name for o in self.targets]
         self.folder = folder.resolve(settings.folder) if settings.destination == "FOLDER" else None
         self.uv_map = unwrap.UV_MAP if settings.unwrap else settings.uv_map
-        self.cancel = ctypes.c_int32(0)
+        self.cancel = threading.Event()
         self.progress = 0.0
         self.current = ""
         self.results = []
         self.error = None
-        self.keep = []
         self.scene = None
         self.changes = changes.Changes()
         self.unwrapped = set()
         self.unwrap_notes = []
         self.failures = []
         self.mode = EditorMode(context)
-        self.native_settings = _native_settings(settings)
+        self.options = _options(settings)
         try:
             self.mode.leave()
             # The objects whose `sssbake` map this bake made (the others keep theirs),
@@ -53,7 +53,7 @@ class Job:
                     self.unwrapped.add(obj.name)
                     self.unwrap_notes += [made] if made else []
             self.scene = scene_export.build_scene(context, self.uv_map)
-            self.materials = [scene_export.material_struct(settings, o, self.keep) for o in self.targets]
+            self.materials = [scene_export.materials_of(settings, o) for o in self.targets]
             self.colour_warnings = [w for o in self.targets for w in scene_export.material_notes(settings, o)]
         except BaseException:
             self.abandon(context)
@@ -67,15 +67,14 @@ class Job:
             for i, (obj_name, material) in enumerate(zip(self.names, self.materials, strict=True)):
                 self.current = obj_name
 
-                def progress(fraction, i=i, obj_name=obj_name):
+                def progress(fraction, _stage="", i=i, obj_name=obj_name):
                     self.progress = (i + min(max(fraction, 0.0), 1.0)) / count
                     if progress_lines is not None:
                         progress_lines(obj_name, fraction)
 
                 self.results.append(
-                    native.bake(self.scene, obj_name, material, self.native_settings, self.cancel, progress)
+                    binding.bake(self.scene, obj_name, material, self.options, progress, self.cancel)
                 )
-                progress(1.0)
         except Exception as error:  # noqa: BLE001 (the main thread reports it)
             self.error = error
 
@@ -87,7 +86,7 @@ class Job:
         staging = folder.Staging(self.folder) if self.folder else None
         try:
             planned = [_planned(result, name) for result, name in zip(self.results, self.names, strict=True)]
-            outputs = [o for o in native.OUTPUTS if o.upper() in self.settings.outputs]
+            outputs = [o for o in binding.outputs() if o.upper() in self.settings.outputs]
             if staging:
                 staging.prepare(self.changes)
                 for result, plan in zip(self.results, planned, strict=True):
@@ -106,7 +105,7 @@ class Job:
                         path = os.path.join(self.settings.folder, f"{plan['file_stem']}_{output}.exr")
                         image = images.store_file(name, output, path, result.resolution, self.changes)
                     else:
-                        pixels = result.image(output)
+                        pixels = result.image(output).reshape(-1)
                         image = images.store_packed(name, output, pixels, result.resolution, self.changes)
                     made.append(image.name)
                     diffuse = image if output == "diffuse" else diffuse
@@ -146,15 +145,12 @@ class Job:
         return f"{obj.name}: baked into UV map `{uv_map}` as it is ({problems}); tick Unwrap for a map of its own"
 
     def close(self):
-        for result in self.results:
-            result.close()
+        # The maps and the scene are the library's memory until dropped here.
         self.results = []
-        if self.scene is not None:
-            self.scene.close()
-            self.scene = None
+        self.scene = None
 
     def abandon(self, context):
-        """Puts back everything the job changed and frees the native data; returns the
+        """Puts back everything the job changed and drops the library's data; returns the
         changes that could not be put back (empty when the scene is as it was)."""
         self.close()
         self.failures = self.changes.rollback()
@@ -170,26 +166,21 @@ def _targets(context, settings):
     collections = scene_export.rendered_collections(context.view_layer)
     targets = [o for o in selected if scene_export.renders(o, collections)]
     if not selected:
-        raise native.NativeError(native.INVALID_ARGUMENT, "select the mesh objects to bake")
+        raise SettingError("select the mesh objects to bake")
     if not targets:
-        raise native.NativeError(
-            native.INVALID_ARGUMENT, "the selected objects are hidden from renders; nothing to bake"
-        )
+        raise SettingError("the selected objects are hidden from renders; nothing to bake")
     if not settings.outputs:
-        raise native.NativeError(native.INVALID_ARGUMENT, "choose at least one output")
+        raise SettingError("choose at least one output")
     if not 1 <= settings.resolution <= 16384:
-        raise native.NativeError(
-            native.INVALID_ARGUMENT, f"resolution {settings.resolution} must be between 1 and 16384"
-        )
+        raise SettingError(f"resolution {settings.resolution} must be between 1 and 16384")
     if settings.destination == "FOLDER" and not settings.folder:
-        raise native.NativeError(native.INVALID_ARGUMENT, "choose a folder for the results")
+        raise SettingError("choose a folder for the results")
     if (
         settings.material_source == "LAYERS"
         and settings.layers_file.startswith("//")
         and not bpy.data.filepath
     ):
-        raise native.NativeError(
-            native.INVALID_ARGUMENT,
+        raise SettingError(
             f"the layers file `{settings.layers_file}` is relative to the .blend file (`//`), which is "
             "not saved yet: save the file first or choose an absolute path",
         )
@@ -198,24 +189,24 @@ def _targets(context, settings):
             layers = obj.data.uv_layers
             if (layers.get(settings.uv_map) if settings.uv_map else layers.active) is None:
                 missing = f"UV map `{settings.uv_map}`" if settings.uv_map else "UV map"
-                raise native.NativeError(
-                    native.INVALID_ARGUMENT,
+                raise SettingError(
                     f"object `{obj.name}`: has no {missing}; choose one, or tick Unwrap",
                 )
     return targets
 
 
-def _native_settings(settings):
-    native_settings = native.default_settings()
-    native_settings.resolution = settings.resolution
-    native_settings.method = native.METHODS.index(settings.method.lower())
-    native_settings.margin = settings.margin
-    native_settings.light_samples = QUALITY_SAMPLES[settings.quality]
-    native_settings.outputs = sum(
-        1 << i for i, output in enumerate(native.OUTPUTS) if output.upper() in settings.outputs
-    )
-    native_settings.max_memory_bytes = round(settings.max_memory * GIB)
-    return native_settings
+def _options(settings):
+    """The bake's options (`sssbake.bake`'s names) for the panel's settings; the object's
+    own UVs are kept as they are (the add-on made the `sssbake` map when asked)."""
+    return {
+        "resolution": settings.resolution,
+        "method": settings.method.lower(),
+        "margin": settings.margin,
+        "light_samples": QUALITY_SAMPLES[settings.quality],
+        "outputs": [o for o in binding.outputs() if o.upper() in settings.outputs],
+        "max_memory": str(round(settings.max_memory * GIB)),
+        "uvs": "keep",
+    }
 
 
 def _planned(result, name):

@@ -8,7 +8,7 @@ import types
 
 import bpy
 
-from . import native, report
+from . import binding, report
 from .job import Job
 from .properties import SETTING_NAMES, operator_properties
 
@@ -18,13 +18,13 @@ _running = []
 def cancel_running():
     """Asks every bake in progress to stop (Esc does this for the modal one)."""
     for job in _running:
-        job.cancel.value = 1
+        job.cancel.set()
 
 
-# What a bake may raise on the way: bad data across the ABI (NativeError, ValueError),
+# What a bake may raise on the way: the library's errors (binding.Error), bad data (ValueError),
 # an operator Blender refused (RuntimeError), a file (OSError), an object deleted while
 # the bake ran (ReferenceError). Anything else is a bug, still reported, never raised.
-EXPECTED = (native.NativeError, RuntimeError, OSError, ValueError, ReferenceError)
+EXPECTED = (binding.Error, RuntimeError, OSError, ValueError, ReferenceError)
 
 
 def _message(error):
@@ -81,7 +81,7 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
         _running.remove(job)
         if job.error is not None:
             failures = job.abandon(context)
-            if getattr(job.error, "status", None) == native.CANCELLED:
+            if isinstance(job.error, binding.Cancelled):
                 self.report({"WARNING"}, "sssbake: cancelled; nothing was changed")
             else:
                 self.report({level}, f"sssbake: {_message(job.error)}")
@@ -134,7 +134,7 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
 
     def modal(self, context, event):
         if event.type == "ESC":
-            self.job.cancel.value = 1
+            self.job.cancel.set()
         if event.type != "TIMER":
             return {"RUNNING_MODAL"}
         manager = context.window_manager

@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import native
+from . import binding
 
 # The presets offered when the library cannot be loaded, so the panel still registers
 # and the bake reports the missing library; with the library, its own list is used.
@@ -71,13 +71,13 @@ DESTINATIONS = [
 def preset_items():
     """The library's presets as enum items, or PRESETS when it cannot be loaded."""
     try:
-        return [(name, name, description) for name, description in native.presets()]
-    except native.NativeError:
+        return [(name, name, description) for name, description in binding.presets()]
+    except binding.Error:
         return PRESETS
 
 
 # The defaults when the library cannot be loaded; with the library, its own are used
-# (sssbake_settings_default), so each default is defined once, in the library.
+# (sssbake.defaults()), so each default is defined once, in the library.
 FALLBACK_DEFAULTS = {
     "resolution": 1024,
     "margin": 8,
@@ -92,17 +92,17 @@ GIB = 1 << 30
 def library_defaults():
     """The library's defaults for the settings the panel shows, or FALLBACK_DEFAULTS."""
     try:
-        settings = native.default_settings()
-        outputs = {name.upper() for i, name in enumerate(native.OUTPUTS) if settings.outputs & (1 << i)}
-    except native.NativeError:
+        library = binding.defaults()
+    except binding.Error:
         return FALLBACK_DEFAULTS
-    quality = next((q for q, samples in QUALITY_SAMPLES.items() if samples == settings.light_samples), "GOOD")
+    samples = library["light_samples"]
+    quality = next((q for q, count in QUALITY_SAMPLES.items() if count == samples), "GOOD")
     return {
-        "resolution": settings.resolution,
-        "margin": settings.margin,
-        "outputs": outputs,
+        "resolution": library["resolution"],
+        "margin": library["margin"],
+        "outputs": {name.upper() for name in library["outputs"]},
         "quality": quality,
-        "max_memory": settings.max_memory_bytes / GIB,
+        "max_memory": library["max_memory_bytes"] / GIB,
     }
 
 

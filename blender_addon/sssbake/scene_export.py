@@ -8,7 +8,7 @@ import math
 import bpy
 import numpy as np
 
-from . import material_slots, native
+from . import binding, material_slots
 
 
 def millimetres_per_unit(scene):
@@ -76,47 +76,45 @@ def mesh_arrays(obj, depsgraph, uv_map, texture_uv_keys=()):
     )
 
 
-def light_struct(obj):
-    """The native light for a Blender light object, or None for kinds not baked and for lights
-    that do not reach diffuse (and so subsurface) rays in Cycles."""
+def light_fields(obj):
+    """The library's light for a Blender light object (`sssbake.Scene.add_light`'s
+    fields), or None for kinds not baked and for lights that do not reach diffuse (and so
+    subsurface) rays in Cycles."""
     data = obj.data
     if not obj.visible_diffuse or data.diffuse_factor <= 0.0:
         return None
     world = obj.matrix_world
     linear = world.to_3x3()
     scale = (linear.col[0].length + linear.col[1].length) / 2
-    light = native.Light()
-    light.colour = native.Vec3(*data.color)
-    light.power = data.energy
-    light.exposure = data.exposure
-    light.temperature_colour = native.Vec3(
-        *(data.temperature_color if data.use_temperature else (1.0, 1.0, 1.0))
-    )
-    light.diffuse_factor = data.diffuse_factor
-    light.normalize = int(data.normalize)
-    light.casts_shadow = int(data.use_shadow)
-    light.position = native.Vec3(*world.translation)
-    light.direction = native.Vec3(*(linear @ _axis(0, 0, -1)).normalized())
-    light.tangent = native.Vec3(*(linear @ _axis(1, 0, 0)).normalized())
+    light = {
+        "colour": tuple(data.color),
+        "power": data.energy,
+        "exposure": data.exposure,
+        "temperature_colour": tuple(data.temperature_color if data.use_temperature else (1.0, 1.0, 1.0)),
+        "diffuse_factor": data.diffuse_factor,
+        "normalize": bool(data.normalize),
+        "casts_shadow": bool(data.use_shadow),
+        "position": tuple(world.translation),
+        "direction": tuple((linear @ _axis(0, 0, -1)).normalized()),
+        "tangent": tuple((linear @ _axis(1, 0, 0)).normalized()),
+    }
     if data.type == "SUN":
-        light.kind = native.LIGHT_SUN
-        light.angle = data.angle
+        light.update(kind="sun", angle=data.angle)
     elif data.type in ("POINT", "SPOT"):
-        light.kind = native.LIGHT_POINT if data.type == "POINT" else native.LIGHT_SPOT
-        light.size = data.shadow_soft_size
+        light.update(kind=data.type.lower(), size=data.shadow_soft_size)
         if data.type == "SPOT":
-            light.spot_size = data.spot_size
-            light.spot_blend = data.spot_blend
+            light.update(spot_size=data.spot_size, spot_blend=data.spot_blend)
     elif data.type == "AREA":
-        light.spread = data.spread
+        light["spread"] = data.spread
         if data.shape in ("DISK", "ELLIPSE"):
-            light.kind = native.LIGHT_DISK
-            light.size = data.size * scale
+            light.update(kind="disk", size=data.size * scale)
         else:
-            light.kind = native.LIGHT_RECTANGLE
-            light.size = data.size * linear.col[0].length
             square = data.shape == "SQUARE"
-            light.size_y = (data.size if square else data.size_y) * linear.col[1].length
+            light.update(
+                kind="rectangle",
+                size=data.size * linear.col[0].length,
+                size_y=(data.size if square else data.size_y) * linear.col[1].length,
+            )
     else:
         return None
     return light
@@ -144,80 +142,70 @@ def world_colour(scene):
     return tuple(world.color), 1.0
 
 
-def material_struct(settings, obj, keep):
-    """The native materials the panel asks for, for `obj`: a list of one for a preset or a
-    layers file, else one per distinct material of its slots (the order of
-    material_slots.object_slots, which the mesh's material indices follow). `keep` holds the
-    strings and pixels alive."""
+def materials_of(settings, obj):
+    """The materials the panel asks for, for `obj` (`sssbake.Scene.bake_object`'s): a list
+    of one for a preset or a layers file, else one per distinct material of its slots (the
+    order of material_slots.object_slots, which the mesh's material indices follow)."""
     source = settings.material_source
     if source == "PRESET":
-        material = native.Material()
-        material.kind = native.MATERIAL_PRESET
-        keep.append(settings.preset.encode("utf-8"))
-        material.name = keep[-1]
-        return [material]
+        return [{"kind": "preset", "name": settings.preset}]
     if source == "LAYERS":
         path = bpy.path.abspath(settings.layers_file)
         try:
             with open(path, encoding="utf-8") as file:
                 text = file.read()
         except OSError as error:
-            raise native.NativeError(2, f"{path}: cannot read the layers file: {error}") from error
-        material = native.Material()
-        material.kind = native.MATERIAL_TOML
-        keep += [text.encode("utf-8"), path.encode("utf-8")]
-        material.toml, material.name = keep[-2], keep[-1]
-        return [material]
+            raise binding.InputError(f"{path}: cannot read the layers file: {error}", file=path) from error
+        return [{"kind": "toml", "toml": text, "name": path}]
     slots, _ = material_slots.object_slots(obj)
     if all(slot.left_out for slot in slots):
         reasons = "; ".join(slot.left_out for slot in slots)
-        raise native.NativeError(
-            2, f"object `{obj.name}`: no material slot has subsurface to bake ({reasons})"
+        raise binding.InputError(
+            f"object `{obj.name}`: no material slot has subsurface to bake ({reasons})", object=obj.name
         )
     uv_keys = material_slots.texture_uv_keys(slots)
-    return [principled_struct(settings, slot, uv_keys, keep) for slot in slots]
+    return [principled_material(settings, slot, uv_keys) for slot in slots]
 
 
-def principled_struct(settings, slot, uv_keys, keep):
-    """The native material of one slot: its Principled inputs and Base Color image, or
-    MATERIAL_NONE for a slot without subsurface (its faces are left out)."""
-    material = native.Material()
+def principled_material(settings, slot, uv_keys):
+    """The material of one slot: its Principled inputs and Base Color image, or `none` for a
+    slot without subsurface (its faces are left out)."""
     name = slot.material.name if slot.material is not None else "(empty slot)"
-    keep.append(name.encode("utf-8"))
-    material.name = keep[-1]
     if slot.left_out:
-        material.kind = native.MATERIAL_NONE
-        return material
+        return {"kind": "none", "name": name}
     inputs = slot.principled.inputs
-    material.kind = native.MATERIAL_PRINCIPLED
-    material.base_colour = native.Vec3(*inputs["Base Color"].default_value[:3])
-    material.subsurface_weight = inputs["Subsurface Weight"].default_value
-    material.radius = native.Vec3(*inputs["Subsurface Radius"].default_value)
-    material.scale = inputs["Subsurface Scale"].default_value
-    material.subsurface_method = native.SUBSURFACE_METHODS.get(slot.principled.subsurface_method, 1)
-    material.ior = value_of(inputs, "IOR", 1.5)
-    material.specular_ior_level = value_of(inputs, "Specular IOR Level", 0.5)
-    material.subsurface_ior = value_of(inputs, "Subsurface IOR", 1.4)
-    material.anisotropy = value_of(inputs, "Subsurface Anisotropy", 0.0)
-    # Roughness is Cycles' GGX specular layer over the subsurface, not the rough boundary of
-    # Donner & Jensen that `roughness` describes, and the glTF and USD readers leave it out
-    # too: a smooth boundary keeps the three doors one bake (README, "Materials").
-    material.roughness = 0.0
-    material.albedo_mapping = (
-        native.ALBEDO_PHYSICAL if settings.albedo_mapping == "PHYSICAL" else native.ALBEDO_CYCLES
-    )
+    material = {
+        "kind": "principled",
+        "name": name,
+        "base_colour": tuple(inputs["Base Color"].default_value[:3]),
+        "subsurface_weight": inputs["Subsurface Weight"].default_value,
+        "radius": tuple(inputs["Subsurface Radius"].default_value),
+        "scale": inputs["Subsurface Scale"].default_value,
+        "method": slot.principled.subsurface_method,
+        "ior": value_of(inputs, "IOR", 1.5),
+        "specular_ior_level": value_of(inputs, "Specular IOR Level", 0.5),
+        "subsurface_ior": value_of(inputs, "Subsurface IOR", 1.4),
+        "anisotropy": value_of(inputs, "Subsurface Anisotropy", 0.0),
+        # Roughness is Cycles' GGX specular layer over the subsurface, not the rough boundary
+        # of Donner & Jensen that `roughness` describes, and the glTF and USD readers leave it
+        # out too: a smooth boundary keeps the three doors one bake (README, "Materials").
+        "roughness": 0.0,
+        "albedo": "physical" if settings.albedo_mapping == "PHYSICAL" else "cycles",
+    }
     if slot.texture is not None:
         node = slot.texture.node
         image = node.image
-        pixels = material_slots.linear_pixels(slot.texture)
-        keep += [pixels, image.name.encode("utf-8")]
-        material.image_pixels = native.floats(pixels)
-        material.image_name = keep[-1]
-        material.image_width, material.image_height = image.size
-        material.image_channels = image.channels
-        material.image_uv_set = 1 + uv_keys.index(slot.texture.uv_key)
-        material.image_extension = native.EXTENSIONS.get(node.extension, 0)
-        material.image_nearest = int(node.interpolation == "Closest")
+        width, height = image.size
+        material["image"] = {
+            "pixels": material_slots.linear_pixels(slot.texture),
+            "width": width,
+            "height": height,
+            "channels": image.channels,
+            "uv_set": 1 + uv_keys.index(slot.texture.uv_key),
+            "extension": node.extension,
+            "nearest": node.interpolation == "Closest",
+            "name": image.name,
+        }
     return material
 
 
@@ -266,29 +254,36 @@ def renders(obj, collections):
 
 
 def build_scene(context, uv_map):
-    """A native scene of every mesh that renders (the shadow casters) and light, and the world."""
+    """The library's scene of every mesh that renders (the shadow casters) and light, and
+    the world."""
     scene = context.scene
     depsgraph = context.evaluated_depsgraph_get()
     collections = rendered_collections(context.view_layer)
-    native_scene = native.Scene(millimetres_per_unit(scene))
-    try:
-        for obj in scene.objects:
-            if not renders(obj, collections):
-                continue
-            if obj.type == "MESH":
-                slots, index_of = material_slots.object_slots(obj)
-                keys = material_slots.texture_uv_keys(slots)
-                *arrays, slot_of_face, texture_uvs = mesh_arrays(obj, depsgraph, uv_map, keys)
-                if len(arrays[3]):
-                    faces = np.asarray(index_of, dtype=np.uint32)[np.clip(slot_of_face, 0, len(index_of) - 1)]
-                    native_scene.add_mesh(obj.name, *arrays, faces, texture_uvs)
-            elif obj.type == "LIGHT":
-                light = light_struct(obj)
-                if light is not None:
-                    native_scene.add_light(light)
-        colour, strength = world_colour(scene)
-        native_scene.set_world(colour, strength if math.isfinite(strength) else 0.0)
-    except Exception:
-        native_scene.close()
-        raise
-    return native_scene
+    built = binding.package().Scene(millimetres_per_unit(scene))
+    for obj in scene.objects:
+        if not renders(obj, collections):
+            continue
+        if obj.type == "MESH":
+            slots, index_of = material_slots.object_slots(obj)
+            keys = material_slots.texture_uv_keys(slots)
+            positions, normals, uvs, indices, slot_of_face, texture_uvs = mesh_arrays(
+                obj, depsgraph, uv_map, keys
+            )
+            if len(indices):
+                faces = np.asarray(index_of, dtype=np.uint32)[np.clip(slot_of_face, 0, len(index_of) - 1)]
+                built.add_mesh(
+                    obj.name,
+                    positions,
+                    indices,
+                    normals=normals,
+                    uvs=uvs,
+                    material_indices=faces,
+                    texture_uvs=texture_uvs,
+                )
+        elif obj.type == "LIGHT":
+            light = light_fields(obj)
+            if light is not None:
+                built.add_light(**light)
+    colour, strength = world_colour(scene)
+    built.set_world(colour, strength if math.isfinite(strength) else 0.0)
+    return built

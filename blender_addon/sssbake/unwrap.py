@@ -6,7 +6,7 @@ bake's margin. The active UV map and the mesh's selection stay the artist's."""
 import bpy
 import numpy as np
 
-from . import native
+from . import binding
 
 UV_MAP = "sssbake"
 
@@ -92,9 +92,9 @@ def _xatlas(obj, layer, margin, resolution):
     wanted = gap = padding(margin)
     while True:
         try:
-            uvs, charts = native.unwrap(obj.name, positions, indices, resolution, gap)
+            uvs, charts = binding.package().unwrap(obj.name, positions, indices, resolution, gap)
             break
-        except native.NativeError:
+        except binding.Error:
             if gap == 0:
                 raise
             gap //= 2

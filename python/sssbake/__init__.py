@@ -15,6 +15,10 @@ a `threading.Event` passed as `cancel` (or Ctrl-C) stops the work with
 `sssbake.errors.Cancelled`. Errors are `sssbake.errors.Error` subclasses
 carrying the library's kind, message, file, object and field.
 
+`sssbake.Scene` is a scene built from a host's own arrays (numpy meshes, lights in
+Blender's terms, Principled materials with images, faces in material slots), baked
+object by object into maps in memory or whole into a folder (`sssbake.host`).
+
 `sssbake.farm` runs a batch on a Dask cluster.
 """
 
@@ -29,24 +33,29 @@ from typing import Any, Protocol
 
 from . import _native, _usd
 from .errors import Cancelled, Error, InputError, OutputError, SettingError
+from .host import BakeResult, Scene, defaults, unwrap
 
 __all__ = [
+    "BakeResult",
     "Cancelled",
     "Error",
     "InputError",
     "OutputError",
+    "Scene",
     "SettingError",
     "__version__",
     "bake",
     "batch",
+    "defaults",
     "plan",
     "presets",
     "profile",
+    "unwrap",
 ]
 
 __version__: str = _native.VERSION
 
-Scene = str | os.PathLike[str] | Any
+SceneFile = str | os.PathLike[str] | Any
 """A scene file's path, or a `pxr.Usd.Stage`."""
 
 
@@ -71,7 +80,7 @@ def _options_json(options: Mapping[str, Any]) -> str:
     return json.dumps({key: plain(value) for key, value in options.items()})
 
 
-def _source(scene: Scene, options: Mapping[str, Any]) -> tuple[str, Any | None]:
+def _source(scene: SceneFile, options: Mapping[str, Any]) -> tuple[str, Any | None]:
     """The scene's name for the library and, for USD, the open stage: a stage
     given, or a USD file opened with this Python's usd-core when it has one."""
     if _usd.is_stage(scene):
@@ -87,7 +96,7 @@ def _contents(stage: Any | None, options: Mapping[str, Any]) -> str | None:
 
 
 def bake(
-    scene: Scene,
+    scene: SceneFile,
     out: str | os.PathLike[str],
     *,
     force: bool = False,
@@ -135,7 +144,7 @@ def bake(
     return summary
 
 
-def plan(scene: Scene, **options: Any) -> dict[str, Any]:
+def plan(scene: SceneFile, **options: Any) -> dict[str, Any]:
     """The plan `bake` with these options would run, as `sssbake plan --json`
     prints it: per object the material, model, resolution, UV decision,
     method and why, and the estimated cost; nothing is baked."""

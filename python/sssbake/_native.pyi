@@ -36,3 +36,46 @@ def profile(
     epsilon: float = 1e-3,
     gaussians: int = 6,
 ) -> dict[str, Any]: ...
+def unwrap(name: str, positions: Any, indices: Any, resolution: int, padding: int) -> tuple[Any, Any]: ...
+def defaults() -> str: ...
+
+class BakeResult:
+    @property
+    def resolution(self) -> int: ...
+    @property
+    def summary(self) -> str: ...
+    def image(self, output: str) -> Any: ...
+    def write_exr(self, output: str, path: str, half: bool = False) -> None: ...
+
+class Scene:
+    def __init__(self, millimetres_per_unit: float) -> None: ...
+    def objects(self) -> list[str]: ...
+    def add_mesh(
+        self,
+        name: str,
+        positions: Any,
+        indices: Any,
+        normals: Any | None = None,
+        uvs: Any | None = None,
+        material_indices: Any | None = None,
+        texture_uvs: list[Any] = ...,
+    ) -> None: ...
+    def add_light(self, light_json: str) -> None: ...
+    def set_world(self, colour: tuple[float, float, float], strength: float) -> None: ...
+    def bake_object(
+        self,
+        object: str,
+        materials_json: str,
+        images: list[Any | None],
+        options_json: str,
+        progress: Callable[[float, str], object] | None = None,
+        cancel: Any | None = None,
+    ) -> BakeResult: ...
+    def bake(
+        self,
+        out: str,
+        options_json: str,
+        force: bool,
+        progress: Callable[[float, str], object] | None = None,
+        cancel: Any | None = None,
+    ) -> str: ...

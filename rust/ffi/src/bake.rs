@@ -4,13 +4,13 @@
 
 use crate::errors::{Failure, SssbakeStatus, guarded, slice, text};
 use crate::handles::{self, Handles};
-use crate::material::SssbakeMaterial;
+use crate::material::{SssbakeMaterial, host_material};
 use crate::scene::{SCENES, SssbakeScene, reading};
-use crate::slots::{Composite, bake_materials};
 use sssbake::control::{Control, watch_while};
 use sssbake::limits::Limits;
 use sssbake::transport::integrator::IntegratorSettings;
 use sssbake::{BakeRequest, Method, Output, UvPolicy};
+use sssbake_host::{Composite, PartRunner, bake_materials};
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
 use std::ffi::{CString, c_char, c_void};
@@ -258,15 +258,19 @@ pub unsafe extern "C" fn sssbake_bake_materials(
         // SAFETY: forwarded from the caller.
         let object = unsafe { text(object, "object name") }?;
         let user = UserData(user);
-        let (composite, summary) = bake_materials(
-            &reading(&scene),
-            object,
-            materials,
-            settings,
+        let materials = materials
+            .iter()
+            // SAFETY: forwarded from the caller.
+            .map(|m| unsafe { host_material(m) })
+            .collect::<Result<Vec<_>, _>>()?;
+        let request = request_from_host(settings, true)?;
+        let mut runner = HostRunner {
             progress,
-            &user,
+            user: &user,
             cancel,
-        )?;
+        };
+        let (composite, summary) =
+            bake_materials(&reading(&scene), object, &materials, &request, &mut runner)?;
         let summary = serde_json::to_string(&summary).unwrap_or_default();
         let result = SssbakeResult {
             composite,
@@ -277,6 +281,36 @@ pub unsafe extern "C" fn sssbake_bake_materials(
         unsafe { *out = handle };
         Ok(())
     })
+}
+
+/// Runs each part of a bake watched: the host's progress callback and
+/// cancel flag.
+struct HostRunner<'a> {
+    progress: SssbakeProgress,
+    user: &'a UserData,
+    cancel: Option<&'a AtomicI32>,
+}
+
+impl PartRunner for HostRunner<'_> {
+    type Error = Failure;
+
+    fn run<T: Send>(
+        &mut self,
+        part: (usize, usize),
+        work: impl FnOnce(&Control) -> Result<T, sssbake::Error> + Send,
+    ) -> Result<T, Failure> {
+        let control = Control::new();
+        let value = watched(
+            &control,
+            self.progress,
+            self.user,
+            self.cancel,
+            part,
+            || work(&control),
+        )?;
+        control.check().map_err(sssbake::Error::from)?;
+        Ok(value)
+    }
 }
 
 /// The settings and cancel flag a host's bake takes, the settings checked

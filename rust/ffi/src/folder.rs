@@ -8,10 +8,11 @@ use crate::bake::{
 };
 use crate::errors::{Failure, SssbakeStatus, guarded, text};
 use crate::handles::{free_string, issue_string};
-use crate::material::{SssbakeMaterial, assignment_from_host};
-use crate::scene::{SCENES, SceneFile, SssbakeScene, reading};
+use crate::material::{SssbakeMaterial, host_material};
+use crate::scene::{SCENES, SssbakeScene, reading};
 use sssbake::Output;
 use sssbake::control::Control;
+use sssbake_host::HostScene;
 use sssbake_io::image_writer::Precision;
 use sssbake_io::{FolderOptions, ReadOptions, bake_to_folder, read_scene, scene_lighting};
 use std::ffi::{c_char, c_void};
@@ -72,12 +73,7 @@ pub unsafe extern "C" fn sssbake_scene_read(
         };
         let scene = read_scene(path, &options).map_err(sssbake::Error::from)?;
         let scene = SssbakeScene {
-            scene,
-            file: Some(SceneFile {
-                path: path.to_path_buf(),
-                uv_set: options.uv_set,
-            }),
-            face_materials: std::collections::HashMap::new(),
+            host: HostScene::from_file(scene, path.to_path_buf(), options.uv_set),
         };
         let handle = SCENES.issue(std::sync::RwLock::new(scene))?;
         // SAFETY: checked non-null; the caller gives writable storage.
@@ -145,7 +141,8 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
         let mut request = request_from_host(settings, false)?;
         request.lighting = scene_lighting(scene, scene_file, None, None)?;
         // SAFETY: forwarded from the caller.
-        request.materials = unsafe { assignment_from_host(material, scene.millimetres_per_unit) }?;
+        request.materials =
+            unsafe { host_material(material) }?.assignment(scene.millimetres_per_unit)?;
         let options = FolderOptions {
             out: out_dir.into(),
             force: flags & SSSBAKE_FOLDER_FORCE != 0,

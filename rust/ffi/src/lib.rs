@@ -18,7 +18,6 @@ mod handles;
 mod lights;
 mod material;
 mod scene;
-mod slots;
 mod unwrap;
 
 pub use bake::*;

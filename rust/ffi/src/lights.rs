@@ -1,51 +1,8 @@
-//! Lights in Blender's terms, converted to the library's radiometric units
-//! as Cycles defines them (`intern/cycles/blender/light.cpp` and
-//! `scene/light.cpp`). [`BLENDER_LIGHTS`] is the table, shown in the README.
+//! Lights in Blender's terms as C passes them; the library reads them
+//! (`sssbake_host::lights`, whose table the README shows).
 
 use crate::errors::Failure;
-use glam::Vec3;
-use sssbake::scene::spot_cone;
-use sssbake::{ConeFalloff, Light, LightKind, LightRow};
-use std::f32::consts::PI;
-
-/// The column titles of [`BLENDER_LIGHTS`] in the README.
-pub const BLENDER_HEADER: [&str; 3] = [
-    "C ABI kind: Blender light",
-    "read as",
-    "irradiance at a point of the plane, × F",
-];
-
-/// The Blender (C ABI) table: one row per case, each with a test in this
-/// module's tests. P is the power (W) or a sun's strength
-/// (W/m²) times 2^exposure, d the distance in metres, θ the angle of
-/// incidence, φ the angle from a spot's axis.
-pub const BLENDER_LIGHTS: &[LightRow] = &[
-    LightRow {
-        source: "`SSSBAKE_LIGHT_SUN`: Sun, strength P, angle α",
-        read_as: "directional, angular diameter α",
-        irradiance: "P·cos θ; `normalize` off: P·π sin²(α/2)·cos θ",
-    },
-    LightRow {
-        source: "`SSSBAKE_LIGHT_POINT`: Point, power P, radius r",
-        read_as: "sphere of radius r",
-        irradiance: "P/(4π)·cos θ/d²; `normalize` off: P r²·cos θ/d² (P/π·cos θ/d² at r = 0)",
-    },
-    LightRow {
-        source: "`SSSBAKE_LIGHT_SPOT`: Spot, as a point, size 2a, blend b",
-        read_as: "spot",
-        irradiance: "the point's × smoothstep((cos φ − cos a)/(b(1 − cos a)))",
-    },
-    LightRow {
-        source: "`SSSBAKE_LIGHT_RECTANGLE`: Area (square, rectangle) w × h, spread s",
-        read_as: "rectangle emitting along its −Z",
-        irradiance: "∫ L S(θₗ) cos θ cos θₗ/d² dA, L = P/(π w h); `normalize` off: L = P/π",
-    },
-    LightRow {
-        source: "`SSSBAKE_LIGHT_DISK`: Area (disk, ellipse) of diameter D, spread s",
-        read_as: "disk emitting along its −Z",
-        irradiance: "∫ L S(θₗ) cos θ cos θₗ/d² dA, L = P/(π² D²/4); `normalize` off: L = P/π",
-    },
-];
+use sssbake_host::{HostLight, LightShape};
 
 /// A sun: `power` is its strength, W/m² on a surface facing it.
 pub const SSSBAKE_LIGHT_SUN: u32 = 0;
@@ -104,360 +61,37 @@ pub struct SssbakeLight {
     pub casts_shadow: u32,
 }
 
-/// The library's light for a host light in a scene of `mm_per_unit`.
-pub(crate) fn light_from_host(light: &SssbakeLight, mm_per_unit: f64) -> Result<Light, Failure> {
-    let numbers = [
-        light.power,
-        light.size,
-        light.size_y,
-        light.angle,
-        light.spot_size,
-        light.spot_blend,
-        light.exposure,
-        light.diffuse_factor,
-        light.spread,
-    ];
-    let vectors = [
-        light.colour,
-        light.position,
-        light.direction,
-        light.tangent,
-        light.temperature_colour,
-    ];
-    if numbers
-        .iter()
-        .chain(vectors.iter().flatten())
-        .any(|v| !v.is_finite())
-    {
-        return Err(Failure::argument("a light has a value that is not finite"));
-    }
-    if light.power < 0.0
-        || light.diffuse_factor < 0.0
-        || light
-            .colour
-            .iter()
-            .chain(&light.temperature_colour)
-            .any(|&c| c < 0.0)
-    {
-        return Err(Failure::argument(
-            "a light's power, colour, temperature colour and diffuse factor must not be negative",
-        ));
-    }
-    let scale = mm_per_unit as f32;
-    let size = light.size.max(0.0) * scale;
-    let normalize = light.normalize != 0;
-    let power = light.power * light.exposure.exp2() * light.diffuse_factor;
-    // Cycles: a sphere's radiance is P/(π·4πr²) normalized, P/π not; seen
-    // from afar that is P/(4π) or P·r² W/sr, and P/π for a point that is
-    // not normalized (r in metres).
-    let r_m = size * 1e-3;
-    let point = if normalize {
-        power / (4.0 * PI)
-    } else if r_m > 0.0 {
-        power * r_m * r_m
-    } else {
-        power / PI
-    };
-    // A spread of 0 would emit along the normal alone; 0 (a host that
-    // leaves it unset) means Lambertian, as π does.
-    let spread = if light.spread > 0.0 {
-        light.spread.min(PI)
-    } else {
-        PI
-    };
-    let (kind, intensity, name) = match light.kind {
-        SSSBAKE_LIGHT_SUN => {
-            let angle = light.angle.max(0.0);
-            let irradiance = if normalize || angle == 0.0 {
-                power
-            } else {
-                power * PI * (0.5 * angle).sin().powi(2)
-            };
-            (LightKind::Directional { angle }, irradiance, "sun")
-        }
-        SSSBAKE_LIGHT_POINT => (LightKind::Point { radius_mm: size }, point, "point"),
-        SSSBAKE_LIGHT_SPOT => {
-            let (inner, outer) = spot_cone(0.5 * light.spot_size, light.spot_blend);
-            let kind = LightKind::Spot {
-                radius_mm: size,
-                inner_cone: inner,
-                outer_cone: outer,
-                falloff: ConeFalloff::Cycles,
-            };
-            (kind, point, "spot")
-        }
-        SSSBAKE_LIGHT_RECTANGLE => {
-            let (width_mm, height_mm) = (size, light.size_y.max(0.0) * scale);
-            let area_m2 = width_mm * height_mm * 1e-6;
-            let radiance = area_radiance(power, area_m2, normalize)?;
-            (
-                LightKind::Rectangle {
-                    width_mm,
-                    height_mm,
-                    spread,
-                },
-                radiance,
-                "rectangle",
-            )
-        }
-        SSSBAKE_LIGHT_DISK => {
-            let radius_mm = 0.5 * size;
-            let area_m2 = PI * (radius_mm * 1e-3).powi(2);
-            let radiance = area_radiance(power, area_m2, normalize)?;
-            (LightKind::Disk { radius_mm, spread }, radiance, "disk")
-        }
+/// The library's view of a host's light.
+pub(crate) fn host_light(light: &SssbakeLight) -> Result<HostLight, Failure> {
+    let kind = match light.kind {
+        SSSBAKE_LIGHT_SUN => LightShape::Sun,
+        SSSBAKE_LIGHT_POINT => LightShape::Point,
+        SSSBAKE_LIGHT_SPOT => LightShape::Spot,
+        SSSBAKE_LIGHT_RECTANGLE => LightShape::Rectangle,
+        SSSBAKE_LIGHT_DISK => LightShape::Disk,
         other => {
             return Err(Failure::argument(format!(
                 "light kind {other} is not one of SSSBAKE_LIGHT_*"
             )));
         }
     };
-    Ok(Light {
-        name: name.into(),
+    Ok(HostLight {
         kind,
-        color: [0, 1, 2].map(|c| light.colour[c] * light.temperature_colour[c]),
-        intensity,
-        position: Vec3::from(light.position) * scale,
-        direction: Vec3::from(light.direction).normalize_or(Vec3::NEG_Z),
-        tangent: Vec3::from(light.tangent).normalize_or(Vec3::X),
+        colour: light.colour,
+        power: light.power,
+        position: light.position,
+        direction: light.direction,
+        tangent: light.tangent,
+        size: light.size,
+        size_y: light.size_y,
+        angle: light.angle,
+        spot_size: light.spot_size,
+        spot_blend: light.spot_blend,
+        exposure: light.exposure,
+        temperature_colour: light.temperature_colour,
+        diffuse_factor: light.diffuse_factor,
+        spread: light.spread,
+        normalize: light.normalize != 0,
         casts_shadow: light.casts_shadow != 0,
     })
-}
-
-/// The radiance of a Lambertian emitter of `power` W and `area_m2` m²:
-/// P / (π A), or P / π when not `normalize`d. An area light needs an area.
-fn area_radiance(power: f32, area_m2: f32, normalize: bool) -> Result<f32, Failure> {
-    let radiance = if normalize {
-        power / (PI * area_m2)
-    } else {
-        power / PI
-    };
-    if area_m2 > 0.0 && radiance.is_finite() {
-        Ok(radiance)
-    } else {
-        Err(Failure::argument(format!(
-            "an area light of {area_m2} m² has no area to emit {power} W from"
-        )))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    //! Each row of [`BLENDER_LIGHTS`] against its closed form or a
-    //! quadrature at a point of a plane, and the README's table.
-    use super::*;
-    use sssbake::control::Control;
-    use sssbake::irradiance::emitters::Emitter;
-    use sssbake::irradiance::entry::{Boundary, EntryTransmittance};
-    use sssbake::irradiance::{IrradianceSettings, Receivers, transmitted_irradiance};
-    use sssbake::rays::RayScene;
-    use sssbake::{Mesh, scene::light_table_markdown};
-    use std::f64::consts::PI as PI64;
-
-    /// A light of `kind` at `position` (m) pointing down, Blender's defaults.
-    fn host(kind: u32, power: f32, position: [f32; 3]) -> SssbakeLight {
-        SssbakeLight {
-            kind,
-            colour: [1.0; 3],
-            power,
-            position,
-            direction: [0.0, 0.0, -1.0],
-            tangent: [1.0, 0.0, 0.0],
-            size: 0.0,
-            size_y: 0.0,
-            angle: 0.0,
-            spot_size: 0.0,
-            spot_blend: 0.0,
-            exposure: 0.0,
-            temperature_colour: [1.0; 3],
-            diffuse_factor: 1.0,
-            spread: PI,
-            normalize: 1,
-            casts_shadow: 1,
-        }
-    }
-
-    /// Irradiance (red, W/m²) at `point` (mm) with `normal` from `light` in
-    /// a scene in metres, without entry Fresnel, with a blocker at z = 0.5 m
-    /// over x ∈ [5, 6] m that only the shadow test below reaches.
-    fn irradiance(light: &SssbakeLight, point: glam::Vec3, normal: glam::Vec3) -> f64 {
-        let Ok(light) = light_from_host(light, 1000.0) else {
-            panic!("a light the library refuses");
-        };
-        let square = [[5.0, -1.0], [6.0, -1.0], [6.0, 1.0], [5.0, 1.0]]
-            .iter()
-            .map(|&[x, y]| glam::Vec3::new(1000.0 * x, 1000.0 * y, 500.0))
-            .collect();
-        // Facing down, towards the points it shadows.
-        let (blocker, _) =
-            Mesh::new("blocker", square, None, None, vec![[0, 2, 1], [0, 3, 2]]).unwrap();
-        let rays = RayScene::new(&[&blocker]);
-        let e = transmitted_irradiance(
-            Receivers {
-                mesh: 1,
-                position: &[point],
-                normal: &[normal],
-                triangle: &[0],
-            },
-            &[Emitter::new(&light, None)],
-            &rays,
-            &EntryTransmittance::new(1.0, Boundary::Smooth),
-            &IrradianceSettings {
-                samples: 4096,
-                shadows: true,
-            },
-            &Control::new(),
-        )
-        .unwrap();
-        f64::from(e[0][0])
-    }
-
-    fn assert_close(got: f64, want: f64, tolerance: f64, what: &str) {
-        assert!(
-            (got - want).abs() <= tolerance * want.abs().max(1e-12),
-            "{what}: {got} against {want}"
-        );
-    }
-
-    fn smoothstep(t: f64) -> f64 {
-        let t = t.clamp(0.0, 1.0);
-        t * t * (3.0 - 2.0 * t)
-    }
-
-    const ORIGIN: glam::Vec3 = glam::Vec3::ZERO;
-    const UP: glam::Vec3 = glam::Vec3::Z;
-
-    #[test]
-    fn a_sun_gives_its_strength_or_its_radiance_over_its_disk() {
-        let mut sun = host(SSSBAKE_LIGHT_SUN, 3.0, [0.0; 3]);
-        sun.angle = 10f32.to_radians();
-        sun.exposure = 1.0;
-        assert_close(irradiance(&sun, ORIGIN, UP), 6.0, 5e-3, "normalized");
-        sun.normalize = 0;
-        let want = 6.0 * PI64 * 5f64.to_radians().sin().powi(2);
-        assert_close(irradiance(&sun, ORIGIN, UP), want, 5e-3, "not normalized");
-    }
-
-    #[test]
-    fn a_point_gives_cycles_intensity_normalized_or_not() {
-        let mut point = host(SSSBAKE_LIGHT_POINT, 100.0, [0.0, 0.0, 2.0]);
-        point.size = 0.05;
-        let e = irradiance(&point, ORIGIN, UP);
-        assert_close(e, 100.0 / (4.0 * PI64) / 4.0, 5e-3, "normalized");
-        point.normalize = 0;
-        let e = irradiance(&point, ORIGIN, UP);
-        assert_close(e, 100.0 * 0.05 * 0.05 / 4.0, 5e-3, "not normalized");
-        point.size = 0.0;
-        let e = irradiance(&point, ORIGIN, UP);
-        assert_close(e, 100.0 / PI64 / 4.0, 1e-5, "not normalized, r = 0");
-    }
-
-    #[test]
-    fn a_spot_fades_as_cycles_fades_it() {
-        let mut spot = host(SSSBAKE_LIGHT_SPOT, 100.0, [0.0, 0.0, 1.0]);
-        spot.spot_size = 60f32.to_radians();
-        spot.spot_blend = 0.5;
-        let phi = 25f64.to_radians();
-        let point = glam::Vec3::new(1000.0 * phi.tan() as f32, 0.0, 0.0);
-        let facing = (glam::Vec3::new(0.0, 0.0, 1000.0) - point).normalize();
-        let c = 30f64.to_radians().cos();
-        let fade = smoothstep((phi.cos() - c) / (0.5 * (1.0 - c)));
-        let want = 100.0 / (4.0 * PI64) * phi.cos().powi(2) * fade;
-        assert_close(irradiance(&spot, point, facing), want, 1e-4, "spot");
-    }
-
-    /// ∫ L S(θₗ) cos θ cos θₗ / d² dA over a w × h rectangle (or the disk
-    /// inscribed in it) at height z, facing down, seen from the origin.
-    fn area_quadrature(w: f64, h: f64, z: f64, disk: bool, spread: f64, radiance: f64) -> f64 {
-        let n = 600;
-        let half = 0.5 * spread;
-        let shape = |cos: f64| {
-            if half >= 0.5 * PI64 - 1e-9 {
-                return 1.0;
-            }
-            let tan = (1.0 - cos * cos).sqrt() / cos;
-            (half.tan() - tan).max(0.0) / (half.tan() - half)
-        };
-        let mut sum = 0.0;
-        for i in 0..n {
-            for j in 0..n {
-                let x = ((i as f64 + 0.5) / n as f64 - 0.5) * w;
-                let y = ((j as f64 + 0.5) / n as f64 - 0.5) * h;
-                if disk && (2.0 * x / w).powi(2) + (2.0 * y / h).powi(2) > 1.0 {
-                    continue;
-                }
-                let d2 = x * x + y * y + z * z;
-                let cos = z / d2.sqrt();
-                sum += radiance * shape(cos) * cos * cos / d2 * (w * h) / (n * n) as f64;
-            }
-        }
-        sum
-    }
-
-    #[test]
-    fn area_lights_match_a_quadrature_with_their_spread() {
-        for (kind, disk) in [(SSSBAKE_LIGHT_RECTANGLE, false), (SSSBAKE_LIGHT_DISK, true)] {
-            let mut area = host(kind, 20.0, [0.0, 0.0, 0.3]);
-            area.size = 0.4;
-            area.size_y = 0.4;
-            let a = if disk { PI64 * 0.04 } else { 0.16 };
-            for (normalize, spread) in [(1, PI64), (0, PI64), (1, 1.0)] {
-                area.normalize = normalize;
-                area.spread = spread as f32;
-                let radiance = if normalize == 1 {
-                    20.0 / (PI64 * a)
-                } else {
-                    20.0 / PI64
-                };
-                let want = area_quadrature(0.4, 0.4, 0.3, disk, spread, radiance);
-                let e = irradiance(&area, ORIGIN, UP);
-                let what = format!("kind {kind}, normalize {normalize}, spread {spread}");
-                assert_close(e, want, 1e-2, &what);
-            }
-        }
-    }
-
-    #[test]
-    fn exposure_temperature_diffuse_and_shadows_apply() {
-        // Behind the blocker (z = 0.5 m over x ∈ [5, 6]), the sun is shadowed.
-        let mut sun = host(SSSBAKE_LIGHT_SUN, 2.0, [0.0; 3]);
-        let behind = glam::Vec3::new(5500.0, 0.0, 0.0);
-        assert_eq!(irradiance(&sun, behind, UP), 0.0);
-        sun.casts_shadow = 0;
-        assert_close(irradiance(&sun, behind, UP), 2.0, 1e-6, "no shadow");
-        sun.exposure = 2.0;
-        sun.diffuse_factor = 0.5;
-        sun.temperature_colour = [1.5, 1.0, 0.5];
-        let Ok(light) = light_from_host(&sun, 1000.0) else {
-            panic!("refused");
-        };
-        assert_eq!(light.color, [1.5, 1.0, 0.5]);
-        assert_close(
-            f64::from(light.intensity),
-            2.0 * 4.0 * 0.5,
-            1e-6,
-            "P × 2^e × diffuse",
-        );
-    }
-
-    #[test]
-    fn the_readmes_blender_light_table_is_the_codes() {
-        let readme = include_str!("../../../README.md");
-        let table = light_table_markdown(BLENDER_HEADER, BLENDER_LIGHTS);
-        let head = table.lines().next().unwrap();
-        let start = readme
-            .find(head)
-            .unwrap_or_else(|| panic!("the README has no table headed {head}"));
-        let rows: Vec<Vec<&str>> = readme[start..]
-            .lines()
-            .skip(2)
-            .take_while(|l| l.starts_with('|'))
-            .map(|l| l.trim_matches('|').split(" | ").map(str::trim).collect())
-            .collect();
-        let want: Vec<Vec<&str>> = BLENDER_LIGHTS
-            .iter()
-            .map(|r| vec![r.source, r.read_as, r.irradiance])
-            .collect();
-        assert_eq!(rows, want, "the README's table should read:\n{table}");
-    }
 }

@@ -3,15 +3,10 @@
 //! base-colour image.
 
 use crate::errors::{Failure, slice, text};
-use sssbake::colour::{ColourTexture, Wrap};
-use sssbake::image::Image;
-use sssbake::materials::{
-    AlbedoMapping, MaterialAssignment, Principled, Sidecar, SubsurfaceMethod, preset,
-};
-use sssbake_profile::Material;
+use sssbake::colour::Wrap;
+use sssbake::materials::{AlbedoMapping, SubsurfaceMethod};
+use sssbake_host::{HostImage, HostMaterial, HostMaterialKind, HostPrincipled};
 use std::ffi::c_char;
-use std::path::Path;
-use std::sync::Arc;
 
 /// A preset by `name` (skin1, marble, skin3layer, …).
 pub const SSSBAKE_MATERIAL_PRESET: u32 = 0;
@@ -145,191 +140,112 @@ pub const SSSBAKE_ALBEDO_CYCLES: u32 = 0;
 /// The dipole inverted: the uniform-light reflectance is the colour.
 pub const SSSBAKE_ALBEDO_PHYSICAL: u32 = 1;
 
-/// The library's material assignment for a host material in a scene of
-/// `mm_per_unit`.
+/// The library's view of a host's material: its strings and image read.
 ///
 /// # Safety
-/// The strings are null or NUL-terminated.
-pub(crate) unsafe fn assignment_from_host(
-    material: &SssbakeMaterial,
-    mm_per_unit: f64,
-) -> Result<MaterialAssignment, Failure> {
-    let name_or = |default: &str| -> Result<String, Failure> {
-        if material.name.is_null() {
-            Ok(default.to_string())
+/// The strings are null or NUL-terminated; `image_pixels` is null or holds
+/// the floats the material states.
+pub(crate) unsafe fn host_material<'a>(
+    material: &'a SssbakeMaterial,
+) -> Result<HostMaterial<'a>, Failure> {
+    let optional = |pointer: *const c_char, what: &str| -> Result<Option<&'a str>, Failure> {
+        if pointer.is_null() {
+            Ok(None)
         } else {
             // SAFETY: forwarded from the caller.
-            Ok(unsafe { text(material.name, "material name") }?.to_string())
+            Ok(Some(unsafe { text(pointer, what) }?))
         }
     };
-    let everywhere =
-        |material: Material, source: &str| Ok(MaterialAssignment::everywhere(material, source));
-    match material.kind {
+    let name = optional(material.name, "material name")?;
+    let toml = |what: &str| -> Result<String, Failure> {
+        // SAFETY: forwarded from the caller.
+        Ok(unsafe { text(material.toml, what) }?.to_string())
+    };
+    let kind = match material.kind {
         SSSBAKE_MATERIAL_PRESET => {
-            // SAFETY: forwarded from the caller.
-            let name = unsafe { text(material.name, "preset name") }?;
-            everywhere(preset(name)?, "preset")
+            if name.is_none() {
+                return Err(Failure::argument("preset name is null"));
+            }
+            HostMaterialKind::Preset
         }
-        SSSBAKE_MATERIAL_TOML => {
-            // SAFETY: forwarded from the caller.
-            let toml = unsafe { text(material.toml, "material TOML") }?;
-            let name = name_or("material")?;
-            let parsed = Material::from_toml(toml, &name, &name).map_err(sssbake::Error::from)?;
-            everywhere(parsed, "material TOML")
-        }
-        SSSBAKE_MATERIAL_PRINCIPLED => {
-            let principled = Principled {
-                name: name_or("Principled BSDF")?,
-                base_colour: material.base_colour,
-                subsurface_weight: material.subsurface_weight,
-                radius: material.radius,
-                scale_mm: f64::from(material.scale) * mm_per_unit,
-                method: match material.subsurface_method {
-                    SSSBAKE_SUBSURFACE_BURLEY => SubsurfaceMethod::Burley,
-                    SSSBAKE_SUBSURFACE_RANDOM_WALK => SubsurfaceMethod::RandomWalk,
-                    SSSBAKE_SUBSURFACE_RANDOM_WALK_SKIN => SubsurfaceMethod::RandomWalkSkin,
-                    other => {
-                        return Err(Failure::argument(format!(
-                            "subsurface method {other} is not one of SSSBAKE_SUBSURFACE_*"
-                        )));
-                    }
-                },
-                ior: material.ior,
-                specular_ior_level: material.specular_ior_level,
-                subsurface_ior: material.subsurface_ior,
-                anisotropy: material.anisotropy,
-                roughness: material.roughness,
-                albedo: match material.albedo_mapping {
-                    SSSBAKE_ALBEDO_CYCLES => AlbedoMapping::Cycles,
-                    SSSBAKE_ALBEDO_PHYSICAL => AlbedoMapping::Physical,
-                    other => {
-                        return Err(Failure::argument(format!(
-                            "albedo mapping {other} is not one of SSSBAKE_ALBEDO_*"
-                        )));
-                    }
-                },
-            };
-            Ok(MaterialAssignment::principled(
-                principled,
-                "Principled BSDF",
-            )?)
-        }
-        SSSBAKE_MATERIAL_SCENE => Ok(MaterialAssignment::default()),
-        SSSBAKE_MATERIAL_NONE => Err(Failure::input(format!(
-            "material `{}` has no subsurface; there is nothing to bake with it",
-            name_or("material")?
-        ))),
-        SSSBAKE_MATERIAL_SIDECAR => {
-            // SAFETY: forwarded from the caller.
-            let toml = unsafe { text(material.toml, "sidecar TOML") }?;
-            let folder = name_or(".")?;
-            let sidecar = Sidecar::parse(toml, Path::new("sidecar"), Path::new(&folder))?;
-            Ok(MaterialAssignment {
-                sidecar: Some(sidecar),
-                ..MaterialAssignment::default()
-            })
-        }
-        other => Err(Failure::argument(format!(
-            "material kind {other} is not one of SSSBAKE_MATERIAL_*"
-        ))),
-    }
-}
-
-/// The base-colour texture a host material gives, or `None`; `object` and
-/// its `uv_set_count` UV sets name and bound what it may read.
-///
-/// # Safety
-/// `image_pixels` is null or holds the floats the material states;
-/// `image_name` and `name` are null or NUL-terminated.
-pub(crate) unsafe fn texture_from_host(
-    material: &SssbakeMaterial,
-    object: &str,
-    uv_set_count: usize,
-) -> Result<Option<ColourTexture>, Failure> {
-    if material.image_pixels.is_null() {
-        return Ok(None);
-    }
-    let material_name = if material.name.is_null() {
-        "material".to_string()
-    } else {
-        // SAFETY: forwarded from the caller.
-        unsafe { text(material.name, "material name") }?.to_string()
-    };
-    let image_name = if material.image_name.is_null() {
-        "Base Color image".to_string()
-    } else {
-        // SAFETY: forwarded from the caller.
-        unsafe { text(material.image_name, "image name") }?.to_string()
-    };
-    let at = |what: String| {
-        Failure::argument(format!(
-            "object `{object}`, material `{material_name}`, image `{image_name}`: {what}"
-        ))
-    };
-    let (w, h, c) = (
-        material.image_width as usize,
-        material.image_height as usize,
-        material.image_channels as usize,
-    );
-    if w == 0 || h == 0 {
-        return Err(at(format!("its size is {w} × {h}; both must be positive")));
-    }
-    if c != 3 && c != 4 {
-        return Err(at(format!(
-            "{c} channels; it must have 3 (RGB) or 4 (RGBA)"
-        )));
-    }
-    let len = w
-        .checked_mul(h)
-        .and_then(|n| n.checked_mul(c))
-        .ok_or_else(|| at(format!("{w} × {h} × {c} floats is too many")))?;
-    // SAFETY: forwarded from the caller.
-    let pixels = unsafe { slice(material.image_pixels, len, "image pixels") }?;
-    if let Some(bad) = pixels.iter().position(|v| !v.is_finite()) {
-        let texel = bad / c;
-        return Err(at(format!(
-            "texel ({}, {}) from the bottom left is {}; colours must be finite",
-            texel % w,
-            texel / w,
-            pixels[bad]
-        )));
-    }
-    let uv_set = material.image_uv_set as usize;
-    if uv_set >= uv_set_count.max(1) {
-        return Err(at(format!(
-            "it reads UV set {uv_set} but the mesh has {uv_set_count} (0 is `uvs`, then `texture_uvs`)"
-        )));
-    }
-    let wrap = match material.image_extension {
-        SSSBAKE_EXTENSION_REPEAT => Wrap::Repeat,
-        SSSBAKE_EXTENSION_EXTEND => Wrap::Clamp,
-        SSSBAKE_EXTENSION_CLIP => Wrap::Black,
-        SSSBAKE_EXTENSION_MIRROR => Wrap::Mirror,
+        SSSBAKE_MATERIAL_TOML => HostMaterialKind::Toml(toml("material TOML")?),
+        SSSBAKE_MATERIAL_PRINCIPLED => HostMaterialKind::Principled(HostPrincipled {
+            base_colour: material.base_colour,
+            subsurface_weight: material.subsurface_weight,
+            radius: material.radius,
+            scale: material.scale,
+            ior: material.ior,
+            anisotropy: material.anisotropy,
+            method: match material.subsurface_method {
+                SSSBAKE_SUBSURFACE_BURLEY => SubsurfaceMethod::Burley,
+                SSSBAKE_SUBSURFACE_RANDOM_WALK => SubsurfaceMethod::RandomWalk,
+                SSSBAKE_SUBSURFACE_RANDOM_WALK_SKIN => SubsurfaceMethod::RandomWalkSkin,
+                other => {
+                    return Err(Failure::argument(format!(
+                        "subsurface method {other} is not one of SSSBAKE_SUBSURFACE_*"
+                    )));
+                }
+            },
+            subsurface_ior: material.subsurface_ior,
+            specular_ior_level: material.specular_ior_level,
+            albedo: match material.albedo_mapping {
+                SSSBAKE_ALBEDO_CYCLES => AlbedoMapping::Cycles,
+                SSSBAKE_ALBEDO_PHYSICAL => AlbedoMapping::Physical,
+                other => {
+                    return Err(Failure::argument(format!(
+                        "albedo mapping {other} is not one of SSSBAKE_ALBEDO_*"
+                    )));
+                }
+            },
+            roughness: material.roughness,
+        }),
+        SSSBAKE_MATERIAL_SCENE => HostMaterialKind::Scene,
+        SSSBAKE_MATERIAL_NONE => HostMaterialKind::NoSubsurface,
+        SSSBAKE_MATERIAL_SIDECAR => HostMaterialKind::Sidecar(toml("sidecar TOML")?),
         other => {
-            return Err(at(format!(
-                "extension {other} is not one of SSSBAKE_EXTENSION_*"
+            return Err(Failure::argument(format!(
+                "material kind {other} is not one of SSSBAKE_MATERIAL_*"
             )));
         }
     };
-    // The host's rows run up from v = 0; an Image's rows run down.
-    let texels = (0..h)
-        .rev()
-        .flat_map(|y| (0..w).map(move |x| (y * w + x) * c))
-        .map(|i| [pixels[i], pixels[i + 1], pixels[i + 2]])
-        .collect();
-    let image = Image::new(w, h, texels).map_err(|e| at(e.to_string()))?;
-    Ok(Some(ColourTexture {
-        material: material_name,
-        input: "Base Color".into(),
-        file: image_name,
-        image: Ok(Arc::new(image)),
-        colour_space: "linear (decoded by the host)".into(),
-        uv_set,
-        uv_set_name: format!("UV set {uv_set}"),
-        transform: None,
-        wrap: [wrap; 2],
-        nearest: material.image_nearest != 0,
-        scale: [1.0; 3],
-        bias: [0.0; 3],
-    }))
+    let image = if material.image_pixels.is_null() {
+        None
+    } else {
+        let (w, h, c) = (
+            material.image_width as usize,
+            material.image_height as usize,
+            material.image_channels as usize,
+        );
+        // The library checks the size; an impossible one reads nothing.
+        let len = w.checked_mul(h).and_then(|n| n.checked_mul(c));
+        let pixels = match len {
+            // SAFETY: forwarded from the caller.
+            Some(len) if c == 3 || c == 4 => {
+                unsafe { slice(material.image_pixels, len, "image pixels") }?
+            }
+            _ => &[],
+        };
+        Some(HostImage {
+            pixels,
+            width: w,
+            height: h,
+            channels: c,
+            uv_set: material.image_uv_set as usize,
+            wrap: match material.image_extension {
+                SSSBAKE_EXTENSION_REPEAT => Wrap::Repeat,
+                SSSBAKE_EXTENSION_EXTEND => Wrap::Clamp,
+                SSSBAKE_EXTENSION_CLIP => Wrap::Black,
+                SSSBAKE_EXTENSION_MIRROR => Wrap::Mirror,
+                other => {
+                    return Err(Failure::argument(format!(
+                        "material `{}`: image extension {other} is not one of SSSBAKE_EXTENSION_*",
+                        name.unwrap_or("material")
+                    )));
+                }
+            },
+            nearest: material.image_nearest != 0,
+            name: optional(material.image_name, "image name")?,
+        })
+    };
+    Ok(HostMaterial { kind, name, image })
 }

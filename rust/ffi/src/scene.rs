@@ -2,11 +2,10 @@
 
 use crate::errors::{Failure, SssbakeStatus, guarded, slice, text};
 use crate::handles::{self, Handles};
-use crate::lights::{SssbakeLight, light_from_host};
-use glam::{Vec2, Vec3};
-use sssbake::{Light, LightKind, Mesh, Scene, SceneObject};
-use std::collections::HashMap;
+use crate::lights::{SssbakeLight, host_light};
+use sssbake_host::{HostMesh, HostScene};
 use std::ffi::c_char;
+use std::ops::{Deref, DerefMut};
 use std::sync::{PoisonError, RwLock, RwLockReadGuard, RwLockWriteGuard, TryLockError};
 
 /// The live scenes. A bake reads its scene under the lock, so adding to a
@@ -34,21 +33,20 @@ fn changing<'a>(
 /// A scene (opaque): built up by the host, or read from a file by
 /// [`sssbake_scene_read`](crate::sssbake_scene_read).
 pub struct SssbakeScene {
-    pub(crate) scene: Scene,
-    /// The file it was read from, kept so a bake into a folder can write
-    /// the file's glTF copy or USD layer; `None` for a host's scene.
-    pub(crate) file: Option<SceneFile>,
-    /// Per object of a host's scene, the material index of each of its
-    /// mesh's triangles (in the mesh's order); absent: all 0.
-    pub(crate) face_materials: HashMap<String, Vec<u32>>,
+    pub(crate) host: HostScene,
 }
 
-/// Where a scene read from a file came from.
-pub(crate) struct SceneFile {
-    /// The glTF or USD file.
-    pub(crate) path: std::path::PathBuf,
-    /// The texture-coordinate set it was read with.
-    pub(crate) uv_set: usize,
+impl Deref for SssbakeScene {
+    type Target = HostScene;
+    fn deref(&self) -> &HostScene {
+        &self.host
+    }
+}
+
+impl DerefMut for SssbakeScene {
+    fn deref_mut(&mut self) -> &mut HostScene {
+        &mut self.host
+    }
 }
 
 /// One mesh: `vertex_count` vertices with positions (x, y, z in scene
@@ -116,19 +114,8 @@ pub unsafe extern "C" fn sssbake_scene_new(
         if out.is_null() {
             return Err(Failure::argument("out is null"));
         }
-        if !(millimetres_per_unit.is_finite() && millimetres_per_unit > 0.0) {
-            return Err(Failure::argument(format!(
-                "millimetres per unit is {millimetres_per_unit}; it must be positive"
-            )));
-        }
         let scene = SssbakeScene {
-            scene: Scene {
-                source: "host scene".into(),
-                millimetres_per_unit,
-                ..Scene::default()
-            },
-            file: None,
-            face_materials: HashMap::new(),
+            host: HostScene::new(millimetres_per_unit)?,
         };
         let handle = SCENES.issue(RwLock::new(scene))?;
         // SAFETY: checked non-null; the caller gives writable storage.
@@ -164,50 +151,22 @@ pub unsafe extern "C" fn sssbake_scene_add_mesh(
         let Some(mesh) = (unsafe { mesh.as_ref() }) else {
             return Err(Failure::argument("mesh is null"));
         };
-        if let Some(file) = &scene.file {
-            // The glTF copy or USD layer a folder bake writes follows the
-            // file's objects; a mesh the file lacks would have no place there.
-            return Err(Failure::argument(format!(
-                "the scene was read from {}; meshes are added to a host's scene",
-                file.path.display()
-            )));
-        }
         // SAFETY: the caller's arrays hold the stated lengths.
-        let (object, face_materials) =
-            unsafe { object_from_host(mesh, scene.scene.millimetres_per_unit) }?;
-        if scene
-            .scene
-            .objects
-            .iter()
-            .any(|o| o.mesh.name == object.mesh.name)
-        {
-            return Err(Failure::argument(format!(
-                "object `{}`: the scene has one of that name already",
-                object.mesh.name
-            )));
-        }
-        if let Some(face_materials) = face_materials {
-            scene
-                .face_materials
-                .insert(object.mesh.name.clone(), face_materials);
-        }
-        scene.scene.objects.push(object);
-        Ok(())
+        unsafe { with_host_mesh(mesh, |mesh| Ok(scene.add_mesh(mesh)?)) }
     })
 }
 
-/// Reads the host's arrays into an object, sharing identical vertices and
-/// leaving out triangles without area, with each kept triangle's material
-/// index when the host gives them.
+/// Runs `then` with the library's view of the host's `mesh`: its arrays as
+/// slices of the lengths it states.
 ///
 /// # Safety
 /// The mesh's arrays hold the lengths it states.
-unsafe fn object_from_host(
+pub(crate) unsafe fn with_host_mesh<T>(
     mesh: &SssbakeMesh,
-    scale: f64,
-) -> Result<(SceneObject, Option<Vec<u32>>), Failure> {
+    then: impl FnOnce(&HostMesh) -> Result<T, Failure>,
+) -> Result<T, Failure> {
     // SAFETY: forwarded from the caller.
-    let name = unsafe { text(mesh.name, "mesh name") }?.to_string();
+    let name = unsafe { text(mesh.name, "mesh name") }?;
     let n = mesh.vertex_count;
     let at = |what: &str| format!("object `{name}`: {what}");
     // No array of 3 floats per vertex can be that long: refused before a
@@ -239,11 +198,11 @@ unsafe fn object_from_host(
         .ok_or_else(|| Failure::argument(at("texture_uv_count is too large")))?;
     // SAFETY: forwarded from the caller.
     let extra = unsafe { slice(mesh.texture_uvs, extra_len, &at("texture_uvs")) }?;
-    if extra.iter().any(|c| !c.is_finite()) {
-        return Err(Failure::argument(at(
-            "texture_uvs hold a value that is not finite",
-        )));
-    }
+    let texture_uvs: Vec<&[f32]> = if n == 0 {
+        vec![&[]; mesh.texture_uv_count]
+    } else {
+        extra.chunks_exact(2 * n).collect()
+    };
     // SAFETY: forwarded from the caller.
     let indices = unsafe { slice(mesh.indices, mesh.index_count, &at("indices")) }?;
     if indices.len() % 3 != 0 {
@@ -252,10 +211,7 @@ unsafe fn object_from_host(
             indices.len()
         ))));
     }
-    if let Some(bad) = indices.iter().find(|&&i| i as usize >= n) {
-        return Err(Failure::input(at(&format!("index {bad} but {n} vertices"))));
-    }
-    let face_materials = if mesh.material_indices.is_null() {
+    let material_indices = if mesh.material_indices.is_null() {
         None
     } else {
         // SAFETY: forwarded from the caller.
@@ -267,68 +223,15 @@ unsafe fn object_from_host(
             )
         }?)
     };
-    // Share vertices equal bit for bit in every attribute.
-    let mut shared: HashMap<Vec<u32>, u32> = HashMap::new();
-    let mut remap = Vec::with_capacity(n);
-    let (mut p, mut nr, mut uv) = (Vec::new(), Vec::new(), Vec::new());
-    let mut sets: Vec<Vec<Vec2>> = vec![Vec::new(); mesh.texture_uv_count];
-    for v in 0..n {
-        let position = Vec3::from_slice(&positions[3 * v..3 * v + 3]);
-        let normal = normals.map_or(Vec3::ZERO, |s| Vec3::from_slice(&s[3 * v..3 * v + 3]));
-        let coord = uvs.map_or(Vec2::ZERO, |s| Vec2::from_slice(&s[2 * v..2 * v + 2]));
-        let texture_coord = |k: usize| Vec2::from_slice(&extra[2 * (k * n + v)..][..2]);
-        let mut key: Vec<u32> = [
-            position.x, position.y, position.z, normal.x, normal.y, normal.z, coord.x, coord.y,
-        ]
-        .map(f32::to_bits)
-        .to_vec();
-        for k in 0..sets.len() {
-            key.extend(texture_coord(k).to_array().map(f32::to_bits));
-        }
-        let index = *shared.entry(key).or_insert_with(|| {
-            p.push(position * scale as f32);
-            nr.push(normal);
-            uv.push(coord);
-            for (k, set) in sets.iter_mut().enumerate() {
-                set.push(texture_coord(k));
-            }
-            (p.len() - 1) as u32
-        });
-        remap.push(index);
-    }
-    // Triangles without area are left out here (Mesh::new would drop them)
-    // so that the material indices stay in step with the mesh's triangles.
-    let mut kept_materials = Vec::new();
-    let triangles = indices
-        .chunks_exact(3)
-        .enumerate()
-        .map(|(f, t)| (f, [t[0], t[1], t[2]].map(|i| remap[i as usize])))
-        .filter(|&(_, t)| sssbake::mesh::triangle_area(&p, t) > 0.0)
-        .map(|(f, t)| {
-            if let Some(m) = face_materials {
-                kept_materials.push(m[f]);
-            }
-            t
-        })
-        .collect();
-    let uvs = uvs.map(|_| uv);
-    let (mesh, _) = Mesh::new(&name, p, normals.map(|_| nr), uvs.clone(), triangles)
-        .map_err(|e| Failure::input(e.to_string()))?;
-    // UV set 0 is the baked one, so texture sets keep their numbers even
-    // on a mesh without it.
-    let uv_sets = if sets.is_empty() {
-        uvs.into_iter().collect()
-    } else {
-        std::iter::once(uvs.unwrap_or_default())
-            .chain(sets)
-            .collect()
-    };
-    let object = SceneObject {
-        mesh,
-        uv_sets,
-        ..SceneObject::default()
-    };
-    Ok((object, face_materials.map(|_| kept_materials)))
+    then(&HostMesh {
+        name,
+        positions,
+        normals,
+        uvs,
+        indices,
+        material_indices,
+        texture_uvs: &texture_uvs,
+    })
 }
 
 /// Adds a light in the host's units (see [`SssbakeLight`]).
@@ -348,9 +251,7 @@ pub unsafe extern "C" fn sssbake_scene_add_light(
         let Some(light) = (unsafe { light.as_ref() }) else {
             return Err(Failure::argument("light is null"));
         };
-        let converted = light_from_host(light, scene.scene.millimetres_per_unit)?;
-        scene.scene.lights.push(converted);
-        Ok(())
+        Ok(scene.add_light(&host_light(light)?)?)
     })
 }
 
@@ -371,29 +272,6 @@ pub unsafe extern "C" fn sssbake_scene_set_world(
         let mut scene = changing(&scene)?;
         // SAFETY: the caller passes 3 floats.
         let colour = unsafe { slice(colour, 3, "world colour") }?;
-        if !(strength.is_finite() && strength >= 0.0)
-            || colour.iter().any(|c| !c.is_finite() || *c < 0.0)
-        {
-            return Err(Failure::argument(format!(
-                "world colour {colour:?} × strength {strength}: both must be finite and non-negative"
-            )));
-        }
-        scene
-            .scene
-            .lights
-            .retain(|l| !matches!(l.kind, LightKind::Environment { .. }));
-        if strength > 0.0 && colour.iter().any(|&c| c > 0.0) {
-            scene.scene.lights.push(Light {
-                name: "World".into(),
-                kind: LightKind::Environment { texture: None },
-                color: [colour[0], colour[1], colour[2]],
-                intensity: strength,
-                position: Vec3::ZERO,
-                direction: Vec3::NEG_Z,
-                tangent: Vec3::X,
-                casts_shadow: true,
-            });
-        }
-        Ok(())
+        Ok(scene.set_world([colour[0], colour[1], colour[2]], strength)?)
     })
 }

@@ -4,6 +4,7 @@
 //! exceptions; this side runs the library with the GIL released.
 
 mod errors;
+mod host;
 mod profile;
 mod run;
 mod stage;
@@ -23,5 +24,9 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(run::presets, module)?)?;
     module.add_function(wrap_pyfunction!(stage::uv_primvars, module)?)?;
     module.add_function(wrap_pyfunction!(profile::profile, module)?)?;
+    module.add_function(wrap_pyfunction!(host::unwrap, module)?)?;
+    module.add_function(wrap_pyfunction!(host::defaults, module)?)?;
+    module.add_class::<host::PyScene>()?;
+    module.add_class::<host::PyBakeResult>()?;
     Ok(())
 }

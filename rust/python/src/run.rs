@@ -54,7 +54,11 @@ pub fn bake(
     let mut folder = options.folder(&out, force);
     folder.layer_writer = layer_writer_callable.map(layer_writer);
     let control = Control::new();
-    let watchers = Watchers { progress, cancel };
+    let watchers = Watchers {
+        progress,
+        cancel,
+        part: (0, 1),
+    };
     let summary = run_watched(py, &control, &watchers, || {
         let (scene, request) = load(&input, stage_json.as_deref(), &options)?;
         let plan = sssbake::plan(&scene, &request)?;
@@ -80,6 +84,7 @@ pub fn plan(
     let watchers = Watchers {
         progress: None,
         cancel: None,
+        part: (0, 1),
     };
     let plan = run_watched(py, &control, &watchers, || {
         let (scene, request) = load(&input, stage_json.as_deref(), &options)?;
@@ -112,6 +117,7 @@ pub fn batch(
     let watchers = Watchers {
         progress: None,
         cancel: None,
+        part: (0, 1),
     };
     // The callback runs on the batch's threads, taking the GIL for the call;
     // its first exception is kept and raised when the batch ends.

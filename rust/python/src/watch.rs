@@ -20,6 +20,10 @@ pub struct Watchers<'py> {
     /// Anything with `is_set()` (a `threading.Event`): once set, the work
     /// is cancelled.
     pub cancel: Option<Bound<'py, PyAny>>,
+    /// `(part, parts)`: the work is part `part` of `parts` equal parts of
+    /// the call, so the fraction reported runs from part / parts to
+    /// (part + 1) / parts.
+    pub part: (usize, usize),
 }
 
 /// Runs `work` (which checks `control`) on a thread of its own while this
@@ -102,7 +106,9 @@ fn watch_once(py: Python<'_>, control: &Control, watchers: &Watchers<'_>) -> PyR
     if let Some(progress) = &watchers.progress {
         let stage = control.stage_label();
         let stage = if stage.is_empty() { "starting" } else { &stage };
-        progress.call1((control.fraction(), stage))?;
+        let (part, parts) = watchers.part;
+        let fraction = (part as f64 + control.fraction()) / parts.max(1) as f64;
+        progress.call1((fraction, stage))?;
     }
     Ok(())
 }

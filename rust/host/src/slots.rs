@@ -6,28 +6,39 @@
 //! object were of that material: light that enters a face of another
 //! material and crosses the boundary under the surface is scattered by the
 //! texel's material, not by the one it entered. Faces of a material without
-//! subsurface ([`SSSBAKE_MATERIAL_NONE`]) are left out: their texels stay
-//! empty.
+//! subsurface ([`HostMaterialKind::NoSubsurface`]) are left out: their
+//! texels stay empty.
 
-use crate::bake::{SssbakeProgress, SssbakeSettings, UserData, request_from_host, watched};
-use crate::errors::{Failure, text};
-use crate::material::{
-    SSSBAKE_MATERIAL_NONE, SssbakeMaterial, assignment_from_host, texture_from_host,
-};
-use crate::scene::SssbakeScene;
+use crate::material::{HostMaterial, HostMaterialKind};
+use crate::scene::HostScene;
 use serde_json::{Value, json};
 use sssbake::control::Control;
 use sssbake::image::Image;
-use sssbake::{BakedObject, Output};
+use sssbake::{BakeRequest, BakedObject, Error, Output, Summary};
 use std::borrow::Cow;
-use std::sync::atomic::AtomicI32;
+
+/// How a door runs each part of a bake: with its own progress reports and
+/// cancel, part `part` of `parts` equal parts of the call.
+pub trait PartRunner {
+    /// The door's error, which a library error becomes.
+    type Error: From<Error>;
+
+    /// Runs `work` with a [`Control`] the door watches (reporting its
+    /// fraction and cancelling it when asked); a cancel that came during
+    /// the work fails the part even when the work finished.
+    fn run<T: Send>(
+        &mut self,
+        part: (usize, usize),
+        work: impl FnOnce(&Control) -> Result<T, Error> + Send,
+    ) -> Result<T, Self::Error>;
+}
 
 /// Marks a texel no bake owns.
 const NO_PART: u32 = u32::MAX;
 
 /// The bakes of one object, one per material its faces use, and which bake
 /// each texel shows.
-pub(crate) struct Composite {
+pub struct Composite {
     /// One bake per material that scatters.
     parts: Vec<BakedObject>,
     /// Per texel (row-major, y growing with v), the index into `parts` of
@@ -37,13 +48,13 @@ pub(crate) struct Composite {
 
 impl Composite {
     /// Texels per side.
-    pub(crate) fn resolution(&self) -> u32 {
+    pub fn resolution(&self) -> u32 {
         self.parts[0].prepared.surfels.resolution
     }
 
     /// Map `output`, rows top to bottom: each texel from its owner's bake,
     /// black where no bake owns it.
-    pub(crate) fn render(&self, output: Output) -> Result<Image, sssbake::Error> {
+    pub fn render(&self, output: Output) -> Result<Image, Error> {
         if let [only] = self.parts.as_slice()
             && self.owner.iter().all(|&o| o == 0)
         {
@@ -72,7 +83,7 @@ impl Composite {
 
     /// Whether texel `t` (row-major, y growing with v) holds a value: covered
     /// or filled by a bake that owns it.
-    pub(crate) fn covered(&self) -> Vec<bool> {
+    pub fn covered(&self) -> Vec<bool> {
         let covered = self.parts[0].covered();
         covered
             .iter()
@@ -82,28 +93,31 @@ impl Composite {
     }
 }
 
-/// Bakes `object` of `scene` with `materials`, each face with the material
-/// its index names (all with material 0 when the mesh gives none), and
-/// returns the composite and its summary as JSON.
-pub(crate) fn bake_materials(
-    scene: &SssbakeScene,
+/// Bakes `object` of `scene` with `materials` and the rest of `request`
+/// (its objects and materials are set here), each face with the material
+/// its index names (all with material 0 when the mesh gives none or one
+/// material is given), and returns the composite and its summary as JSON:
+/// `sssbake bake --json`'s for this object, with `materials` listing each
+/// material the faces use when there are several.
+pub fn bake_materials<R: PartRunner>(
+    scene: &HostScene,
     object: &str,
-    materials: &[SssbakeMaterial],
-    settings: &SssbakeSettings,
-    progress: SssbakeProgress,
-    user: &UserData,
-    cancel: Option<&AtomicI32>,
-) -> Result<(Composite, Value), Failure> {
+    materials: &[HostMaterial],
+    request: &BakeRequest,
+    runner: &mut R,
+) -> Result<(Composite, Value), R::Error> {
     let index = scene
         .scene
         .objects
         .iter()
         .position(|o| o.mesh.name == object)
-        .ok_or_else(|| Failure::input(format!("no object named `{object}`")))?;
+        .ok_or_else(|| Error::input(format!("no object named `{object}`")))?;
     if materials.is_empty() {
-        return Err(Failure::argument(format!(
-            "object `{object}`: no material was given"
-        )));
+        return Err(Error::field(
+            "materials",
+            format!("object `{object}`: no material was given"),
+        )
+        .into());
     }
     let faces: Cow<[u32]> = match scene.face_materials.get(object) {
         Some(faces) if materials.len() > 1 => Cow::Borrowed(faces),
@@ -114,10 +128,14 @@ pub(crate) fn bake_materials(
         .enumerate()
         .find(|&(_, &m)| m as usize >= materials.len())
     {
-        return Err(Failure::argument(format!(
-            "object `{object}`: triangle {face} has material {m}, but {} materials were given",
-            materials.len()
-        )));
+        return Err(Error::field(
+            "materials",
+            format!(
+                "object `{object}`: triangle {face} has material {m}, but {} materials were given",
+                materials.len()
+            ),
+        )
+        .into());
     }
     let mut used: Vec<u32> = faces.to_vec();
     used.sort_unstable();
@@ -125,25 +143,23 @@ pub(crate) fn bake_materials(
     let baked: Vec<u32> = used
         .iter()
         .copied()
-        .filter(|&m| materials[m as usize].kind != SSSBAKE_MATERIAL_NONE)
+        .filter(|&m| !matches!(materials[m as usize].kind, HostMaterialKind::NoSubsurface))
         .collect();
     if baked.is_empty() {
-        return Err(Failure::input(format!(
+        return Err(Error::input(format!(
             "object `{object}`: none of its faces has a material with subsurface to bake"
-        )));
+        ))
+        .into());
     }
     let uv_set_count = scene.scene.objects[index].uv_sets.len();
     let mut parts = Vec::with_capacity(baked.len());
     let mut summaries = Vec::with_capacity(baked.len());
     for (share, &m) in baked.iter().enumerate() {
         let material = &materials[m as usize];
-        let mut request = request_from_host(settings, true)?;
+        let mut request = request.clone();
         request.objects = vec![object.to_string()];
-        // SAFETY: the caller's material pointers are valid (sssbake_bake's contract).
-        request.materials =
-            unsafe { assignment_from_host(material, scene.scene.millimetres_per_unit) }?;
-        // SAFETY: as above.
-        let texture = unsafe { texture_from_host(material, object, uv_set_count) }?;
+        request.materials = material.assignment(scene.scene.millimetres_per_unit)?;
+        let texture = material.texture(object, uv_set_count)?;
         let with_texture;
         let host_scene = match texture {
             Some(texture) => {
@@ -154,38 +170,26 @@ pub(crate) fn bake_materials(
             }
             None => &scene.scene,
         };
-        let control = Control::new();
-        let (mut objects, summary) = watched(
-            &control,
-            progress,
-            user,
-            cancel,
-            (share, baked.len()),
-            || {
+        let (mut objects, summary): (Vec<BakedObject>, Summary) =
+            runner.run((share, baked.len()), |control| {
                 let plan = sssbake::plan(host_scene, &request)?;
-                sssbake::bake(host_scene, &plan, &control)
-            },
-        )?;
-        control.check().map_err(sssbake::Error::from)?;
+                sssbake::bake(host_scene, &plan, control)
+            })?;
         let part = objects
             .pop()
-            .ok_or_else(|| Failure::input(format!("no object named `{object}`")))?;
+            .ok_or_else(|| Error::input(format!("no object named `{object}`")))?;
         parts.push(part);
         summaries.push(serde_json::to_value(&summary).unwrap_or_default());
     }
     let owner = texel_owners(&parts[0], &faces, &baked);
-    let names = used
+    let names: Vec<String> = used
         .iter()
         .map(|&m| {
-            let name = materials[m as usize].name;
-            if name.is_null() {
-                Ok(format!("material {m}"))
-            } else {
-                // SAFETY: the caller's strings are NUL-terminated.
-                unsafe { text(name, "material name") }.map(str::to_string)
-            }
+            materials[m as usize]
+                .name
+                .map_or_else(|| format!("material {m}"), str::to_string)
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect();
     let summary = combined_summary(summaries, &owner, &used, &baked, &names);
     Ok((Composite { parts, owner }, summary))
 }
