@@ -247,3 +247,103 @@ fn smooth_stam_skin_matches_the_monte_carlo_of_both_layers() {
         );
     }
 }
+
+#[test]
+fn between_matched_faces_contact_and_air_are_one_layer() {
+    // At η = 1 the contact and a face against air are the same nothing,
+    // so the contact solve must give what the layer solve gives (which
+    // `tests/stam.rs` checks against the Monte Carlo).
+    for (albedo, tau, g) in [(0.5, 1.0, 0.0), (0.9, 2.0, 0.8), (0.99, 0.3, -0.5)] {
+        let l = layer(albedo, tau, g, 1.0, 0.0);
+        let ours = contact(l);
+        let settings = sssbake_profile::stam::StamSettings {
+            modes: Some(1),
+            ..Default::default()
+        };
+        let theirs = l.solve(&settings).unwrap();
+        for e in 0..ours.cosines.len() {
+            assert!((ours.reflectance[e] - theirs.reflectance[e]).abs() < 1e-9);
+            assert!((ours.transmittance[e] - theirs.transmittance[e]).abs() < 1e-9);
+        }
+        let diffuse = |v: &[f64]| -> f64 {
+            (0..v.len())
+                .map(|e| 2.0 * theirs.weights[e] * theirs.cosines[e] * v[e])
+                .sum()
+        };
+        // Lambertian light from below meets the same symmetric layer.
+        assert!((ours.reflectance_from_below - diffuse(&theirs.reflectance)).abs() < 1e-9);
+        assert!((ours.transmittance_from_below - diffuse(&theirs.transmittance)).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn extreme_stam_topped_stacks_stay_physical_and_a_lone_top_is_refused() {
+    let mut built = 0;
+    for albedo in [0.0, 0.5, 1.0] {
+        for tau in [1e-9, 1.0, 1e3] {
+            for g in [-0.9, 0.9] {
+                for (eta, m) in [(1.0, 0.0), (1.4, 0.0), (3.0, 0.0), (1.4, 1.0)] {
+                    let thickness = 0.05;
+                    let sigma_t = tau / thickness;
+                    let material = Material {
+                        name: "extreme".into(),
+                        optics: Optics::Layers(vec![
+                            Layer {
+                                sigma_a: [(1.0 - albedo) * sigma_t; 3],
+                                sigma_s: [albedo * sigma_t; 3],
+                                g,
+                                ior: eta,
+                                thickness_mm: Some(thickness),
+                            },
+                            Layer::semi_infinite([0.02, 0.1, 0.5], [1.0; 3], 1.4),
+                        ]),
+                        coat_ior: None,
+                        roughness: m,
+                        top_layer: TopLayer::Stam,
+                    };
+                    let case = format!("Ω {albedo} τ {tau} g {g} η {eta} m {m}");
+                    let profile = build_profile(&material, Model::Stam, 6)
+                        .unwrap_or_else(|e| panic!("{case}: {e}"));
+                    let surface = Surface::of(&material, Model::Stam).unwrap();
+                    let total = profile.total_reflectance();
+                    let exit = surface.exit_at_normal();
+                    for c in 0..3 {
+                        assert!((0.0..=1.0).contains(&total[c]), "{case}: R {}", total[c]);
+                        assert!(
+                            exit[c].is_finite() && exit[c] >= 0.0,
+                            "{case}: exit {}",
+                            exit[c]
+                        );
+                    }
+                    for cos in [0.0, 1e-6, 0.5, 1.0] {
+                        let t = surface.entry(cos);
+                        assert!(
+                            t.iter().all(|v| (0.0..=1.0 + 1e-9).contains(v)),
+                            "{case}: {t:?}"
+                        );
+                    }
+                    for r in [1e-3, 0.1, 10.0] {
+                        let v = profile.reflectance(r);
+                        assert!(
+                            v.iter().all(|x| x.is_finite() && *x >= 0.0),
+                            "{case}: {v:?}"
+                        );
+                    }
+                    built += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(built, 3 * 3 * 2 * 4);
+    let lone = Material {
+        optics: Optics::Layers(vec![
+            preset("stam-skin").unwrap().layers().unwrap()[0].clone(),
+        ]),
+        ..preset("stam-skin").unwrap()
+    };
+    let error = build_profile(&lone, Model::Stam, 6)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(error.contains("needs a layer under it"), "{error}");
+}
