@@ -103,7 +103,8 @@ pub fn margin_fill(prepared: &Prepared, margin: u32) -> Vec<(u32, u32)> {
 /// the integration's result (zero where there is none); `surface` the
 /// material's, whose exit term at the normal ([`Surface::exit_at_normal`]:
 /// ρdt(0) of Donner & Jensen 2005 eq. 25, 1 − F(0) when smooth, or a Stam
-/// top layer's T(0°)/T_diffuse) turns the exitance into the `diffuse` map.
+/// top layer's radiance at the normal per unit of the exitance leaving it)
+/// turns the exitance into the `diffuse` map.
 pub fn render(
     prepared: &Prepared,
     exitance: &[[f32; 3]],
