@@ -340,8 +340,7 @@ impl BakedObject {
         Ok(render(
             &self.prepared,
             &self.exitance,
-            self.plan.material.ior,
-            self.plan.material.roughness,
+            &self.plan.scattering_profile.surface,
             output,
             &self.fill,
         ))

@@ -11,13 +11,13 @@
 //! | `area` | surface area the texel stands for, mm² |
 
 use crate::image::Image;
-use crate::irradiance::entry::{Boundary, EntryTransmittance};
 use crate::pipeline::Prepared;
 use crate::rays::RayScene;
 use crate::surface::dilation::seam_aware_offsets;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::thin::inward_thickness;
 use serde::{Deserialize, Serialize};
+use sssbake_profile::surface::Surface;
 
 /// A map sssbake can write.
 #[derive(
@@ -101,14 +101,15 @@ pub fn margin_fill(prepared: &Prepared, margin: u32) -> Vec<(u32, u32)> {
 
 /// The map `output` of `prepared` as an image, rows top to bottom, with
 /// the empty texels of `fill` (from [`margin_fill`]) filled. `exitance` is
-/// the integration's result (zero where there is none); `eta` and
-/// `roughness` the material's index and RMS facet slope for the exit
-/// transmittance ρdt(0) (Donner & Jensen 2005 eq. 25; 1 − F(0) when smooth).
+/// the integration's result (zero where there is none); `surface` the
+/// material's, whose exit term at the normal ([`Surface::exit_at_normal`]:
+/// ρdt(0) of Donner & Jensen 2005 eq. 25, 1 − F(0) when smooth, or a Stam
+/// top layer's radiance at the normal per unit of the exitance leaving it)
+/// turns the exitance into the `diffuse` map.
 pub fn render(
     prepared: &Prepared,
     exitance: &[[f32; 3]],
-    eta: f64,
-    roughness: f64,
+    surface: &Surface,
     output: Output,
     fill: &[(u32, u32)],
 ) -> Image {
@@ -117,9 +118,13 @@ pub fn render(
         Output::Subsurface => exitance.to_vec(),
         Output::Irradiance => prepared.irradiance.clone(),
         Output::Diffuse => {
-            let exit = EntryTransmittance::new(eta, Boundary::of(roughness)).at(1.0)
-                * std::f32::consts::FRAC_1_PI;
-            exitance.iter().map(|m| m.map(|v| v * exit)).collect()
+            let exit = surface
+                .exit_at_normal()
+                .map(|t| t as f32 * std::f32::consts::FRAC_1_PI);
+            exitance
+                .iter()
+                .map(|m| std::array::from_fn(|c| m[c] * exit[c]))
+                .collect()
         }
         Output::Thickness => thickness(prepared),
         Output::Stretch => surfels.stretch.iter().map(|s| [s.x, s.y, 0.0]).collect(),

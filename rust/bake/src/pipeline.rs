@@ -6,7 +6,7 @@ use crate::control::Control;
 use crate::error::{Error, InputError};
 use crate::image::Image;
 use crate::irradiance::emitters::Emitter;
-use crate::irradiance::entry::{Boundary, EntryTransmittance};
+use crate::irradiance::entry::EntryTransmittance;
 use crate::irradiance::environment::EnvironmentMap;
 use crate::irradiance::{IrradianceSettings, Receivers, transmitted_irradiance};
 use crate::mesh::Mesh;
@@ -184,7 +184,7 @@ impl std::ops::Deref for Prepared {
 
 /// Lights object `index` of `scene` laid out as `layout`: the irradiance
 /// entering each texel through the surface of `scattering`'s material (its
-/// entry index and roughness), by the request's lighting. `lit` false leaves the light out (outputs that need
+/// entry index and roughness, or its Stam top layer), by the request's lighting. `lit` false leaves the light out (outputs that need
 /// none).
 pub fn prepare(
     scene: &Scene,
@@ -231,7 +231,6 @@ pub fn prepare(
                         Emitter::new(light, map)
                     })
                     .collect();
-                let boundary = Boundary::of(scattering.material.roughness);
                 let surfels = &layout.surfels;
                 transmitted_irradiance(
                     Receivers {
@@ -242,7 +241,7 @@ pub fn prepare(
                     },
                     &emitters,
                     &RayScene::new(&meshes),
-                    &EntryTransmittance::new(scattering.entry_index(), boundary),
+                    &EntryTransmittance::of_surface(&scattering.surface),
                     &IrradianceSettings {
                         samples: request.light_samples,
                         shadows: true,

@@ -7,9 +7,10 @@ use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::transport::kernel::Kernel;
 use sssbake_profile::Material;
 use sssbake_profile::empirical::EmpiricalSettings;
-use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::model::{Model, ModelError, build_profile};
 use sssbake_profile::monte_carlo_profile::ProfileSettings;
 use sssbake_profile::profile::Profile;
+use sssbake_profile::surface::Surface;
 
 /// Share of the reflectance left outside d_max when none is asked for.
 pub const D_MAX_EPSILON: f64 = 1e-3;
@@ -24,6 +25,10 @@ pub struct Scattering {
     pub profile: Box<dyn Profile>,
     /// The profile tabulated for the integrators, cut at d_max.
     pub kernel: Kernel,
+    /// Where light crosses the surface, in and out: the boundary of the
+    /// material's index and roughness, or its Stam top layer under the
+    /// `stam` model.
+    pub surface: Surface,
 }
 
 impl std::fmt::Debug for Scattering {
@@ -74,16 +79,20 @@ impl Scattering {
         } else {
             build_profile(&material, model, gaussians)?
         };
-        Ok(Scattering::from_profile(
-            material,
+        let surface = Surface::of(&material, model).map_err(|reason| ModelError {
+            material: material.name.clone(),
             model,
-            profile,
-            d_max_epsilon,
-        ))
+            reason,
+        })?;
+        Ok(Scattering {
+            surface,
+            ..Scattering::from_profile(material, model, profile, d_max_epsilon)
+        })
     }
 
     /// A profile built elsewhere (a measured or test profile), with its
-    /// kernel.
+    /// kernel, under the boundary of the material's index and roughness
+    /// (such a profile carries no Stam top layer).
     pub fn from_profile(
         material: Material,
         model: Model,
@@ -91,11 +100,13 @@ impl Scattering {
         d_max_epsilon: f64,
     ) -> Self {
         let kernel = Kernel::new(profile.as_ref(), d_max_epsilon);
+        let surface = Surface::boundary(material.entry_index(), material.roughness);
         Scattering {
             material,
             model,
             profile,
             kernel,
+            surface,
         }
     }
 

@@ -101,6 +101,7 @@ fn material(c: &Combination) -> Material {
             thickness_mm: c.thickness_mm,
         }]),
         coat_ior: None,
+        top_layer: sssbake_profile::material::TopLayer::Diffusion,
         roughness: c.roughness.unwrap_or(0.0),
     }
 }

@@ -58,6 +58,7 @@ fn slab(thickness_mm: f64) -> Material {
             thickness_mm: Some(thickness_mm),
         }]),
         coat_ior: None,
+        top_layer: sssbake_profile::material::TopLayer::Diffusion,
         roughness: 0.0,
     }
 }

@@ -278,6 +278,18 @@ fn a_shadow_edge_blurs_as_the_half_plane_integral_of_the_profile() {
     );
 }
 
+/// A stack under a Stam epidermis (the `stam-skin` preset) is a radial
+/// profile like any other: the shadow edge follows its half-plane integral.
+#[test]
+fn a_stam_topped_skin_blurs_a_shadow_edge_as_its_half_plane_integral() {
+    let skin = scattering_of("stam-skin", Model::Stam);
+    assert_follows_the_half_plane(
+        &half_shadowed_square(256),
+        &skin,
+        &[(Method::Brute, 0.01), (Method::Octree, 0.03)],
+    );
+}
+
 /// The Monte Carlo bakes: its tallies, smoothed, are a profile like any
 /// other, simulated once and read back from the cache the second time.
 #[test]
@@ -448,6 +460,7 @@ fn grey(albedo: f64, sigma_t: f64, ior: f64, thickness_mm: Option<f64>) -> Mater
             thickness_mm,
         }]),
         coat_ior: None,
+        top_layer: sssbake_profile::material::TopLayer::Diffusion,
         roughness: 0.0,
     }
 }

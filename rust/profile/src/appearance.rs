@@ -78,6 +78,7 @@ impl Appearance {
             name: self.name.clone(),
             optics: Optics::Layers(vec![layer]),
             coat_ior: None,
+            top_layer: crate::material::TopLayer::Diffusion,
             roughness: crate::material::DEFAULT_ROUGHNESS,
         })
     }

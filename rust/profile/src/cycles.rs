@@ -162,6 +162,7 @@ impl PrincipledSubsurface {
             name: self.name.clone(),
             optics: Optics::Layers(vec![layer]),
             coat_ior: Some(entry),
+            top_layer: crate::material::TopLayer::Diffusion,
             roughness: crate::material::DEFAULT_ROUGHNESS,
         })
     }

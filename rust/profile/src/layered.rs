@@ -67,6 +67,18 @@ impl Stack {
         }
     }
 
+    /// The stack without its top slab: the layers below a top layer that
+    /// is solved another way ([`crate::stam_topped`]). Each keeps the
+    /// faces and incidence it had under the top layer.
+    pub fn without_top(mut self) -> Self {
+        for channel in &mut self.channels {
+            if !channel.is_empty() {
+                channel.remove(0);
+            }
+        }
+        self
+    }
+
     /// The slabs of channel `c`, top first.
     pub fn channel(&self, c: usize) -> &[SlabChannel] {
         &self.channels[c]

@@ -61,6 +61,8 @@ pub mod rough;
 pub mod slab;
 pub mod split;
 pub mod stam;
+pub mod stam_topped;
+pub mod surface;
 pub mod tabulated;
 
 pub use appearance::Appearance;

@@ -51,6 +51,21 @@ impl Layer {
     }
 }
 
+/// How a material's top layer is solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TopLayer {
+    /// By diffusion, as every layer of the stack.
+    #[default]
+    Diffusion,
+    /// By Stam 2001's discrete ordinates ([`crate::stam`]): a thin surface
+    /// layer (an epidermis) whose faces are the material's surface, with
+    /// its own roughness. Light enters through its angular transmittance
+    /// T(θi) and the layers below see its totals, with no lateral spread
+    /// ([`crate::stam_topped`]). TOML: `model = "stam"` in the first
+    /// `[[layers]]` table.
+    Stam,
+}
+
 /// What a material is made of.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Optics {
@@ -77,6 +92,9 @@ pub struct Material {
     /// and out (ρdt, eq. 25–26, through the coat when there is one) and
     /// the diffusion boundary of the faces against air (A from ρd, eq. 24).
     pub roughness: f64,
+    /// How the top layer is solved (of [`Optics::Layers`]; diffusion
+    /// unless a material file says `model = "stam"`).
+    pub top_layer: TopLayer,
 }
 
 /// A material that could not be read or is not physical; says where.
@@ -131,6 +149,7 @@ impl Material {
     /// g = 0.0                        # optional, default 0
     /// ior = 1.3                      # optional, default 1.3
     /// thickness_mm = 0.25            # absent: semi-infinite
+    /// model = "stam"                 # optional, top layer only: "diffusion" (default) or "stam"
     /// ```
     pub fn from_toml(text: &str, source: &str, default_name: &str) -> Result<Self, MaterialError> {
         let error = |field: &str, message: String| MaterialError {
@@ -156,7 +175,24 @@ impl Material {
             ));
         };
         let mut parsed = Vec::with_capacity(layers.len());
+        let mut top_layer = TopLayer::Diffusion;
         for (i, layer) in layers.into_iter().enumerate() {
+            match (i, layer.model.as_deref()) {
+                (_, None | Some("diffusion")) => {}
+                (0, Some("stam")) => top_layer = TopLayer::Stam,
+                (_, Some("stam")) => {
+                    return Err(error(
+                        &format!("layers[{i}].model"),
+                        "only the top layer (layers[0]) may be solved by stam".into(),
+                    ));
+                }
+                (_, Some(other)) => {
+                    return Err(error(
+                        &format!("layers[{i}].model"),
+                        format!("unknown layer model `{other}` (known: diffusion, stam)"),
+                    ));
+                }
+            }
             let missing = |name: &str| {
                 error(
                     &format!("layers[{i}].{name}"),
@@ -178,6 +214,7 @@ impl Material {
             optics: Optics::Layers(parsed),
             coat_ior: file.coat_ior.map(|n| n.0),
             roughness: file.roughness.map_or(DEFAULT_ROUGHNESS, |n| n.0),
+            top_layer,
         };
         material.validate(source)?;
         Ok(material)
@@ -204,6 +241,22 @@ impl Material {
                     self.roughness
                 ),
             ));
+        }
+        if self.top_layer == TopLayer::Stam {
+            if matches!(self.optics, Optics::Gaussians(_)) {
+                return Err(error(
+                    "layers[0].model".into(),
+                    "stam needs a layer's optical coefficients; a measured sum of Gaussians has none"
+                        .into(),
+                ));
+            }
+            if self.coat_ior.is_some() {
+                return Err(error(
+                    "coat_ior".into(),
+                    "a stam top layer's faces are the surface; a coat over it is not modelled"
+                        .into(),
+                ));
+            }
         }
         let Optics::Layers(layers) = &self.optics else {
             return Ok(());
@@ -325,7 +378,7 @@ struct MaterialFile {
 #[derive(Deserialize)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a table of sigma_a, sigma_s, g, ior and thickness_mm"
+    expecting = "a table of sigma_a, sigma_s, g, ior, thickness_mm and model"
 )]
 struct LayerFile {
     /// σa, 1/mm.
@@ -338,6 +391,9 @@ struct LayerFile {
     ior: Option<Number>,
     /// Thickness in mm [default: semi-infinite].
     thickness_mm: Option<Number>,
+    /// How the layer is solved: "diffusion" [default] or "stam" (top
+    /// layer only).
+    model: Option<String>,
 }
 
 /// The `layers` array, with an expectation that tells the writer of

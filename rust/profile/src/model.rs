@@ -5,10 +5,11 @@ use crate::dipole::Dipole;
 use crate::empirical::{EmpiricalProfile, EmpiricalSettings};
 use crate::gaussians::fit_gaussians;
 use crate::layered::Layered;
-use crate::material::{Layer, Material, Optics};
+use crate::material::{Layer, Material, Optics, TopLayer};
 use crate::monte_carlo_profile::{MonteCarloProfile, ProfileSettings};
 use crate::multipole::{DEFAULT_ACCURACY, Multipole};
 use crate::profile::Profile;
+use crate::stam_topped::StamTopped;
 
 /// The profile models sssbake offers.
 #[derive(
@@ -38,8 +39,9 @@ pub enum Model {
     /// The Monte Carlo photon-transport reference, smoothed into a profile.
     MonteCarlo,
     /// Stam 2001's plane-parallel layer between smooth or rough faces, by
-    /// discrete ordinates: R(θi), T(θi) and BRDFs, no radial profile
-    /// ([`crate::stam`]).
+    /// discrete ordinates: R(θi), T(θi) and BRDFs ([`crate::stam`]); as a
+    /// material's declared top layer, the surface of the stack below it
+    /// ([`crate::stam_topped`]).
     Stam,
     /// Donner et al. 2009's empirical BSSRDF: elliptic lobes fitted to
     /// photon tracing of the top layer, at normal incidence.
@@ -64,11 +66,13 @@ impl Model {
         self.into()
     }
 
-    /// The model a material needs: the dipole for one semi-infinite layer,
-    /// the layered solver for anything else, Gaussians for a measured sum.
+    /// The model a material needs: stam for a top layer declared stam, the
+    /// dipole for one semi-infinite layer, the layered solver for anything
+    /// else, Gaussians for a measured sum.
     pub fn default_for(material: &Material) -> Model {
         match &material.optics {
             Optics::Gaussians(_) => Model::Gaussians,
+            Optics::Layers(_) if material.top_layer == TopLayer::Stam => Model::Stam,
             Optics::Layers(layers) if layers.len() == 1 && layers[0].thickness_mm.is_none() => {
                 Model::Dipole
             }
@@ -143,10 +147,14 @@ pub fn build_profile(
                 Box::new(fit_gaussians(reference.as_ref(), gaussians).gaussians)
             }
         }
+        Model::Stam if material.top_layer == TopLayer::Stam => {
+            Box::new(StamTopped::new(material).map_err(|reason| error(&reason))?)
+        }
         Model::Stam => {
             return Err(error(
                 "stam is a plane-parallel model of angles (R(θi), T(θi), BRDF and BTDF; see \
-                 `sssbake profile --model stam`), not a radial profile R(r) a bake integrates",
+                 `sssbake profile --model stam`), not a radial profile R(r) a bake integrates; \
+                 declare the top layer `model = \"stam\"` over others to bake it as their surface",
             ));
         }
         Model::MonteCarlo => Box::new(

@@ -1,12 +1,13 @@
 //! Named materials: the measured media of Jensen et al. 2001, those of
 //! Donner et al. 2009 (wax, diluted milk, orange juice), the three-layer
 //! skin of Donner & Jensen 2005, the two slabs of Donner & Jensen 2006
-//! (Mikkelsen 2009 table 3), Stam 2001's dermis and d'Eon & Luebke's
+//! (Mikkelsen 2009 table 3), Stam 2001's dermis and his skin (an
+//! epidermis by discrete ordinates over it), and d'Eon & Luebke's
 //! six-Gaussian skin.
 
 use crate::Rgb;
 use crate::gaussians::SumOfGaussians;
-use crate::material::{Layer, Material, Optics};
+use crate::material::{Layer, Material, Optics, TopLayer};
 
 /// Jensen et al. 2001, table of measured parameters: name, σs' (1/mm) and
 /// σa (1/mm) per channel. All were measured with η = 1.3 and are given as
@@ -106,14 +107,21 @@ const STAM_DERMIS_G: Rgb = [0.860, 0.854, 0.823];
 /// m = 0.4 is σ ≈ 0.28.
 const STAM_ROUGHNESS: f64 = 0.4;
 
+/// σt (1/mm) that gives Stam's dermis a length scale in `stam-skin`: the
+/// scattering of Donner & Jensen 2005's bloody dermis (σs 4.5–4.8/mm).
+/// With table 2's albedo and g it makes σs' ≈ 0.72/mm and σa ≈ 0.033,
+/// 0.099, 0.27/mm, near Jensen et al. 2001's measured skin1.
+const STAM_SKIN_DERMIS_SIGMA_T: f64 = 4.7;
+
 /// Stam 2001's dermis: opaque (T = 0, so semi-infinite), index 1.4 (his
-/// ratio for skin). The paper works in optical depth and gives no length
-/// scale, so σt is a nominal 1/mm: the angular results of `stam` do not
-/// depend on it, a radial profile of this preset's would.
-fn stam_dermis() -> Layer {
+/// ratio for skin), extinction `sigma_t` (1/mm). The paper works in
+/// optical depth and gives no length scale: `stam-dermis` takes a nominal
+/// 1/mm (the angular results of `stam` do not depend on it, a radial
+/// profile would), `stam-skin` [`STAM_SKIN_DERMIS_SIGMA_T`].
+fn stam_dermis(sigma_t: f64) -> Layer {
     Layer {
-        sigma_a: STAM_DERMIS_ALBEDO.map(|a| 1.0 - a),
-        sigma_s: STAM_DERMIS_ALBEDO,
+        sigma_a: STAM_DERMIS_ALBEDO.map(|a| (1.0 - a) * sigma_t),
+        sigma_s: STAM_DERMIS_ALBEDO.map(|a| a * sigma_t),
         g: STAM_DERMIS_G.iter().sum::<f64>() / 3.0,
         ior: 1.4,
         thickness_mm: None,
@@ -149,6 +157,10 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
         "dermis of Stam 2001 table 2 (albedo, g, η = 1.4, m = 0.4; nominal σt = 1/mm) for --model stam",
     ));
     names.push((
+        "stam-skin",
+        "Stam 2001's skin: a rough (m = 0.4) epidermis by discrete ordinates over table 2's dermis (σt 4.7/mm)",
+    ));
+    names.push((
         "deon-skin",
         "six-Gaussian skin of d'Eon & Luebke 2007 (a profile, no coefficients)",
     ));
@@ -166,12 +178,21 @@ pub fn named(name: &str) -> Result<Material, String> {
 /// The preset called `name`, if there is one.
 pub fn preset(name: &str) -> Option<Material> {
     let mut roughness = crate::material::DEFAULT_ROUGHNESS;
+    let mut top_layer = TopLayer::Diffusion;
     let optics = match name {
         "skin3layer" => Optics::Layers(three_layer_skin()),
         "two-slab" => Optics::Layers(two_slab_example()),
         "stam-dermis" => {
             roughness = STAM_ROUGHNESS;
-            Optics::Layers(vec![stam_dermis()])
+            Optics::Layers(vec![stam_dermis(1.0)])
+        }
+        "stam-skin" => {
+            roughness = STAM_ROUGHNESS;
+            top_layer = TopLayer::Stam;
+            Optics::Layers(vec![
+                three_layer_skin()[0].clone(),
+                stam_dermis(STAM_SKIN_DERMIS_SIGMA_T),
+            ])
         }
         "deon-skin" => Optics::Gaussians(SumOfGaussians::deon_skin()),
         _ if DONNER_2009.iter().any(|(n, ..)| *n == name) => {
@@ -197,6 +218,7 @@ pub fn preset(name: &str) -> Option<Material> {
         name: name.to_string(),
         optics,
         coat_ior: None,
+        top_layer,
         roughness,
     })
 }

@@ -41,6 +41,7 @@ fn material(sigma_a: f64, sigma_s: f64, g: f64, ior: f64) -> Material {
             thickness_mm: None,
         }]),
         coat_ior: None,
+        top_layer: sssbake_profile::material::TopLayer::Diffusion,
         roughness: 0.0,
     }
 }

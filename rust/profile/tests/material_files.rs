@@ -1,5 +1,7 @@
 //! Material files: valid ones load, invalid ones fail naming file and field.
 
+use sssbake_profile::material::TopLayer;
+use sssbake_profile::model::Model;
 use sssbake_profile::{Material, Optics};
 
 fn load(text: &str) -> Result<Material, String> {
@@ -154,7 +156,7 @@ fn an_unknown_key_in_a_layer_is_named_with_its_layer() {
         "[[layers]]\nsigma_a = 0.1\nsigma_s = 20\nthickness_mm = 0.1\n\
          [[layers]]\nsigma_a = 0.1\nsigma_s = 1\nthikness_mm = 0.2\n",
         "skin.toml: layers[1].thikness_mm: unknown field `thikness_mm`, \
-         expected one of `sigma_a`, `sigma_s`, `g`, `ior`, `thickness_mm`",
+         expected one of `sigma_a`, `sigma_s`, `g`, `ior`, `thickness_mm`, `model`",
     );
 }
 
@@ -176,7 +178,7 @@ fn a_wrong_type_is_named_with_what_was_expected() {
     assert_message(
         "layers = [1]\n",
         "skin.toml: layers[0]: invalid type: integer `1`, \
-         expected a table of sigma_a, sigma_s, g, ior and thickness_mm",
+         expected a table of sigma_a, sigma_s, g, ior, thickness_mm and model",
     );
 }
 
@@ -209,4 +211,31 @@ fn a_roughness_is_read_defaulted_and_checked() {
             "between 0 (smooth) and 1",
         );
     }
+}
+
+#[test]
+fn a_top_layer_declared_stam_is_read_and_only_the_top_may_be() {
+    let two = |model_top: &str, model_below: &str| {
+        format!(
+            "roughness = 0.4\n[[layers]]\n{model_top}sigma_a = 2.1\nsigma_s = 48\nior = 1.4\nthickness_mm = 0.03\n\
+             [[layers]]\n{model_below}sigma_a = 0.03\nsigma_s = 4.7\ng = 0.85\nior = 1.4\n"
+        )
+    };
+    let stam = load(&two("model = \"stam\"\n", "")).unwrap();
+    assert_eq!(stam.top_layer, TopLayer::Stam);
+    assert_eq!(Model::default_for(&stam), Model::Stam);
+    let plain = load(&two("model = \"diffusion\"\n", "")).unwrap();
+    assert_eq!(plain.top_layer, TopLayer::Diffusion);
+    assert_message(
+        &two("", "model = \"stam\"\n"),
+        "skin.toml: layers[1].model: only the top layer (layers[0]) may be solved by stam",
+    );
+    assert_message(
+        &two("model = \"kubelka\"\n", ""),
+        "skin.toml: layers[0].model: unknown layer model `kubelka` (known: diffusion, stam)",
+    );
+    assert_message(
+        &format!("coat_ior = 1.5\n{}", two("model = \"stam\"\n", "")),
+        "skin.toml: coat_ior: a stam top layer's faces are the surface; a coat over it is not modelled",
+    );
 }

@@ -12,6 +12,7 @@ fn material(layer: Layer, roughness: f64) -> Material {
         name: "rough".into(),
         optics: Optics::Layers(vec![layer]),
         coat_ior: None,
+        top_layer: sssbake_profile::material::TopLayer::Diffusion,
         roughness,
     }
 }

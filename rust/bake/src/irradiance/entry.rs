@@ -1,10 +1,11 @@
 //! How much light crosses the surface into the material: the entry Fresnel
-//! transmittance ρt(θ) = 1 − F(θ) of a smooth boundary, or the rough
+//! transmittance ρt(θ) = 1 − F(θ) of a smooth boundary, the rough
 //! boundary's ρdt(θ) of Donner & Jensen 2005 §2.4 (eq. 26) for a
 //! Torrance–Sparrow surface with a Beckmann distribution
-//! ([`sssbake_profile::rough`]).
+//! ([`sssbake_profile::rough`]), or a Stam top layer's T(θi) per channel
+//! ([`sssbake_profile::surface`]).
 
-use sssbake_profile::rough::diffuse_transmittance;
+use sssbake_profile::surface::Surface;
 
 /// The boundary light enters through.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,10 +38,10 @@ impl Boundary {
     }
 }
 
-/// ρt or ρdt tabulated over the cosine of incidence.
+/// ρt, ρdt or T(θi) tabulated over the cosine of incidence, per channel.
 #[derive(Clone, Debug)]
 pub struct EntryTransmittance {
-    table: Vec<f32>,
+    table: Vec<[f32; 3]>,
 }
 
 const ENTRIES: usize = 256;
@@ -49,26 +50,32 @@ impl EntryTransmittance {
     /// The table for a boundary into a material of relative index `eta`
     /// (inside over outside).
     pub fn new(eta: f64, boundary: Boundary) -> Self {
-        let eta = if eta.is_finite() && eta > 0.0 {
-            eta
-        } else {
-            1.0
-        };
+        Self::of_surface(&Surface::boundary(eta, boundary.roughness()))
+    }
+
+    /// The table of `surface`'s entry share.
+    pub fn of_surface(surface: &Surface) -> Self {
         let table = (0..ENTRIES)
             .map(|i| {
                 let cos = i as f64 / (ENTRIES - 1) as f64;
-                diffuse_transmittance(cos, eta, boundary.roughness()) as f32
+                surface.entry(cos).map(|t| t as f32)
             })
             .collect();
         EntryTransmittance { table }
     }
 
-    /// ρt at incidence cosine `cos` (clamped to [0, 1]), linear between
-    /// table entries.
-    pub fn at(&self, cos: f32) -> f32 {
+    /// The share entering at incidence cosine `cos` (clamped to [0, 1]),
+    /// per channel, linear between table entries.
+    pub fn at_rgb(&self, cos: f32) -> [f32; 3] {
         let x = cos.clamp(0.0, 1.0) * (ENTRIES - 1) as f32;
         let i = (x as usize).min(ENTRIES - 2);
         let f = x - i as f32;
-        self.table[i] * (1.0 - f) + self.table[i + 1] * f
+        std::array::from_fn(|c| self.table[i][c] * (1.0 - f) + self.table[i + 1][c] * f)
+    }
+
+    /// [`Self::at_rgb`]'s first channel: the whole of it for a boundary,
+    /// whose transmittance is the same in every channel.
+    pub fn at(&self, cos: f32) -> f32 {
+        self.at_rgb(cos)[0]
     }
 }

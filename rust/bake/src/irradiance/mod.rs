@@ -46,7 +46,8 @@ impl Default for IrradianceSettings {
 }
 
 /// Transmitted irradiance E_t (W/m², linear RGB) at each receiver:
-/// Σ over lights of ∫ ρt(θ) L(ω) cos θ dω with visibility through `rays`.
+/// Σ over lights of ∫ ρt(θ) L(ω) cos θ dω with visibility through `rays`,
+/// ρt per channel from `entry`.
 pub fn transmitted_irradiance(
     receivers: Receivers,
     emitters: &[Emitter],
@@ -92,9 +93,9 @@ pub fn transmitted_irradiance(
                 {
                     continue;
                 }
-                let f = cos * entry.at(cos);
-                for (s, w) in sum.iter_mut().zip(sample.weight) {
-                    *s += w * f;
+                let entering = entry.at_rgb(cos);
+                for ((s, w), t) in sum.iter_mut().zip(sample.weight).zip(entering) {
+                    *s += w * cos * t;
                 }
             }
             for c in 0..3 {

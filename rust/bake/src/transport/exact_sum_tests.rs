@@ -182,6 +182,7 @@ fn the_walked_sum_is_the_plain_sum_for_a_transmitting_kernel() {
             thickness_mm: Some(2.0),
         }]),
         coat_ior: None,
+        top_layer: sssbake_profile::material::TopLayer::Diffusion,
         roughness: 0.0,
     });
     assert!(slab.kernel.transmits());

@@ -2,14 +2,16 @@
 //! above and below, with the material's roughness on both faces.
 
 use super::{StamError, StamLayer, StamResponse, StamSettings};
-use crate::material::{Material, Optics};
+use crate::material::{Material, Optics, TopLayer};
 
 /// The top layer of `material` as one [`StamLayer`] per channel: albedo
 /// σs/σt, optical depth σt·thickness (infinite for a semi-infinite layer),
 /// its g and index, the material's roughness. Refuses a measured sum of
-/// Gaussians (no coefficients), a stack of several layers (the model has
-/// one layer between air, and the layers below would change what comes
-/// back), and a coat (a face of another index).
+/// Gaussians (no coefficients), a stack of several layers unless its top
+/// layer is declared stam (the model has one layer between air, and the
+/// layers below would change what comes back; a declared top layer is
+/// solved alone, and [`crate::stam_topped`] puts the rest under it), and a
+/// coat (a face of another index).
 pub fn layers_for(material: &Material) -> Result<[StamLayer; 3], String> {
     let layers = match &material.optics {
         Optics::Gaussians(_) => {
@@ -17,11 +19,15 @@ pub fn layers_for(material: &Material) -> Result<[StamLayer; 3], String> {
         }
         Optics::Layers(layers) => layers,
     };
-    let [top] = layers.as_slice() else {
-        return Err(format!(
-            "stam solves one layer between air above and below; this material has {} layers",
-            layers.len()
-        ));
+    let top = match (material.top_layer, layers.as_slice()) {
+        (TopLayer::Stam, [top, ..]) | (TopLayer::Diffusion, [top]) => top,
+        _ => {
+            return Err(format!(
+                "stam solves one layer between air above and below; this material has {} layers \
+                 (declare its top layer `model = \"stam\"` to bake it over the rest)",
+                layers.len()
+            ));
+        }
     };
     if material.coat_ior.is_some() {
         return Err(

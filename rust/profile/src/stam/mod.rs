@@ -26,7 +26,9 @@
 //! 1 − 10⁻⁶), which absorbs about 10⁻⁹ per scattering event.
 
 pub mod boundary;
+pub mod contact;
 pub mod eigen;
+pub mod epidermis;
 pub mod material;
 pub mod microfacet;
 pub mod ordinates;

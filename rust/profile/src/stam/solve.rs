@@ -24,6 +24,35 @@ pub fn solve_mode(
     depth: f64,
     incident: &DMatrix<f64>,
 ) -> Result<ModeSolution, String> {
+    let r = &boundary.reflect_inside;
+    let inside = solve_between(eigen, r, r, depth, &(&boundary.transmit_in * incident))?;
+    Ok(ModeSolution {
+        reflected: &boundary.reflect_outside * incident
+            + &boundary.transmit_out * &inside.up_at_top,
+        transmitted: &boundary.transmit_out * &inside.down_at_bottom,
+    })
+}
+
+/// The radiance just inside both faces, per source column.
+pub struct InsideRadiance {
+    /// Upwelling radiance just under the top face (M×columns).
+    pub up_at_top: DMatrix<f64>,
+    /// Downwelling radiance just over the bottom face (M×columns).
+    pub down_at_bottom: DMatrix<f64>,
+}
+
+/// Solves one mode between a top face that reflects the upwelling
+/// radiance by `top` (M×M) and a bottom face that reflects the
+/// downwelling radiance by `bottom`, for the downwelling radiances
+/// `source` (M×columns) entering just under the top face: Stam's eq. 15
+/// with each face's own operator (0 for a face in optical contact).
+pub fn solve_between(
+    eigen: &ModeEigen,
+    top: &DMatrix<f64>,
+    bottom: &DMatrix<f64>,
+    depth: f64,
+    source: &DMatrix<f64>,
+) -> Result<InsideRadiance, String> {
     let m = eigen.lambda.len();
     let (vp, vm) = (&eigen.v_plus, &eigen.v_minus);
     // E(−τb): diagonal decay across the layer; 0 for a semi-infinite one.
@@ -35,32 +64,30 @@ pub fn solve_mode(
             0.0
         }
     });
-    let r = &boundary.reflect_inside;
-    let down_from_up = vm - r * vp; // V⁻ − R V⁺
-    let up_from_down = vp - r * vm; // V⁺ − R V⁻
     let mut system = DMatrix::zeros(2 * m, 2 * m);
+    // Top: u⁻(0) − R_top u⁺(0) = source.
     system
         .view_mut((0, 0), (m, m))
-        .copy_from(&(&down_from_up * &decay));
-    system.view_mut((0, m), (m, m)).copy_from(&up_from_down);
-    system.view_mut((m, 0), (m, m)).copy_from(&up_from_down);
+        .copy_from(&((vm - top * vp) * &decay));
+    system.view_mut((0, m), (m, m)).copy_from(&(vp - top * vm));
+    // Bottom: u⁺(τ) − R_bottom u⁻(τ) = 0.
+    system
+        .view_mut((m, 0), (m, m))
+        .copy_from(&(vp - bottom * vm));
     system
         .view_mut((m, m), (m, m))
-        .copy_from(&(&down_from_up * &decay));
-    let columns = incident.ncols();
+        .copy_from(&((vm - bottom * vp) * &decay));
+    let columns = source.ncols();
     let mut rhs = DMatrix::zeros(2 * m, columns);
-    rhs.view_mut((0, 0), (m, columns))
-        .copy_from(&(&boundary.transmit_in * incident));
+    rhs.view_mut((0, 0), (m, columns)).copy_from(source);
     let solution = system
         .lu()
         .solve(&rhs)
         .ok_or("the boundary system is singular")?;
     let grow = solution.rows(0, m); // ũ₀⁺
     let fall = solution.rows(m, m); // u₀⁻
-    let up_at_top = vp * &decay * grow + vm * fall;
-    let down_at_bottom = vm * grow + vp * &decay * fall;
-    Ok(ModeSolution {
-        reflected: &boundary.reflect_outside * incident + &boundary.transmit_out * up_at_top,
-        transmitted: &boundary.transmit_out * down_at_bottom,
+    Ok(InsideRadiance {
+        up_at_top: vp * &decay * grow + vm * fall,
+        down_at_bottom: vm * grow + vp * &decay * fall,
     })
 }
