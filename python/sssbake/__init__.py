@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from . import _native, _usd
+from ._options import options_json
 from .errors import Cancelled, Error, InputError, OutputError, SettingError
 from .host import BakeResult, Scene, defaults, unwrap
 
@@ -67,17 +68,6 @@ class CancelEvent(Protocol):
 
 Progress = Callable[[float, str], object]
 """Called with the fraction done in [0, 1] (rising, 1 at the end) and the stage's label."""
-
-
-def _options_json(options: Mapping[str, Any]) -> str:
-    def plain(value: Any) -> Any:
-        if isinstance(value, os.PathLike):
-            return os.fspath(value)
-        if isinstance(value, (list, tuple, set, frozenset)):
-            return [plain(v) for v in value]
-        return value
-
-    return json.dumps({key: plain(value) for key, value in options.items()})
 
 
 def _source(scene: SceneFile, options: Mapping[str, Any]) -> tuple[str, Any | None]:
@@ -125,7 +115,7 @@ def bake(
         _native.bake(
             name,
             os.fspath(out),
-            _options_json(options),
+            options_json(options),
             force,
             _contents(stage, options),
             None if stage is None else _usd.layer_writer(stage),
@@ -149,7 +139,7 @@ def plan(scene: SceneFile, **options: Any) -> dict[str, Any]:
     prints it: per object the material, model, resolution, UV decision,
     method and why, and the estimated cost; nothing is baked."""
     name, stage = _source(scene, options)
-    return json.loads(_native.plan(name, _options_json(options), _contents(stage, options)))
+    return json.loads(_native.plan(name, options_json(options), _contents(stage, options)))
 
 
 def profile(

@@ -23,6 +23,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from . import _native
+from ._options import options_json
 
 
 class CancelEvent(Protocol):
@@ -57,17 +58,6 @@ def _floats(values: Any) -> np.ndarray:
 
 def _indices(values: Any) -> np.ndarray:
     return np.ascontiguousarray(values, dtype=np.uint32).reshape(-1)
-
-
-def _options_json(options: Mapping[str, Any]) -> str:
-    def plain(value: Any) -> Any:
-        if isinstance(value, os.PathLike):
-            return os.fspath(value)
-        if isinstance(value, (list, tuple, set, frozenset)):
-            return [plain(v) for v in value]
-        return value
-
-    return json.dumps({key: plain(value) for key, value in options.items()})
 
 
 class BakeResult:
@@ -177,7 +167,7 @@ class Scene:
                 images.append(None)
             specs.append(spec)
         native = self._native.bake_object(
-            name, json.dumps(specs, default=float), images, _options_json(options), progress, cancel
+            name, json.dumps(specs, default=float), images, options_json(options), progress, cancel
         )
         return BakeResult(native)
 
@@ -194,7 +184,7 @@ class Scene:
         bakes a file, with its options (`preset`, `material` or `materials` for the
         materials, skin1 otherwise), and returns the summary; the maps are written, whole
         or not at all (a host's scene has no file for a glTF copy or USD layer)."""
-        return json.loads(self._native.bake(os.fspath(out), _options_json(options), force, progress, cancel))
+        return json.loads(self._native.bake(os.fspath(out), options_json(options), force, progress, cancel))
 
 
 def unwrap(

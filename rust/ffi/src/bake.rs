@@ -435,7 +435,7 @@ pub unsafe extern "C" fn sssbake_result_image(
     len: usize,
 ) -> SssbakeStatus {
     guarded(|| {
-        let (result, image) = rendered(result, output)?;
+        let (result, output) = result_output(result, output)?;
         let n = result.composite.resolution() as usize;
         if len != 4 * n * n || rgba.is_null() {
             return Err(Failure::argument(format!(
@@ -445,16 +445,7 @@ pub unsafe extern "C" fn sssbake_result_image(
         }
         // SAFETY: checked non-null; the caller gives `len` writable floats.
         let pixels = unsafe { std::slice::from_raw_parts_mut(rgba, len) };
-        let covered = result.composite.covered();
-        // Image rows run down; texel rows (and the host's) run up with v.
-        for y in 0..n {
-            let row = &image.texels[(n - 1 - y) * n..(n - y) * n];
-            for (x, texel) in row.iter().enumerate() {
-                let at = 4 * (y * n + x);
-                pixels[at..at + 3].copy_from_slice(texel);
-                pixels[at + 3] = if covered[y * n + x] { 1.0 } else { 0.0 };
-            }
-        }
+        result.composite.write_rgba(output, pixels)?;
         Ok(())
     })
 }
@@ -475,7 +466,8 @@ pub unsafe extern "C" fn sssbake_result_write_exr(
     half: u32,
 ) -> SssbakeStatus {
     guarded(|| {
-        let (_, image) = rendered(result, output)?;
+        let (result, output) = result_output(result, output)?;
+        let image = result.composite.render(output)?;
         // SAFETY: forwarded from the caller.
         let path = std::path::Path::new(unsafe { text(path, "path") }?);
         let precision = if half != 0 {
@@ -493,16 +485,14 @@ pub unsafe extern "C" fn sssbake_result_write_exr(
     })
 }
 
-/// The live result of `result` and its map `output` as an image (rows
-/// top to bottom).
-fn rendered(
+/// The live result of `result` and the output numbered `output`.
+fn result_output(
     result: *const SssbakeResult,
     output: u32,
-) -> Result<(Arc<SssbakeResult>, sssbake::image::Image), Failure> {
+) -> Result<(Arc<SssbakeResult>, Output), Failure> {
     let result = RESULTS.get(result, "result")?;
     let output = *Output::ALL
         .get(output as usize)
         .ok_or_else(|| Failure::argument(format!("output {output} is not 0 to 5")))?;
-    let image = result.composite.render(output)?;
-    Ok((result, image))
+    Ok((result, output))
 }

@@ -81,6 +81,25 @@ impl Composite {
         })
     }
 
+    /// Map `output` into `pixels` (4 floats a texel) as a host's image:
+    /// RGBA rows from v = 0 up (Blender's and OpenGL's order), alpha 1 on
+    /// covered and filled texels, 0 elsewhere. `pixels` holds 4·N² floats.
+    pub fn write_rgba(&self, output: Output, pixels: &mut [f32]) -> Result<(), Error> {
+        let image = self.render(output)?;
+        let n = self.resolution() as usize;
+        let covered = self.covered();
+        // Image rows run down; texel rows (and the host's) run up with v.
+        for y in 0..n {
+            let row = &image.texels[(n - 1 - y) * n..(n - y) * n];
+            for (x, texel) in row.iter().enumerate() {
+                let at = 4 * (y * n + x);
+                pixels[at..at + 3].copy_from_slice(texel);
+                pixels[at + 3] = if covered[y * n + x] { 1.0 } else { 0.0 };
+            }
+        }
+        Ok(())
+    }
+
     /// Whether texel `t` (row-major, y growing with v) holds a value: covered
     /// or filled by a bake that owns it.
     pub fn covered(&self) -> Vec<bool> {

@@ -469,19 +469,10 @@ impl PyBakeResult {
     /// Map `output` (by name) as resolution² × 4 float32 RGBA values, rows
     /// from v = 0 up, alpha 1 on covered and filled texels, 0 elsewhere.
     fn image<'py>(&self, py: Python<'py>, output: &str) -> PyResult<Bound<'py, PyArray1<f32>>> {
-        let image = or_raise(py, self.render(output))?;
+        let output = or_raise(py, output_named(output))?;
         let n = self.composite.resolution() as usize;
-        let covered = self.composite.covered();
         let mut pixels = vec![0.0f32; 4 * n * n];
-        // Image rows run down; texel rows (and the host's) run up with v.
-        for y in 0..n {
-            let row = &image.texels[(n - 1 - y) * n..(n - y) * n];
-            for (x, texel) in row.iter().enumerate() {
-                let at = 4 * (y * n + x);
-                pixels[at..at + 3].copy_from_slice(texel);
-                pixels[at + 3] = if covered[y * n + x] { 1.0 } else { 0.0 };
-            }
-        }
+        or_raise(py, self.composite.write_rgba(output, &mut pixels))?;
         Ok(PyArray1::from_vec(py, pixels))
     }
 
@@ -507,20 +498,24 @@ impl PyBakeResult {
 
 impl PyBakeResult {
     fn render(&self, output: &str) -> Result<sssbake::image::Image, Error> {
-        let output = Output::ALL
-            .into_iter()
-            .find(|o| o.name() == output)
-            .ok_or_else(|| {
-                Error::field(
-                    "output",
-                    format!(
-                        "`{output}` is not one of {}",
-                        Output::ALL.map(Output::name).join(", ")
-                    ),
-                )
-            })?;
-        self.composite.render(output)
+        self.composite.render(output_named(output)?)
     }
+}
+
+/// The output called `name`.
+fn output_named(name: &str) -> Result<Output, Error> {
+    Output::ALL
+        .into_iter()
+        .find(|o| o.name() == name)
+        .ok_or_else(|| {
+            Error::field(
+                "output",
+                format!(
+                    "`{name}` is not one of {}",
+                    Output::ALL.map(Output::name).join(", ")
+                ),
+            )
+        })
 }
 
 /// The UVs of each corner and the chart of each triangle.
