@@ -152,8 +152,12 @@ fn main() {
         change(&mut settings);
         settings
     };
+    let default_octree = format!(
+        "octree ε {} (default)",
+        IntegratorSettings::default().octree.epsilon
+    );
     for (name, method, settings) in [
-        ("octree ε 0.05", Method::Octree, settings(&|_| {})),
+        (default_octree.as_str(), Method::Octree, settings(&|_| {})),
         (
             "octree ε 0.2",
             Method::Octree,
