@@ -12,11 +12,13 @@ mod lit_scenes;
 
 use glam::{Vec2, Vec3};
 use lit_scenes::{scene, sphere, sun_from};
+use rayon::prelude::*;
 use sssbake::control::Control;
 use sssbake::materials::MaterialAssignment;
 use sssbake::transport::Method;
 use sssbake::{BakeRequest, Mesh, bake, plan};
 use sssbake_profile::material::{Layer, Material, Optics};
+use std::time::Instant;
 
 /// SplitMix64: a seeded stream of uniform numbers, repeatable everywhere.
 struct Rng(u64);
@@ -176,20 +178,31 @@ fn extreme_bakes_stay_finite_non_negative_and_make_no_energy() {
         .and_then(|c| c.parse().ok())
         .unwrap_or(15);
     let mut rng = Rng(seed);
+    // Drawn in order, so case n of a seed is the same however the cases
+    // are then spread over threads.
+    let combinations: Vec<Combination> = (0..cases).map(|_| draw(&mut rng)).collect();
+    let outcomes: Vec<(Result<Option<String>, String>, f64)> = combinations
+        .par_iter()
+        .map(|c| {
+            let start = Instant::now();
+            let outcome = failure_of(c);
+            (outcome, start.elapsed().as_secs_f64())
+        })
+        .collect();
     let (mut failures, mut refused) = (Vec::new(), Vec::new());
-    for case in 0..cases {
-        let c = draw(&mut rng);
-        match failure_of(&c) {
+    for (case, (c, (outcome, _))) in combinations.iter().zip(&outcomes).enumerate() {
+        match outcome {
             Err(e) => refused.push(format!("case {case} {c:?}: {e}")),
             Ok(Some(failure)) => failures.push(format!("case {case} {c:?}: {failure}")),
             Ok(None) => {}
         }
     }
     eprintln!(
-        "{cases} combinations, {} refused:\n{}",
+        "{cases} combinations (seed {seed}), {} refused:\n{}",
         refused.len(),
         refused.join("\n")
     );
+    report_times(&combinations, &outcomes);
     assert!(refused.len() * 4 <= cases, "most combinations must bake");
     assert!(
         failures.is_empty(),
@@ -197,4 +210,34 @@ fn extreme_bakes_stay_finite_non_negative_and_make_no_energy() {
         failures.len(),
         failures.join("\n")
     );
+}
+
+/// Prints where the time went: the slowest case with its combination, and
+/// the total by integrator (printed, never asserted: speed is for benchmarks).
+fn report_times(combinations: &[Combination], outcomes: &[(Result<Option<String>, String>, f64)]) {
+    let Some((slowest, (_, seconds))) = outcomes
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.1.total_cmp(&b.1.1))
+    else {
+        return;
+    };
+    eprintln!(
+        "slowest: case {slowest} {:?}, {seconds:.2} s",
+        combinations[slowest]
+    );
+    for method in Method::ALL {
+        let times: Vec<f64> = combinations
+            .iter()
+            .zip(outcomes)
+            .filter(|(c, _)| c.method == method)
+            .map(|(_, (_, t))| *t)
+            .collect();
+        eprintln!(
+            "{}: {} cases, {:.1} s in all",
+            method.name(),
+            times.len(),
+            times.iter().sum::<f64>()
+        );
+    }
 }
