@@ -167,6 +167,29 @@ fn a_thin_dense_slab_makes_no_energy() {
     assert_eq!(failure_of(&c), Ok(None));
 }
 
+/// Found by the long sweep (seed 2026, case 9066, texture): albedo
+/// 0.999999 at σt 0.18 /mm reaches metres, far past the 10 mm ball. The
+/// texture-space blurs divide by the blurred mask of known surface, which
+/// for a Gaussian wider than the whole layout fills in an endless surface
+/// lit at the mean, and returned 1.02 times the power entering (the exact
+/// sum returns 0.62 of it). Each Gaussian now keeps at most its weight of
+/// the power entering.
+#[test]
+fn a_blur_wider_than_the_object_makes_no_energy() {
+    let c = Combination {
+        albedo: 0.999999,
+        sigma_t: 0.17787585519982832,
+        ior: 2.5531202957436103,
+        thickness_mm: None,
+        g: -0.9,
+        roughness: Some(1.0),
+        light: 1e12,
+        degenerate: false,
+        method: Method::Texture,
+    };
+    assert_eq!(failure_of(&c), Ok(None));
+}
+
 #[test]
 fn extreme_bakes_stay_finite_non_negative_and_make_no_energy() {
     let cases = std::env::var("SSSBAKE_SWEEP_CASES")

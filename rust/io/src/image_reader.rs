@@ -101,8 +101,8 @@ pub fn check_exr_size(bytes: impl std::io::Read, length: u64) -> Result<(), Stri
     for header in meta.headers.iter() {
         let (width, height) = (header.layer_size.width(), header.layer_size.height());
         check_size(width, height)?;
-        let samples = (width as u64 * height as u64)
-            .saturating_mul(header.channels.bytes_per_pixel as u64);
+        let samples =
+            (width as u64 * height as u64).saturating_mul(header.channels.bytes_per_pixel as u64);
         if samples > length.saturating_mul(MAX_EXR_EXPANSION) {
             return Err(format!(
                 "its header says {width}×{height} texels of {} bytes ({:.1} MiB of samples), \

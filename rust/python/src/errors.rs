@@ -39,9 +39,7 @@ fn build(py: Python<'_>, error: &Error) -> PyResult<PyErr> {
         .clone()
         .naming_limit(|field| format!("the {field} argument"))
         .to_string();
-    let instance = module
-        .getattr(class)?
-        .call((message,), Some(&details))?;
+    let instance = module.getattr(class)?.call((message,), Some(&details))?;
     Ok(PyErr::from_value(instance))
 }
 
