@@ -110,7 +110,7 @@ pub fn fit_gaussians(profile: &dyn Profile, count: usize) -> GaussianFit {
         .map(|c| (0..c).find(|&e| problems[e] == problems[c]).unwrap_or(c))
         .collect();
     use rayon::prelude::*;
-    let fits: Vec<Option<(Vec<(f64, f64)>, f64)>> = (0..3)
+    let fits: Vec<Option<ChannelFit>> = (0..3)
         .into_par_iter()
         .map(|c| {
             (first_alike[c] == c).then(|| match &problems[c] {
@@ -127,6 +127,10 @@ pub fn fit_gaussians(profile: &dyn Profile, count: usize) -> GaussianFit {
         error: rgb_map(|c| fit_of(c).1),
     }
 }
+
+/// One channel's fit: its (weight, variance in mm²) terms sorted by
+/// variance, and its relative r-weighted RMS error.
+type ChannelFit = (Vec<(f64, f64)>, f64);
 
 /// One channel's fitting problem: the profile sampled on a log grid up to
 /// its reach, the quadrature weights of ∫ r f² dr = ∫ r² f² d(ln r) there,
@@ -206,7 +210,7 @@ impl Problem {
 
     /// The fit of `count` Gaussians, sorted by variance, and its relative
     /// r-weighted RMS error.
-    fn fit(&self, count: usize) -> (Vec<(f64, f64)>, f64) {
+    fn fit(&self, count: usize) -> ChannelFit {
         let (r_lo, reach) = (self.r_lo, self.reach);
         let (v_lo, v_hi) = ((10.0 * r_lo).powi(2), (reach / 3.0).powi(2));
         let (x_min, x_max) = ((r_lo * r_lo).ln(), (reach * reach).ln());
