@@ -54,7 +54,7 @@ def test_a_resolution_no_memory_holds_is_refused_before_it_is_allocated(sssbake,
     result = measured(str(sssbake), "bake", scene, "--out", str(out), "--resolution", "16384")
     assert result["code"] == 1
     message = result["stderr"]
-    assert "max_memory" in message and "16384²" in message and "--max-memory" in message
+    assert "max_memory" in message and "16384²" in message and "raise the limit (--max-memory)" in message
     assert not out.exists()
     # Refused from the estimate, not found out by allocating: the process stays small.
     assert result["peak"] < 200 << 20
@@ -66,6 +66,7 @@ def test_a_limit_the_user_lowers_refuses_and_names_the_method(sssbake, tmp_path)
     result = run(sssbake, "bake", scene, "--out", str(out), "--method", "brute", "--max-evaluations", "1e9")
     assert result.returncode == 1
     assert "max_evaluations" in result.stderr and "`Ball`" in result.stderr and "brute" in result.stderr
+    assert "raise the limit (--max-evaluations)" in result.stderr
     assert not out.exists()
     # Raised, the same request is planned.
     assert run(sssbake, "plan", scene, "--method", "brute", "--max-evaluations", "1e11").returncode == 0

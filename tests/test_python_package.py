@@ -193,6 +193,13 @@ def test_the_librarys_errors_are_exceptions_naming_kind_file_and_field(tmp_path)
         sssbake.bake(MARBLE, tmp_path / "gltf", resolution=16, look_on=object())
     assert no_layer.value.field == "look_on" and not (tmp_path / "gltf").exists()
 
+    # A work limit is named as this package's argument, not the command line's option.
+    with pytest.raises(sssbake.SettingError) as limit:
+        sssbake.plan(MARBLE, resolution=64, max_memory="1M")
+    assert limit.value.field == "max_memory"
+    assert limit.value.message.endswith("raise the limit (the max_memory argument)")
+    assert "--max-memory" not in limit.value.message
+
     with pytest.raises(sssbake.InputError, match="unknown preset"):
         sssbake.profile("no-such-preset")
     with pytest.raises(sssbake.SettingError):

@@ -6,6 +6,11 @@
 use crate::control::Cancelled;
 use std::fmt;
 
+/// The request's fields that bound a bake's work
+/// ([`crate::limits::Limits`]): the memory it may hold, bytes, and the
+/// shadow rays, kernel evaluations and probes it may take.
+pub const LIMIT_FIELDS: [&str; 2] = ["max_memory", "max_evaluations"];
+
 /// Why a plan or a bake stopped.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Error {
@@ -92,6 +97,21 @@ impl Error {
             Error::Input(mut e) if e.file.is_none() => {
                 e.file = Some(file.into());
                 Error::Input(e)
+            }
+            other => other,
+        }
+    }
+
+    /// The same error with a front door's name for a work limit appended,
+    /// `name(field)` in brackets (the command line's `--max-memory`, the C
+    /// ABI's `max_memory_bytes`), when it is about one of [`LIMIT_FIELDS`]:
+    /// the library says which limit and that it may be raised, each door
+    /// how.
+    pub fn naming_limit(self, name: impl Fn(&str) -> String) -> Self {
+        match self {
+            Error::Setting { field, message } if LIMIT_FIELDS.contains(&field.as_str()) => {
+                let message = format!("{message} ({})", name(&field));
+                Error::Setting { field, message }
             }
             other => other,
         }

@@ -168,14 +168,16 @@ impl Cost {
     }
 
     /// Refuses a cost over `limits`, naming `what` drives it (the request's
-    /// resolution, the objects, the method) and how to go on.
+    /// resolution, the objects, the method) and how to go on; the limit is
+    /// named by its field, which each front door puts in its own terms
+    /// ([`Error::naming_limit`]).
     pub fn check(&self, limits: &Limits, what: &str) -> Result<(), Error> {
         if self.memory_bytes > limits.max_memory_bytes as f64 {
             return Err(Error::field(
                 "max_memory",
                 format!(
                     "the bake would hold about {} ({what}), over the limit of {}: lower the \
-                     resolution, bake fewer objects at once, or raise the limit (--max-memory)",
+                     resolution, bake fewer objects at once, or raise the limit",
                     bytes_text(self.memory_bytes),
                     bytes_text(limits.max_memory_bytes as f64)
                 ),
@@ -187,7 +189,7 @@ impl Cost {
                 format!(
                     "the bake would take about {:.1e} kernel evaluations, shadow rays and probes \
                      ({what}), over the limit of {:.1e}: lower the resolution or the samples, \
-                     choose a faster method, or raise the limit (--max-evaluations)",
+                     choose a faster method, or raise the limit",
                     self.evaluations, limits.max_evaluations
                 ),
             ));
@@ -280,8 +282,18 @@ mod tests {
         };
         let message = cost.check(&tight, "object `Head`").unwrap_err().to_string();
         assert!(
-            message.contains("1.9 GiB") && message.contains("--max-memory"),
+            message.starts_with("max_memory: ") && message.contains("1.9 GiB"),
             "{message}"
+        );
+        assert!(message.ends_with("or raise the limit"), "{message}");
+        let at_a_door = cost
+            .check(&tight, "")
+            .unwrap_err()
+            .naming_limit(|field| format!("--{}", field.replace('_', "-")))
+            .to_string();
+        assert!(
+            at_a_door.ends_with("or raise the limit (--max-memory)"),
+            "{at_a_door}"
         );
         assert!(cost.check(&Limits::default(), "").is_ok());
         let slow = Limits {
@@ -289,6 +301,6 @@ mod tests {
             max_evaluations: 1e2,
         };
         let message = cost.check(&slow, "brute").unwrap_err().to_string();
-        assert!(message.contains("--max-evaluations"), "{message}");
+        assert!(message.starts_with("max_evaluations: "), "{message}");
     }
 }

@@ -85,6 +85,7 @@ fn main() -> ExitCode {
         Ok(false) => ExitCode::from(batch_command::SOME_FAILED),
         Err(None) => ExitCode::from(70),
         Err(Some(error)) => {
+            let error = error.naming_limit(|field| format!("--{}", field.replace('_', "-")));
             eprintln!("error: {error}");
             ExitCode::from(match error {
                 Error::Input(_) | Error::Setting { .. } => 1,

@@ -45,6 +45,11 @@ impl From<sssbake::Error> for Failure {
             sssbake::Error::Output { .. } => SssbakeStatus::CannotWrite,
             sssbake::Error::Cancelled => SssbakeStatus::Cancelled,
         };
+        // The limits as the settings struct calls them.
+        let error = error.naming_limit(|field| match field {
+            "max_memory" => "max_memory_bytes in SssbakeSettings".to_string(),
+            other => format!("{other} in SssbakeSettings"),
+        });
         Failure(status, error.to_string())
     }
 }

@@ -1029,15 +1029,27 @@ fn limits_in_the_settings_refuse_a_bake_before_it_starts() {
         max_evaluations: 1e4,
         ..settings(64, 1)
     };
-    for (tight, limit, named) in [
-        (tight_memory, "max_memory: ", "over the limit of 1.0 MiB"),
-        (tight_work, "max_evaluations: ", "over the limit of 1.0e4"),
+    for (tight, limit, named, raised) in [
+        (
+            tight_memory,
+            "max_memory: ",
+            "over the limit of 1.0 MiB",
+            "raise the limit (max_memory_bytes in SssbakeSettings)",
+        ),
+        (
+            tight_work,
+            "max_evaluations: ",
+            "over the limit of 1.0e4",
+            "raise the limit (max_evaluations in SssbakeSettings)",
+        ),
     ] {
         let (status, message, empty, progress) = bake(&tight);
         // A setting's error: the library's Setting kind.
         assert_eq!(status, SssbakeStatus::InvalidArgument, "{message}");
         assert!(message.starts_with(limit), "{message}");
         assert!(message.contains(named), "{message}");
+        // How to raise it, in the ABI's terms rather than the command line's.
+        assert!(message.ends_with(raised), "{message}");
         assert!(empty);
         // Refused by the plan: no part of the bake ran or was reported done.
         assert!(progress.iter().all(|&f| f == 0.0), "{progress:?}");

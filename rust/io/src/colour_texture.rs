@@ -43,7 +43,7 @@ pub fn decode(bytes: &[u8], space: ColourSpace) -> Result<(Image, &'static str),
         // The size the header claims, checked before the decoder allocates
         // for it (an EXR's data window, which its display window hides).
         if reader.format() == Some(image::ImageFormat::OpenExr) {
-            crate::image_reader::check_exr_size(Cursor::new(bytes))?;
+            crate::image_reader::check_exr_size(Cursor::new(bytes), bytes.len() as u64)?;
         }
         let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
         let (width, height) = decoder.dimensions();

@@ -11,6 +11,14 @@ use std::path::Path;
 /// size of the image is allocated.
 pub const MAX_IMAGE_TEXELS: usize = 1 << 28;
 
+/// The most bytes of samples an EXR's header may claim per byte of the
+/// file. No compression EXR has packs more: deflate (ZIP) expands at most
+/// 1032 times, PXR24 (deflate of 24-bit floats) 1376, PIZ's Huffman runs
+/// about 450, RLE 64, B44A 11. A header claiming more than this times the
+/// file's length describes texels the file cannot hold; it is refused
+/// before the decoder allocates for them.
+pub const MAX_EXR_EXPANSION: u64 = 4096;
+
 /// Reads `path` (.exr or .png) into linear RGB, rows top to bottom. A panic
 /// inside a decoder on hostile bytes is refused as bad input.
 pub fn read_image(path: &Path) -> Result<Image, InputError> {
@@ -38,7 +46,11 @@ pub fn read_image(path: &Path) -> Result<Image, InputError> {
 fn read_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
     use exr::prelude::*;
     let file = std::fs::File::open(path).map_err(|e| format!("cannot read the EXR image: {e}"))?;
-    check_exr_size(std::io::BufReader::new(file))?;
+    let length = file
+        .metadata()
+        .map_err(|e| format!("cannot read the EXR image: {e}"))?
+        .len();
+    check_exr_size(std::io::BufReader::new(file), length)?;
     let image = read_first_rgba_layer_from_file(
         path,
         |resolution, _| {
@@ -79,14 +91,27 @@ pub fn check_size(width: usize, height: usize) -> Result<(), String> {
     }
 }
 
-/// Refuses an EXR any of whose layers' data windows (the texels it
-/// stores, which its display window need not show) is larger than
-/// [`check_size`] allows.
-pub fn check_exr_size(bytes: impl std::io::Read) -> Result<(), String> {
+/// Refuses an EXR of `length` bytes any of whose layers' data windows (the
+/// texels it stores, which its display window need not show) is larger
+/// than [`check_size`] allows, or whose samples (data window × the bytes of
+/// its channels) are more than [`MAX_EXR_EXPANSION`] times `length`.
+pub fn check_exr_size(bytes: impl std::io::Read, length: u64) -> Result<(), String> {
     let meta = exr::meta::MetaData::read_from_buffered(bytes, false)
         .map_err(|e| format!("cannot read the EXR image: {e}"))?;
     for header in meta.headers.iter() {
-        check_size(header.layer_size.width(), header.layer_size.height())?;
+        let (width, height) = (header.layer_size.width(), header.layer_size.height());
+        check_size(width, height)?;
+        let samples =
+            (width as u64 * height as u64).saturating_mul(header.channels.bytes_per_pixel as u64);
+        if samples > length.saturating_mul(MAX_EXR_EXPANSION) {
+            return Err(format!(
+                "its header says {width}×{height} texels of {} bytes ({:.1} MiB of samples), \
+                 more than its {length} bytes can hold (at most {MAX_EXR_EXPANSION} times \
+                 the file's size)",
+                header.channels.bytes_per_pixel,
+                samples as f64 / (1u64 << 20) as f64
+            ));
+        }
     }
     Ok(())
 }

@@ -101,3 +101,30 @@ fn an_exr_claiming_more_texels_than_it_holds_is_refused_before_decoding() {
         "{error}"
     );
 }
+
+/// The EXR fuzz run's memory peaked at 9.7 GB: a mutated header may claim a
+/// data window under the texel cap, 16384² here, that the decoders then
+/// allocate whole (several GB) before finding the file holds a few hundred
+/// bytes. Its samples are now checked against what the file's length can
+/// hold, by both readers, before decoding.
+#[test]
+fn an_exr_header_claiming_more_samples_than_its_bytes_can_hold_is_refused() {
+    let small = exr_bytes(&gradient(), Precision::Float).unwrap();
+    let hostile = with_data_window(small.clone(), 16383, 16383);
+    let expected = format!(
+        "16384×16384 texels of 12 bytes (3072.0 MiB of samples), more than its {} bytes",
+        hostile.len()
+    );
+    let error =
+        sssbake_io::colour_texture::decode(&hostile, sssbake_io::colour_texture::ColourSpace::Auto)
+            .unwrap_err();
+    assert!(error.contains(&expected), "{error}");
+    let path = std::env::temp_dir().join(format!("sssbake-images-{}-wide.exr", std::process::id()));
+    std::fs::write(&path, &hostile).unwrap();
+    let error = read_image(&path).unwrap_err();
+    std::fs::remove_file(&path).unwrap();
+    assert!(error.to_string().contains(&expected), "{error}");
+    assert!(error.to_string().contains("wide.exr"), "{error}");
+    // The image as written, whose samples its bytes hold, still reads.
+    assert_eq!(round_trip("whole.exr", &small), gradient());
+}

@@ -4,6 +4,7 @@
 use crate::profile::Profile;
 use crate::{Rgb, rgb_map};
 use std::f64::consts::PI;
+use std::rc::Rc;
 
 /// Per channel, a list of (weight, variance in mm²) terms
 /// R(r) = Σ w·e^{−r²/2v}/(2πv).
@@ -95,213 +96,223 @@ pub struct GaussianFit {
 /// least squares for given variances, variances by pattern search in ln v
 /// within the profile's reach. The weights also honour the profile's total
 /// reflectance (a stiff penalty on Σw − R_total), so the fit neither gains
-/// nor loses energy in Gaussians wider than the sampled range.
+/// nor loses energy in Gaussians wider than the sampled range. Channels
+/// whose samples are the same (a grey material) are fitted once.
 pub fn fit_gaussians(profile: &dyn Profile, count: usize) -> GaussianFit {
     let count = count.clamp(1, 16);
     let reach = profile.d_max(1e-5);
+    let total = profile.total_reflectance();
+    let problems: Vec<Option<Problem>> = (0..3)
+        .map(|c| Problem::sample(|r| profile.reflectance(r)[c], total[c], reach[c]))
+        .collect();
+    // Each channel fitted once unless an earlier one posed the same problem.
+    let first_alike: Vec<usize> = (0..3)
+        .map(|c| (0..c).find(|&e| problems[e] == problems[c]).unwrap_or(c))
+        .collect();
     use rayon::prelude::*;
-    let fits: Vec<(Vec<(f64, f64)>, f64)> = (0..3)
+    let fits: Vec<Option<ChannelFit>> = (0..3)
         .into_par_iter()
         .map(|c| {
-            fit_channel(
-                |r| profile.reflectance(r)[c],
-                profile.total_reflectance()[c],
-                reach[c],
-                count,
-            )
+            (first_alike[c] == c).then(|| match &problems[c] {
+                Some(problem) => problem.fit(count),
+                None => (vec![], 0.0),
+            })
         })
         .collect();
+    let fit_of = |c: usize| fits[first_alike[c]].clone().unwrap_or_default();
     GaussianFit {
         gaussians: SumOfGaussians {
-            terms: [0, 1, 2].map(|c| fits[c].0.clone()),
+            terms: [0, 1, 2].map(|c| fit_of(c).0),
         },
-        error: rgb_map(|c| fits[c].1),
+        error: rgb_map(|c| fit_of(c).1),
     }
 }
 
-fn fit_channel(
-    profile: impl Fn(f64) -> f64,
-    total: f64,
+/// One channel's fit: its (weight, variance in mm²) terms sorted by
+/// variance, and its relative r-weighted RMS error.
+type ChannelFit = (Vec<(f64, f64)>, f64);
+
+/// One channel's fitting problem: the profile sampled on a log grid up to
+/// its reach, the quadrature weights of ∫ r f² dr = ∫ r² f² d(ln r) there,
+/// and one more row asking Σw = total, weighted so a 1% miss costs the
+/// whole norm.
+#[derive(Debug, PartialEq)]
+struct Problem {
+    radii: Vec<f64>,
+    /// The samples, then the total reflectance.
+    target: Vec<f64>,
+    /// The quadrature weights, then the total's weight.
+    quad: Vec<f64>,
+    /// ∫ r f² dr.
+    norm: f64,
+    r_lo: f64,
     reach: f64,
-    count: usize,
-) -> (Vec<(f64, f64)>, f64) {
-    if !(reach > 0.0 && reach.is_finite() && total > 0.0) {
-        return (vec![], 0.0);
-    }
-    // Quadrature of ∫ r f² dr = ∫ r² f² d(ln r) on a log grid up to the reach.
-    let samples = 400;
-    let r_lo = reach * 1e-5;
-    let h = (reach / r_lo).ln() / (samples - 1) as f64;
-    let radii: Vec<f64> = (0..samples).map(|i| r_lo * (i as f64 * h).exp()).collect();
-    let mut target: Vec<f64> = radii.iter().map(|&r| profile(r)).collect();
-    let mut quad: Vec<f64> = radii.iter().map(|r| r * r * h).collect();
-    let norm: f64 = target.iter().zip(&quad).map(|(t, q)| q * t * t).sum();
-    if !(norm > 0.0 && norm.is_finite()) {
-        return (vec![], 0.0);
-    }
-    // One more row: Σw = total, weighted so a 1% miss costs the whole norm.
-    target.push(total);
-    quad.push(1e4 * norm / (total * total));
+}
 
-    let (v_lo, v_hi) = ((10.0 * r_lo).powi(2), (reach / 3.0).powi(2));
-    let (x_min, x_max) = ((r_lo * r_lo).ln(), (reach * reach).ln());
-    let system = System {
-        radii: &radii,
-        target: &target,
-        quad: &quad,
-    };
+/// Radii in a channel's fitting grid.
+const FIT_SAMPLES: usize = 400;
 
-    // Start from variances spread geometrically over the profile's range.
-    let mut x: Vec<f64> = (0..count)
-        .map(|k| {
-            let t = if count == 1 {
-                0.5
-            } else {
-                k as f64 / (count - 1) as f64
-            };
-            v_lo.ln() + t * (v_hi.ln() - v_lo.ln())
+impl Problem {
+    /// Samples `profile` up to `reach`; None when there is nothing to fit.
+    fn sample(profile: impl Fn(f64) -> f64, total: f64, reach: f64) -> Option<Self> {
+        if !(reach > 0.0 && reach.is_finite() && total > 0.0) {
+            return None;
+        }
+        let r_lo = reach * 1e-5;
+        let h = (reach / r_lo).ln() / (FIT_SAMPLES - 1) as f64;
+        let radii: Vec<f64> = (0..FIT_SAMPLES)
+            .map(|i| r_lo * (i as f64 * h).exp())
+            .collect();
+        let mut target: Vec<f64> = radii.iter().map(|&r| profile(r)).collect();
+        let mut quad: Vec<f64> = radii.iter().map(|r| r * r * h).collect();
+        let norm: f64 = target.iter().zip(&quad).map(|(t, q)| q * t * t).sum();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return None;
+        }
+        target.push(total);
+        quad.push(1e4 * norm / (total * total));
+        Some(Self {
+            radii,
+            target,
+            quad,
+            norm,
+            r_lo,
+            reach,
         })
-        .collect();
-    // A pattern search moves one variance at a time, so only that
-    // Gaussian's column and its row of the normal equations are recomputed
-    // for a trial; the rest are kept.
-    let mut normal = Normal::new(&system, &x);
-    let mut best = normal.fit(&system).0;
-    let mut step = 1.0;
-    while step > 1e-3 {
-        let mut improved = false;
-        for (k, x_k) in x.iter_mut().enumerate() {
-            for direction in [1.0, -1.0] {
-                let moved = (*x_k + direction * step).clamp(x_min, x_max);
-                let kept = normal.replace(&system, k, moved);
-                let value = normal.fit(&system).0;
-                if value < best {
-                    best = value;
-                    *x_k = moved;
-                    improved = true;
-                    break;
-                }
-                normal.restore(k, kept);
-            }
-        }
-        if !improved {
-            step *= 0.5;
-        }
     }
-    let (error, weights) = normal.fit(&system);
-    let mut terms: Vec<(f64, f64)> = weights
-        .into_iter()
-        .zip(x.iter().map(|lv| lv.exp()))
-        .collect();
-    terms.sort_by(|a, b| a.1.total_cmp(&b.1));
-    (terms, (error / norm).sqrt())
-}
 
-/// The least-squares problem of a fit: the profile's samples at `radii`
-/// (then the total), weighed by `quad`.
-struct System<'a> {
-    radii: &'a [f64],
-    target: &'a [f64],
-    quad: &'a [f64],
-}
-
-impl System<'_> {
-    /// The Gaussian of ln-variance `log_var` at each sample radius, then 1
-    /// (its share of the total).
+    /// The Gaussian of variance e^`log_var` at every radius, then 1 (its
+    /// weight's share of the total).
     fn column(&self, log_var: f64) -> Vec<f64> {
-        let v = log_var.exp();
         self.radii
             .iter()
-            .map(|&r| gaussian(v, r))
+            .map(|&r| gaussian(log_var.exp(), r))
             .chain([1.0])
             .collect()
     }
 
-    /// Σ_s q_s a_s b_s.
-    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+    /// Σ q a b over every row.
+    fn product(&self, a: &[f64], b: &[f64]) -> f64 {
         (0..self.target.len())
             .map(|s| self.quad[s] * a[s] * b[s])
             .sum()
     }
+
+    /// The weighted squared error of the weights' sum over the samples.
+    fn error(&self, columns: &[Rc<Vec<f64>>], weights: &[f64]) -> f64 {
+        (0..FIT_SAMPLES)
+            .map(|i| {
+                let fit: f64 = columns.iter().zip(weights).map(|(col, w)| w * col[i]).sum();
+                self.quad[i] * (self.target[i] - fit).powi(2)
+            })
+            .sum()
+    }
+
+    /// The fit of `count` Gaussians, sorted by variance, and its relative
+    /// r-weighted RMS error.
+    fn fit(&self, count: usize) -> ChannelFit {
+        let (r_lo, reach) = (self.r_lo, self.reach);
+        let (v_lo, v_hi) = ((10.0 * r_lo).powi(2), (reach / 3.0).powi(2));
+        let (x_min, x_max) = ((r_lo * r_lo).ln(), (reach * reach).ln());
+        // Start from variances spread geometrically over the profile's range.
+        let x: Vec<f64> = (0..count)
+            .map(|k| {
+                let t = if count == 1 {
+                    0.5
+                } else {
+                    k as f64 / (count - 1) as f64
+                };
+                v_lo.ln() + t * (v_hi.ln() - v_lo.ln())
+            })
+            .collect();
+        let mut state = State::new(self, x);
+        let mut best = state.evaluate(self).0;
+        let mut step = 1.0;
+        while step > 1e-3 {
+            let mut improved = false;
+            for k in 0..count {
+                for direction in [1.0, -1.0] {
+                    let moved = (state.x[k] + direction * step).clamp(x_min, x_max);
+                    let trial = state.moved(self, k, moved);
+                    let value = trial.evaluate(self).0;
+                    if value < best {
+                        best = value;
+                        state = trial;
+                        improved = true;
+                        break;
+                    }
+                }
+            }
+            if !improved {
+                step *= 0.5;
+            }
+        }
+        let (error, weights) = state.evaluate(self);
+        let mut terms: Vec<(f64, f64)> = weights
+            .into_iter()
+            .zip(state.x.iter().map(|lv| lv.exp()))
+            .collect();
+        terms.sort_by(|a, b| a.1.total_cmp(&b.1));
+        (terms, (error / self.norm).sqrt())
+    }
 }
 
-/// The columns of a set of Gaussians and their normal equations.
-struct Normal {
-    columns: Vec<Vec<f64>>,
+/// The log variances being searched, with their columns and normal
+/// equations kept up to date: a pattern search moves one variance at a
+/// time, so a trial recomputes one column and one row of the Gram matrix.
+#[derive(Clone)]
+struct State {
+    x: Vec<f64>,
+    /// Shared with the states a trial came from, so a trial copies only
+    /// what it changes.
+    columns: Vec<Rc<Vec<f64>>>,
+    /// gram[i][j] = Σ q a_i a_j.
     gram: Vec<Vec<f64>>,
+    /// rhs[i] = Σ q a_i t.
     rhs: Vec<f64>,
 }
 
-/// What [`Normal::replace`] displaced, for [`Normal::restore`].
-struct Kept {
-    column: Vec<f64>,
-    row: Vec<f64>,
-    rhs: f64,
-}
-
-impl Normal {
-    fn new(system: &System, log_vars: &[f64]) -> Self {
-        let columns: Vec<Vec<f64>> = log_vars.iter().map(|&lv| system.column(lv)).collect();
+impl State {
+    fn new(problem: &Problem, x: Vec<f64>) -> Self {
+        let columns: Vec<Rc<Vec<f64>>> = x.iter().map(|&lv| Rc::new(problem.column(lv))).collect();
         let gram = columns
             .iter()
-            .map(|a| columns.iter().map(|b| system.dot(a, b)).collect())
+            .map(|a| columns.iter().map(|b| problem.product(a, b)).collect())
             .collect();
         let rhs = columns
             .iter()
-            .map(|a| system.dot(a, system.target))
+            .map(|a| problem.product(a, &problem.target))
             .collect();
-        Normal { columns, gram, rhs }
-    }
-
-    /// Moves Gaussian `k` to ln-variance `log_var`.
-    fn replace(&mut self, system: &System, k: usize, log_var: f64) -> Kept {
-        let column = std::mem::replace(&mut self.columns[k], system.column(log_var));
-        let row: Vec<f64> = self.gram[k].clone();
-        for j in 0..self.columns.len() {
-            let g = system.dot(&self.columns[k], &self.columns[j]);
-            self.gram[k][j] = g;
-            self.gram[j][k] = g;
+        Self {
+            x,
+            columns,
+            gram,
+            rhs,
         }
-        let rhs = std::mem::replace(
-            &mut self.rhs[k],
-            system.dot(&self.columns[k], system.target),
-        );
-        Kept { column, row, rhs }
     }
 
-    /// Undoes the [`Normal::replace`] of Gaussian `k`.
-    fn restore(&mut self, k: usize, kept: Kept) {
-        self.columns[k] = kept.column;
-        for (j, &g) in kept.row.iter().enumerate() {
-            self.gram[k][j] = g;
-            self.gram[j][k] = g;
+    /// This state with variance `k` moved to e^`log_var`.
+    fn moved(&self, problem: &Problem, k: usize, log_var: f64) -> Self {
+        let mut next = self.clone();
+        next.x[k] = log_var;
+        next.columns[k] = Rc::new(problem.column(log_var));
+        for j in 0..next.x.len() {
+            next.gram[k][j] = problem.product(&next.columns[k], &next.columns[j]);
+            next.gram[j][k] = problem.product(&next.columns[j], &next.columns[k]);
         }
-        self.rhs[k] = kept.rhs;
+        next.rhs[k] = problem.product(&next.columns[k], &problem.target);
+        next
     }
 
-    /// The non-negative weights and the squared error they leave over the
-    /// profile's samples (the total's row is a constraint, not error).
-    fn fit(&self, system: &System) -> (f64, Vec<f64>) {
+    /// The squared error of the best non-negative weights, and the weights.
+    fn evaluate(&self, problem: &Problem) -> (f64, Vec<f64>) {
         let weights = non_negative_least_squares(&self.gram, &self.rhs);
-        let samples = system.radii.len();
-        let error = (0..samples)
-            .map(|i| {
-                let fit: f64 = self
-                    .columns
-                    .iter()
-                    .zip(&weights)
-                    .map(|(col, w)| w * col[i])
-                    .sum();
-                system.quad[i] * (system.target[i] - fit).powi(2)
-            })
-            .sum();
-        (error, weights)
+        (problem.error(&self.columns, &weights), weights)
     }
 }
 
-/// Minimises Σ q_i (t_i − Σ_k w_k a_ki)² over w ≥ 0, given its normal
-/// equations (`gram` = AᵀQA, `rhs` = AᵀQt), dropping the most negative
-/// weight until none is negative.
+/// Minimises Σ q_i (t_i − Σ_k w_k a_ki)² over w ≥ 0 by the normal equations
+/// (`gram`, `rhs`), dropping the most negative weight until none is negative.
 fn non_negative_least_squares(gram: &[Vec<f64>], rhs: &[f64]) -> Vec<f64> {
     let n = rhs.len();
     let mut active: Vec<usize> = (0..n).collect();

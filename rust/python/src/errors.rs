@@ -34,9 +34,12 @@ fn build(py: Python<'_>, error: &Error) -> PyResult<PyErr> {
         }
         Error::Cancelled => "Cancelled",
     };
-    let instance = module
-        .getattr(class)?
-        .call((error.to_string(),), Some(&details))?;
+    // The limits as the keyword arguments call them.
+    let message = error
+        .clone()
+        .naming_limit(|field| format!("the {field} argument"))
+        .to_string();
+    let instance = module.getattr(class)?.call((message,), Some(&details))?;
     Ok(PyErr::from_value(instance))
 }
 

@@ -96,7 +96,13 @@ pub fn integrate(
         let mut known = frame.known.clone();
         let mut terms = gaussians.terms[c].clone();
         terms.sort_by(|a, b| a.1.total_cmp(&b.1));
+        // The power entering, W per W/m²·mm²: no Gaussian spreads more
+        // than its weight of it.
+        let entering: f64 = (0..surfels.len())
+            .map(|s| f64::from(irradiance[s][c]) * f64::from(surfels.area[s]))
+            .sum();
         let mut variance = 0.0f64;
+        let mut term = vec![0.0f32; surfels.len()];
         for (weight, v) in terms {
             let step = ((v - variance).max(0.0)) as f32;
             variance = v.max(variance);
@@ -105,9 +111,28 @@ pub fn integrate(
             }
             for (s, &t) in surfels.texel.iter().enumerate() {
                 let at = frame.at(t as usize);
-                if known[at] > 0.0 {
-                    out[s][c] += weight as f32 * light[at] / known[at];
-                }
+                term[s] = if known[at] > 0.0 {
+                    weight as f32 * light[at] / known[at]
+                } else {
+                    0.0
+                };
+            }
+            // Dividing by the blurred mask fills in what lies past the
+            // frame as if the surface went on lit alike: right across a
+            // seam, but a blur wider than the whole object would spread
+            // the mean light over an endless surface and return more
+            // light than entered. The term keeps at most its share.
+            let leaving: f64 = (0..surfels.len())
+                .map(|s| f64::from(term[s]) * f64::from(surfels.area[s]))
+                .sum();
+            let most = weight * entering;
+            let scale = if leaving > most && leaving > 0.0 {
+                (most / leaving) as f32
+            } else {
+                1.0
+            };
+            for (m, t) in out.iter_mut().zip(&term) {
+                m[c] += scale * t;
             }
         }
     }
