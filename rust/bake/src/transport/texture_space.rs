@@ -96,8 +96,8 @@ pub fn integrate(
         let mut known = frame.known.clone();
         let mut terms = gaussians.terms[c].clone();
         terms.sort_by(|a, b| a.1.total_cmp(&b.1));
-        // The power entering, W per W/m²·mm²: no Gaussian spreads more
-        // than its weight of it.
+        // The power entering (irradiance × area, W/m² · mm²): no Gaussian
+        // spreads more than its weight of it.
         let entering: f64 = (0..surfels.len())
             .map(|s| f64::from(irradiance[s][c]) * f64::from(surfels.area[s]))
             .sum();
