@@ -4,7 +4,7 @@
 
 use crate::assets::{AssetKind, AssetRecord, asset_files};
 use crate::image_writer::{Precision, exr_bytes, png_bytes};
-use crate::look::{LOOK, emissive};
+use crate::look::{Emissive, LOOK, emissive};
 use crate::staging::Staging;
 use crate::usd_writer::LayerWriter;
 use rayon::prelude::*;
@@ -12,6 +12,10 @@ use sssbake::control::Control;
 use sssbake::{Error, Plan, Scene, Summary, bake_each};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// One output's files, (path, bytes), and its glTF emissive encoding when
+/// it is the look of a glTF input.
+type EncodedOutput<'a> = (Vec<(&'a Path, Vec<u8>)>, Option<Emissive>);
 
 /// How a bake is written.
 #[derive(Clone, Debug)]
@@ -64,37 +68,52 @@ pub fn bake_to_folder(
     let encode_look = AssetKind::of(input) == Some(AssetKind::Gltf);
     let mut looks = Vec::new();
     let mut summary = bake_each(scene, plan, control, |object| {
-        // The object's maps are rendered and encoded side by side (the
-        // encoders are serial), then staged in order.
-        let encoded: Vec<(&Path, Vec<u8>, Option<_>)> = maps
+        let mine: Vec<&(String, sssbake::Output, PathBuf)> =
+            maps.iter().filter(|(n, _, _)| n == object.name()).collect();
+        let mut outputs: Vec<sssbake::Output> = mine.iter().map(|(_, o, _)| *o).collect();
+        outputs.dedup();
+        // Each output is rendered once and encoded into its files; the
+        // outputs side by side (the encoders are serial), which holds one
+        // image per output at most, as the plan's memory estimate counts.
+        let encoded: Vec<EncodedOutput> = outputs
             .par_iter()
-            .filter(|(n, _, _)| n == object.name())
-            .map(|(_, output, path)| {
-                let mut image = object.render(*output)?;
-                let png = path.extension().is_some_and(|e| e == "png");
-                let look = if encode_look && *output == LOOK && !png {
-                    Some(emissive(&image).map_err(|e| Error::output(path.display(), e))?)
-                } else {
-                    None
-                };
-                let bytes = if png {
-                    let scale = options.exposure.exp2();
-                    for texel in &mut image.texels {
-                        *texel = texel.map(|v| v * scale);
+            .map(|&output| {
+                let (pngs, exrs): (Vec<&Path>, Vec<&Path>) = mine
+                    .iter()
+                    .filter(|(_, o, _)| *o == output)
+                    .map(|(_, _, path)| path.as_path())
+                    .partition(|p| p.extension().is_some_and(|e| e == "png"));
+                let mut image = object.render(output)?;
+                let mut files = Vec::new();
+                let mut look = None;
+                for path in exrs {
+                    if encode_look && output == LOOK {
+                        look =
+                            Some(emissive(&image).map_err(|e| Error::output(path.display(), e))?);
                     }
-                    png_bytes(&image)
-                } else {
-                    exr_bytes(&image, options.precision)
+                    let bytes = exr_bytes(&image, options.precision)
+                        .map_err(|e| Error::output(path.display(), e))?;
+                    files.push((path, bytes));
                 }
-                .map_err(|e| Error::output(path.display(), e))?;
-                Ok((path.as_path(), bytes, look))
+                // The previews last: they scale the image by the exposure.
+                let scale = options.exposure.exp2();
+                for texel in &mut image.texels {
+                    *texel = texel.map(|v| v * scale);
+                }
+                for path in pngs {
+                    let bytes = png_bytes(&image).map_err(|e| Error::output(path.display(), e))?;
+                    files.push((path, bytes));
+                }
+                Ok((files, look))
             })
             .collect::<Result<_, Error>>()?;
-        for (path, bytes, look) in encoded {
+        for (files, look) in encoded {
             if let Some(look) = look {
                 looks.push((object.name().to_string(), look));
             }
-            staging.stage(path, &bytes)?;
+            for (path, bytes) in files {
+                staging.stage(path, &bytes)?;
+            }
         }
         Ok(())
     })?;
