@@ -2,6 +2,9 @@
 //! with progress and cancellation, maps copied out; and every misuse
 //! answered with a status and a message, never a crash.
 
+mod plain_light;
+
+use plain_light::light;
 use sssbake_ffi::*;
 use std::ffi::{CStr, CString, c_void};
 use std::path::Path;
@@ -46,30 +49,6 @@ struct Scene(*mut SssbakeScene);
 impl Drop for Scene {
     fn drop(&mut self) {
         sssbake_scene_free(self.0);
-    }
-}
-
-/// A white light of `kind` and `power` pointing down −z, with no size, cone
-/// or exposure: what a test changes it from.
-fn light(kind: u32, power: f32) -> SssbakeLight {
-    SssbakeLight {
-        kind,
-        colour: [1.0; 3],
-        power,
-        position: [0.0; 3],
-        direction: [0.0, 0.0, -1.0],
-        tangent: [1.0, 0.0, 0.0],
-        size: 0.0,
-        size_y: 0.0,
-        angle: 0.0,
-        spot_size: 0.0,
-        spot_blend: 0.0,
-        exposure: 0.0,
-        temperature_colour: [1.0; 3],
-        diffuse_factor: 1.0,
-        spread: 0.0,
-        normalize: 1,
-        casts_shadow: 1,
     }
 }
 

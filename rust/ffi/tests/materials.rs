@@ -4,6 +4,9 @@
 //! UV set it names, a constant image bakes as the same colour without one,
 //! and every malformed array is refused with a message.
 
+mod plain_light;
+
+use plain_light::light;
 use sssbake_ffi::*;
 use std::ffi::{CStr, CString};
 use std::ptr::{null, null_mut};
@@ -96,25 +99,7 @@ fn scene(g: &Grid) -> Scene {
         "{}",
         last_error()
     );
-    let sun = SssbakeLight {
-        kind: SSSBAKE_LIGHT_SUN,
-        colour: [1.0; 3],
-        power: 1.0,
-        position: [0.0; 3],
-        direction: [0.0, 0.0, -1.0],
-        tangent: [1.0, 0.0, 0.0],
-        size: 0.0,
-        size_y: 0.0,
-        angle: 0.0,
-        spot_size: 0.0,
-        spot_blend: 0.0,
-        exposure: 0.0,
-        temperature_colour: [1.0; 3],
-        diffuse_factor: 1.0,
-        spread: 0.0,
-        normalize: 1,
-        casts_shadow: 1,
-    };
+    let sun = light(SSSBAKE_LIGHT_SUN, 1.0);
     assert_eq!(
         unsafe { sssbake_scene_add_light(scene, &sun) },
         SssbakeStatus::Ok
