@@ -176,6 +176,7 @@ def test_bad_settings_give_a_report_not_an_exception(addon, tmp_path, capfd):
         # Below what any bake holds: refused by the library's plan, naming the limit.
         ({"max_memory": 0.001}, "max_memory: the bake would hold about"),
         ({"max_memory": 0.001}, "over the limit of 1.0 MiB"),
+        ({"max_memory": 0.001}, "raise the limit (the Memory Limit (GiB) of the sssbake panel)"),
     ]
     for settings, message in cases:
         assert bpy.ops.sssbake.bake(resolution=16, **settings) == {"CANCELLED"}

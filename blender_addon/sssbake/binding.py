@@ -66,7 +66,19 @@ def presets():
     return tuple((name, description) for name, description in defaults()["presets"])
 
 
+# The package names a work limit it refuses by its keyword argument ("raise the limit (the
+# max_memory argument)"); the artist raises it with the panel's setting, so say that one.
+LIMIT_SETTINGS = {"max_memory": "the Memory Limit (GiB) of the sssbake panel"}
+
+
 def bake(scene, name, materials, options, progress, cancel):
     """Bakes object `name` of `scene` (an `sssbake.Scene`) with `materials` and `options`:
     the one call into the library that bakes (`sssbake.Scene.bake_object`)."""
-    return scene.bake_object(name, materials, progress=progress, cancel=cancel, **options)
+    try:
+        return scene.bake_object(name, materials, progress=progress, cancel=cancel, **options)
+    except SettingError as error:
+        setting = LIMIT_SETTINGS.get(error.field)
+        if setting is None:
+            raise
+        message = error.message.replace(f"(the {error.field} argument)", f"({setting})")
+        raise SettingError(message, field=error.field) from error
