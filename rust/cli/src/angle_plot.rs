@@ -1,9 +1,12 @@
 //! `sssbake profile --model stam --plot`: a layer's R(θi) and T(θi) per
 //! channel, and its BRDF in the plane of incidence for light arriving at
-//! about 45°, drawn as SVG (rasterised to PNG by `plot::render_png`).
+//! about 45° (or, for a stack's Stam top layer, its totals in contact with
+//! the layer beneath), drawn as SVG (rasterised to PNG by
+//! `plot::render_png`).
 
 use crate::plot::{COLOURS, escape, tick};
 use sssbake_profile::stam::StamResponse;
+use sssbake_profile::stam::epidermis::Epidermis;
 use std::f64::consts::PI;
 use std::fmt::Write;
 
@@ -20,30 +23,43 @@ struct Line {
     dashed: bool,
 }
 
-/// The SVG: left, R (solid) and T (dashed) against the incidence angle;
-/// right, the BRDF (1/sr) against the exit angle in the plane of incidence
-/// (positive on the specular side) for the ordinate nearest 45°.
-pub fn render_svg(title: &str, responses: &[StamResponse; 3]) -> String {
-    let first = &responses[0];
-    let angle = |cos: f64| cos.clamp(-1.0, 1.0).acos() * 180.0 / PI;
-    let mut totals = Vec::new();
-    for (c, r) in responses.iter().enumerate() {
-        for (values, dashed) in [(&r.reflectance, false), (&r.transmittance, true)] {
-            totals.push(Line {
-                points: first
-                    .cosines
+/// A layer's R (solid) and T (dashed) per channel against the incidence
+/// angle in degrees: `totals[c]` is (cosines, R, T) of channel `c`.
+fn total_lines(totals: [(&[f64], &[f64], &[f64]); 3]) -> Vec<Line> {
+    let mut lines = Vec::new();
+    for (c, (cosines, reflectance, transmittance)) in totals.into_iter().enumerate() {
+        for (values, dashed) in [(reflectance, false), (transmittance, true)] {
+            lines.push(Line {
+                points: cosines
                     .iter()
                     .zip(values)
-                    .map(|(&mu, &v)| (angle(mu), v))
+                    .map(|(&mu, &v)| (degrees(mu), v))
                     .collect(),
                 channel: c,
                 dashed,
             });
         }
     }
+    lines
+}
+
+/// The angle in degrees of the cosine `cos`.
+pub fn degrees(cos: f64) -> f64 {
+    cos.clamp(-1.0, 1.0).acos() * 180.0 / PI
+}
+
+/// The SVG: left, R (solid) and T (dashed) against the incidence angle;
+/// right, the BRDF (1/sr) against the exit angle in the plane of incidence
+/// (positive on the specular side) for the ordinate nearest 45°.
+pub fn render_svg(title: &str, responses: &[StamResponse; 3]) -> String {
+    let first = &responses[0];
+    let totals = total_lines(std::array::from_fn(|c| {
+        let r = &responses[c];
+        (&r.cosines[..], &r.reflectance[..], &r.transmittance[..])
+    }));
     let incidence = (0..first.cosines.len())
         .min_by(|&a, &b| {
-            let off = |i: usize| (angle(first.cosines[i]) - 45.0).abs();
+            let off = |i: usize| (degrees(first.cosines[i]) - 45.0).abs();
             off(a).total_cmp(&off(b))
         })
         .unwrap_or(0);
@@ -53,7 +69,7 @@ pub fn render_svg(title: &str, responses: &[StamResponse; 3]) -> String {
         .map(|(c, r)| {
             let mut points: Vec<(f64, f64)> = (0..first.cosines.len())
                 .flat_map(|o| {
-                    let theta = angle(first.cosines[o]);
+                    let theta = degrees(first.cosines[o]);
                     [
                         (theta, r.brdf_at(o, incidence, 0.0)),
                         (-theta, r.brdf_at(o, incidence, PI)),
@@ -68,32 +84,70 @@ pub fn render_svg(title: &str, responses: &[StamResponse; 3]) -> String {
             }
         })
         .collect();
-    let width = MARGIN_L + 2.0 * PANEL_W + GAP_X + 30.0;
+    let slice_label = format!(
+        "BRDF [1/sr] at θi = {:.1}°, plane of incidence",
+        degrees(first.cosines[incidence])
+    );
+    figure(
+        title,
+        &[
+            Panel {
+                label: "R (solid) and T (dashed) per unit irradiance",
+                x_label: "θi [°]",
+                x: (0.0, 90.0),
+                lines: totals,
+            },
+            Panel {
+                label: &slice_label,
+                x_label: "θo [°] (specular side positive)",
+                x: (-90.0, 90.0),
+                lines: slices,
+            },
+        ],
+    )
+}
+
+/// The SVG of a stack's Stam top layer in contact with the layer beneath:
+/// R back to air (solid) and T into the layer beneath (dashed) against the
+/// incidence angle.
+pub fn render_contact_svg(title: &str, epidermis: &Epidermis) -> String {
+    let totals = total_lines(std::array::from_fn(|c| {
+        let t = epidermis.channel(c);
+        (&t.cosines[..], &t.reflectance[..], &t.transmittance[..])
+    }));
+    figure(
+        title,
+        &[Panel {
+            label: "R to air (solid), T into the layer beneath (dashed)",
+            x_label: "θi [°]",
+            x: (0.0, 90.0),
+            lines: totals,
+        }],
+    )
+}
+
+/// One panel of a figure: its title, x axis and lines.
+struct Panel<'a> {
+    label: &'a str,
+    x_label: &'a str,
+    x: (f64, f64),
+    lines: Vec<Line>,
+}
+
+/// `panels` side by side under `title`, with the channels' colour key.
+fn figure(title: &str, panels: &[Panel]) -> String {
+    let count = panels.len() as f64;
+    let width = MARGIN_L + count * PANEL_W + (count - 1.0) * GAP_X + 30.0;
     let height = MARGIN_T + PANEL_H + 90.0;
     let mut svg = format!(
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" font-family="DejaVu Sans, sans-serif" font-size="12"><rect width="100%" height="100%" fill="white"/><text x="{}" y="28" font-size="18" text-anchor="middle">{}</text>"#,
         width / 2.0,
         escape(title)
     );
-    panel(
-        &mut svg,
-        MARGIN_L,
-        "R (solid) and T (dashed) per unit irradiance",
-        "θi [°]",
-        (0.0, 90.0),
-        &totals,
-    );
-    panel(
-        &mut svg,
-        MARGIN_L + PANEL_W + GAP_X,
-        &format!(
-            "BRDF [1/sr] at θi = {:.1}°, plane of incidence",
-            angle(first.cosines[incidence])
-        ),
-        "θo [°] (specular side positive)",
-        (-90.0, 90.0),
-        &slices,
-    );
+    for (i, p) in panels.iter().enumerate() {
+        let x0 = MARGIN_L + i as f64 * (PANEL_W + GAP_X);
+        panel(&mut svg, x0, p.label, p.x_label, p.x, &p.lines);
+    }
     let _ = write!(
         svg,
         r#"<text x="{MARGIN_L}" y="{}">colours: red, green, blue channels</text></svg>"#,

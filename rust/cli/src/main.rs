@@ -18,6 +18,7 @@ mod progress;
 mod report_command;
 mod report_plot;
 mod request_args;
+mod stam_contact_report;
 mod stam_report;
 
 use clap::{Parser, Subcommand};

@@ -5,6 +5,7 @@ use serde_json::{Value, json};
 use sssbake::Error;
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings, FitError};
+use sssbake_profile::material::TopLayer;
 use sssbake_profile::monte_carlo::{self, MonteCarlo};
 use sssbake_profile::profile::default_radii;
 use sssbake_profile::{Material, Model, Profile, Rgb, Tabulated, build_profile};
@@ -162,6 +163,25 @@ fn run_stam(args: &ProfileArgs, material: &Material) -> Result<(), Error> {
         return Err(Error::input(format!(
             "{flag}: stam gives R and T per incidence angle and BRDF slices (--json, --plot), not a radial profile"
         )));
+    }
+    // A stack's declared Stam top layer is shown as a bake uses it, in
+    // contact with the layer beneath, not alone between air.
+    if material.top_layer == TopLayer::Stam {
+        let epidermis = crate::stam_contact_report::solve(material)?;
+        if let Some(path) = &args.plot {
+            let title = format!(
+                "{} — stam top layer in contact, roughness {}",
+                material.name, material.roughness
+            );
+            write_svg(
+                path,
+                crate::angle_plot::render_contact_svg(&title, &epidermis),
+            )?;
+        }
+        emit(&crate::stam_contact_report::report(
+            material, &epidermis, args.json,
+        ));
+        return Ok(());
     }
     let responses = crate::stam_report::solve(material)?;
     if let Some(path) = &args.plot {

@@ -1,6 +1,7 @@
 //! `sssbake profile --model stam`: a layer's reflectance and transmittance
 //! per incidence angle, and its BRDF and BTDF in the plane of incidence.
 
+use crate::angle_plot::degrees;
 use serde_json::{Value, json};
 use sssbake::Error;
 use sssbake_profile::Material;
@@ -24,10 +25,6 @@ pub fn report(material: &Material, responses: &[StamResponse; 3], json: bool) ->
     } else {
         table(material, responses)
     }
-}
-
-fn degrees(cos: f64) -> f64 {
-    cos.clamp(-1.0, 1.0).acos() * 180.0 / PI
 }
 
 fn table(material: &Material, responses: &[StamResponse; 3]) -> String {

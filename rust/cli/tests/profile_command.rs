@@ -344,6 +344,78 @@ fn stam_reports_angles_and_the_library_numbers() {
     );
 }
 
+/// On a stack whose top layer is declared stam, `--model stam` shows that
+/// layer as a bake uses it: in contact with the layer beneath, which takes
+/// the light a face against air would have sent back up.
+#[test]
+fn stam_shows_a_declared_top_layer_in_contact_with_the_layer_beneath() {
+    use sssbake_profile::stam::StamSettings;
+    use sssbake_profile::stam::epidermis::Epidermis;
+    use sssbake_profile::stam::material::layers_for;
+    let out = json(&[
+        "profile",
+        "--preset",
+        "stam-skin",
+        "--model",
+        "stam",
+        "--json",
+    ]);
+    assert_eq!(out["form"], "contact");
+    let material = preset("stam-skin").unwrap();
+    let library = Epidermis::solve(&material).unwrap();
+    let between_air = layers_for(&material)
+        .unwrap()
+        .map(|layer| layer.solve(&StamSettings::default()).unwrap());
+    let cosines = numbers(&out["cosines"]);
+    assert_eq!(cosines, library.channel(0).cosines);
+    let mut compared = 0;
+    for (e, &mu) in cosines.iter().enumerate() {
+        let reflected = numbers(&out["reflectance"][e]);
+        let transmitted = numbers(&out["transmittance"][e]);
+        for c in 0..3 {
+            let contact = library.channel(c);
+            assert!((reflected[c] - contact.reflectance[e]).abs() <= 1e-14);
+            assert!((transmitted[c] - contact.transmittance[e]).abs() <= 1e-14);
+            assert!(reflected[c] + transmitted[c] <= 1.0 + 1e-9);
+            // The layer alone between air, at the same outside ordinate.
+            let alone = &between_air[c];
+            if let Some(a) = alone.cosines.iter().position(|&m| (m - mu).abs() < 1e-12) {
+                assert!(
+                    transmitted[c] > alone.transmittance[a],
+                    "θ {mu}: contact {} against air {}",
+                    transmitted[c],
+                    alone.transmittance[a]
+                );
+                assert!(reflected[c] <= alone.reflectance[a] + 1e-12);
+                compared += 1;
+            }
+        }
+    }
+    assert_eq!(compared, 3 * cosines.len());
+    let below = numbers(&out["reflectance_from_below"]);
+    let up = numbers(&out["transmittance_from_below"]);
+    for c in 0..3 {
+        assert!(below[c] >= 0.0 && up[c] > 0.0 && below[c] + up[c] <= 1.0 + 1e-9);
+    }
+    // The plot has the one panel of totals: R and T per channel.
+    let plot = scratch("stam-contact-plot").join("contact.svg");
+    let run = sssbake(&[
+        "profile",
+        "--preset",
+        "stam-skin",
+        "--model",
+        "stam",
+        "--plot",
+        plot.to_str().unwrap(),
+    ]);
+    assert!(run.status.success());
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert_eq!(svg.matches("<polyline").count(), 6);
+    let table = sssbake(&["profile", "--preset", "stam-skin", "--model", "stam"]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(text.contains("in contact with the layer beneath"), "{text}");
+}
+
 /// `--model empirical` prints the fitted lobes' profile and the fit's
 /// error: a total inside (0, 1) per channel, matching the Monte Carlo the
 /// CLI compares it with.

@@ -443,3 +443,43 @@ fn malformed_images_and_indices_are_refused_with_a_message() {
         assert!(last_error().contains(message), "{}", last_error());
     }
 }
+
+/// The README's two-layer skin whose epidermis is declared a Stam layer
+/// (or, with `top_model` "diffusion", the same stack by diffusion alone).
+fn stam_topped_toml(top_model: &str) -> CString {
+    CString::new(format!(
+        "roughness = 0.4\n\
+         [[layers]]\nmodel = \"{top_model}\"\nsigma_a = [2.1, 2.1, 5.0]\n\
+         sigma_s = [48.0, 60.0, 65.0]\nior = 1.4\nthickness_mm = 0.03\n\
+         [[layers]]\nsigma_a = [0.033, 0.099, 0.268]\nsigma_s = [4.67, 4.60, 4.43]\n\
+         g = 0.846\nior = 1.4\n"
+    ))
+    .unwrap()
+}
+
+#[test]
+fn a_material_text_declares_a_stam_top_layer_through_the_abi() {
+    let g = grid();
+    let scene = scene(&g);
+    let name = CString::new("skin").unwrap();
+    let material = |toml: &CString| SssbakeMaterial {
+        kind: SSSBAKE_MATERIAL_TOML,
+        name: name.as_ptr(),
+        toml: toml.as_ptr(),
+        ..SssbakeMaterial::default()
+    };
+    let stam = stam_topped_toml("stam");
+    let diffusion = stam_topped_toml("diffusion");
+    let (topped, summary) =
+        bake(&scene, &[material(&stam)]).unwrap_or_else(|_| panic!("{}", last_error()));
+    let (diffused, plain_summary) =
+        bake(&scene, &[material(&diffusion)]).unwrap_or_else(|_| panic!("{}", last_error()));
+    assert!(summary.contains("\"stam\""), "{summary}");
+    assert!(!plain_summary.contains("\"stam\""), "{plain_summary}");
+    // The epidermis solved by discrete ordinates lets a different share of
+    // the light through than diffusion does: the maps differ, both lit.
+    let all = 0..RESOLUTION as usize;
+    let (a, b) = (mean_red(&topped, all.clone()), mean_red(&diffused, all));
+    assert!(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite());
+    assert!((a - b).abs() > 0.01 * b, "stam {a}, diffusion {b}");
+}
