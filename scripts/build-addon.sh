@@ -7,17 +7,22 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# On Linux the wheel is linked against glibc 2.28 with zig (the `ziglang` package), not this
+# machine's glibc: Blender's Linux builds need only 2.28, and studios run it on distributions
+# that old (Rocky/RHEL 8 has 2.28, RHEL 9 2.34). maturin checks the library against the
+# manylinux_2_28 policy and refuses a newer symbol.
 case "$(uname -s)-$(uname -m)" in
-    Linux-x86_64) platform=linux-x64 ;;
-    Linux-aarch64) platform=linux-arm64 ;;
-    Darwin-arm64) platform=macos-arm64 ;;
-    Darwin-x86_64) platform=macos-x64 ;;
+    Linux-x86_64) platform=linux-x64 portable=(--zig --compatibility manylinux_2_28) ;;
+    Linux-aarch64) platform=linux-arm64 portable=(--zig --compatibility manylinux_2_28) ;;
+    Darwin-arm64) platform=macos-arm64 portable=() ;;
+    Darwin-x86_64) platform=macos-x64 portable=() ;;
     *) echo "error: no packaging rule for $(uname -s)-$(uname -m)" >&2; exit 1 ;;
 esac
+[ -d .venv/bin ] && PATH="$PWD/.venv/bin:$PATH"
 maturin=${MATURIN:-$(command -v maturin || echo .venv/bin/maturin)}
 wheels=target/addon-wheels
 rm -rf "$wheels"
-"$maturin" build --release --locked --quiet -o "$wheels" >&2
+"$maturin" build --release --locked --quiet ${portable[@]+"${portable[@]}"} -o "$wheels" >&2
 wheel=$(ls "$wheels"/sssbake-*-abi3-*.whl)
 version=$(sed -n 's/^version = "\(.*\)"/\1/p' blender_addon/sssbake/blender_manifest.toml)
 out="target/sssbake-$version-$platform.zip"

@@ -251,6 +251,8 @@ def test_the_packaged_extension_carries_the_package_as_a_wheel_and_loads_no_shar
     # One abi3 wheel of the package, listed in the manifest; no library of its own.
     wheels = sorted(p.relative_to(extension).as_posix() for p in extension.glob("wheels/*.whl"))
     assert len(wheels) == 1 and "-abi3-" in wheels[0], wheels
+    # Linked for glibc 2.28, as Blender's Linux builds are (maturin audits the symbols).
+    assert wheels[0].endswith("-manylinux_2_28_x86_64.whl"), wheels
     import tomllib
 
     manifest = tomllib.loads((extension / "blender_manifest.toml").read_text())
