@@ -33,8 +33,7 @@ pub const JENSEN_IOR: f64 = 1.3;
 /// Donner et al. 2009's media: name, σs and σa (1/mm) per channel, g and
 /// η. Wax and 50% diluted skim milk are the measured media of figure 3
 /// (one red wavelength, so equal in every channel); orange juice is
-/// figure 1's. The lozenge (figure 7) gives only albedos, no scale, so it
-/// is not a preset.
+/// figure 1's; the green lozenge (figure 7) is [`lozenge`].
 const DONNER_2009: [(&str, Rgb, Rgb, f64, f64); 3] = [
     ("wax", [1.0; 3], [0.5; 3], 0.0, 1.4),
     ("dilutedmilk", [1.165; 3], [0.0007; 3], 0.7, 1.35),
@@ -46,6 +45,24 @@ const DONNER_2009: [(&str, Rgb, Rgb, f64, f64); 3] = [
         1.3,
     ),
 ];
+
+/// The green lozenge of Donner et al. 2009 figure 7: its albedo
+/// (0.16, 0.27, 0.15) and g = 0.5 are the paper's. The paper gives no
+/// scale and no index, so the preset takes σt = 0.5/mm (a mean free path
+/// of 2 mm, which leaves a lozenge about 20 mm across as translucent as
+/// the figure shows it) and η = 1.5, sugar glass's. The empirical model's
+/// shape depends only on albedo, g and η; σt scales it.
+fn lozenge() -> Layer {
+    const ALBEDO: Rgb = [0.16, 0.27, 0.15];
+    const SIGMA_T: f64 = 0.5;
+    Layer {
+        sigma_a: ALBEDO.map(|a| (1.0 - a) * SIGMA_T),
+        sigma_s: ALBEDO.map(|a| a * SIGMA_T),
+        g: 0.5,
+        ior: 1.5,
+        thickness_mm: None,
+    }
+}
 
 /// Donner & Jensen 2005 table 3 (Mikkelsen table 2): epidermis, upper
 /// dermis and a semi-infinite bloody dermis; σa, σs in 1/mm, thickness in mm.
@@ -145,6 +162,10 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
         )
     }));
     names.push((
+        "lozenge",
+        "green lozenge of Donner et al. 2009 fig. 7 (its albedo and g; nominal σt 0.5/mm, η 1.5)",
+    ));
+    names.push((
         "skin3layer",
         "epidermis, upper and bloody dermis, Donner & Jensen 2005",
     ));
@@ -181,6 +202,7 @@ pub fn preset(name: &str) -> Option<Material> {
     let mut top_layer = TopLayer::Diffusion;
     let optics = match name {
         "skin3layer" => Optics::Layers(three_layer_skin()),
+        "lozenge" => Optics::Layers(vec![lozenge()]),
         "two-slab" => Optics::Layers(two_slab_example()),
         "stam-dermis" => {
             roughness = STAM_ROUGHNESS;
