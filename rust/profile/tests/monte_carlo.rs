@@ -112,21 +112,26 @@ fn without_absorption_every_photon_is_accounted_for() {
 #[test]
 fn the_dipole_matches_monte_carlo_for_skin1_and_marble() {
     let radii: Vec<f64> = (1..=30).map(|i| 0.25 * i as f64).collect();
-    for (name, photons, total_tolerance) in [("skin1", 40_000, 0.15), ("marble", 10_000, 0.05)] {
+    for (name, photons) in [("skin1", 40_000), ("marble", 10_000)] {
         let material = preset(name).unwrap();
         let layers = material.layers().unwrap();
         let dipole = Dipole::new([0, 1, 2].map(|c| layers[0].medium(c)), layers[0].ior);
         let mc = run(layers, photons, &radii);
+        let diffusive = |c: usize| layers[0].medium(c).albedo_reduced() >= 0.9;
         for c in 0..3 {
+            // The totals are diffusion's error alone: the Monte Carlo's own
+            // is under 0.1% (`skin1_totals_match_discrete_ordinates`). It is
+            // about 1% where diffusion holds, and grows as the albedo falls
+            // (skin1's green 7% and blue 14% too bright).
+            let tolerance = if diffusive(c) { 0.02 } else { 0.15 };
             compare_total(
                 dipole.total_reflectance()[c],
                 mc.total_reflectance[c],
                 mc.total_reflectance_stderr[c],
-                total_tolerance,
+                tolerance,
                 &format!("{name} total, channel {c}"),
             );
         }
-        let diffusive = |c: usize| layers[0].medium(c).albedo_reduced() >= 0.9;
         let ell = [0, 1, 2].map(|c| {
             if diffusive(c) {
                 layers[0].medium(c).mean_free_path()
@@ -237,4 +242,70 @@ fn the_three_layer_skin_matches_monte_carlo() {
     let dermis = layers[2].medium(0);
     let ell = [dermis.mean_free_path(), f64::INFINITY, f64::INFINITY];
     compare_profile(&model, &mc, ell, 2.5, 0.3, "three-layer skin, red");
+}
+
+/// The Monte Carlo's totals for skin1 (semi-infinite, η = 1.3 under a
+/// smooth face) against an independent transport solution of the same
+/// medium: Stam's discrete ordinates (checked against van de Hulst's
+/// adding-doubling slab in `stam.rs`), at the ordinate nearest the normal,
+/// whose refracted cosine the photons enter along. The two methods share
+/// no code but the Fresnel formula; they agree to within the photons' own
+/// noise, so the Monte Carlo's totals are held to half a percent. What the
+/// dipole comparison above allows beyond that (up to 15% in skin1's blue)
+/// is diffusion's error, and the dipole misses the discrete ordinates by
+/// the same amount.
+#[test]
+fn skin1_totals_match_discrete_ordinates() {
+    use sssbake_profile::fresnel::dielectric_reflectance;
+    use sssbake_profile::monte_carlo::simulate_oblique;
+    use sssbake_profile::stam::StamSettings;
+    use sssbake_profile::stam::material::layers_for;
+    let material = preset("skin1").unwrap();
+    let layers = material.layers().unwrap().to_vec();
+    let settings = StamSettings {
+        ordinates: 64,
+        modes: Some(1),
+    };
+    let ordinates = layers_for(&material)
+        .unwrap()
+        .map(|layer| layer.solve(&settings).unwrap());
+    let e = ordinates[0].cosines.len() - 1;
+    let mu = ordinates[0].cosines[e];
+    let eta = layers[0].ior;
+    let cos_inside = (1.0 - (1.0 - mu * mu) / (eta * eta)).sqrt();
+    let mc = simulate_oblique(
+        &layers,
+        &Settings::new(photons(), 5, vec![0.0, 1e9]),
+        cos_inside,
+    );
+    let entering = 1.0 - dielectric_reflectance(mu, 1.0, eta);
+    let dipole = Dipole::new([0, 1, 2].map(|c| layers[0].medium(c)), eta);
+    for (c, solved) in ordinates.iter().enumerate() {
+        // Per unit of light entering: the discrete ordinates' R without the
+        // face's own reflection.
+        let transport = (solved.reflectance[e] - solved.surface_reflectance[e]) / entering;
+        let (ours, error) = (mc.total_reflectance[c], mc.total_reflectance_stderr[c]);
+        println!(
+            "channel {c}: Monte Carlo {ours:.5} ± {error:.5}, discrete ordinates {transport:.5}, dipole {:.5}",
+            dipole.total_reflectance()[c]
+        );
+        compare_total(transport, ours, error, 0.005, &format!("skin1 channel {c}"));
+        // The dipole's error is the same against either.
+        let against_mc = dipole.total_reflectance()[c] - ours;
+        let against_do = dipole.total_reflectance()[c] - transport;
+        assert!(
+            (against_mc - against_do).abs() <= 0.005 * transport + 3.0 * error,
+            "channel {c}: dipole off by {against_mc:.5} from the Monte Carlo, {against_do:.5} from the ordinates"
+        );
+    }
+}
+
+/// Photons for the comparison with the discrete ordinates:
+/// `SSSBAKE_LONG_MONTE_CARLO=1` takes 40 times CI's.
+fn photons() -> u64 {
+    if std::env::var_os("SSSBAKE_LONG_MONTE_CARLO").is_some() {
+        4_000_000
+    } else {
+        100_000
+    }
 }
