@@ -5,9 +5,11 @@
 //! coming back up.
 
 use crate::angle_plot::degrees;
+use crate::stam_report::per_angle;
 use serde_json::json;
 use sssbake::Error;
 use sssbake_profile::Material;
+use sssbake_profile::stam::contact::ContactTotals;
 use sssbake_profile::stam::epidermis::Epidermis;
 
 /// The top layer of `material` solved in contact, per channel.
@@ -67,10 +69,8 @@ fn table(material: &Material, epidermis: &Epidermis) -> String {
 
 fn as_json(material: &Material, epidermis: &Epidermis) -> serde_json::Value {
     let first = epidermis.channel(0);
-    let per_angle = |pick: fn(&sssbake_profile::stam::contact::ContactTotals) -> &Vec<f64>| {
-        (0..first.cosines.len())
-            .map(|e| std::array::from_fn::<f64, 3, _>(|c| pick(epidermis.channel(c))[e]))
-            .collect::<Vec<_>>()
+    let per_angle = |pick: fn(&ContactTotals) -> &Vec<f64>| {
+        per_angle(std::array::from_fn(|c| &pick(epidermis.channel(c))[..]))
     };
     json!({
         "material": material.name,

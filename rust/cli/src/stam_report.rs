@@ -77,12 +77,18 @@ fn slices(responses: &[StamResponse; 3], brdf: bool, delta_phi: f64) -> Value {
     json!(per_channel)
 }
 
+/// Values per channel, `channels[c][e]` at ordinate `e`, as one `[r, g, b]`
+/// per ordinate.
+pub fn per_angle(channels: [&[f64]; 3]) -> Vec<[f64; 3]> {
+    (0..channels[0].len())
+        .map(|e| channels.map(|values| values[e]))
+        .collect()
+}
+
 fn as_json(material: &Material, responses: &[StamResponse; 3]) -> Value {
     let first = &responses[0];
-    let per_angle = |pick: fn(&StamResponse) -> &Vec<f64>| -> Vec<[f64; 3]> {
-        (0..first.cosines.len())
-            .map(|e| std::array::from_fn(|c| pick(&responses[c])[e]))
-            .collect()
+    let per_angle = |pick: fn(&StamResponse) -> &Vec<f64>| {
+        per_angle(std::array::from_fn(|c| &pick(&responses[c])[..]))
     };
     json!({
         "material": material.name,
