@@ -34,12 +34,12 @@ pub enum Lighting {
     /// The scene's lights; `environment` replaces every environment
     /// light's texture (already read from its file).
     SceneLightsWith {
-        /// The equirectangular image.
-        environment: EnvironmentMap,
+        /// The equirectangular image (shared: the plan copies the request).
+        environment: Arc<EnvironmentMap>,
     },
     /// A texture in the object's own UV layout is the transmitted
     /// irradiance (a lightmap from any renderer); lights are ignored.
-    Irradiance(Image),
+    Irradiance(Arc<Image>),
 }
 
 /// Where an object's texels are: the mesh with the UVs the bake uses and

@@ -14,6 +14,7 @@ use crate::transport::integrator::IntegratorSettings;
 use serde::{Deserialize, Serialize};
 use sssbake_profile::model::Model;
 use sssbake_profile::rough::MAX_ROUGHNESS;
+use std::sync::Arc;
 
 /// The largest map side, texels.
 pub const MAX_RESOLUTION: u32 = 16384;
@@ -81,8 +82,9 @@ pub struct BakeRequest {
     /// ([`Material::roughness`](sssbake_profile::Material::roughness)).
     pub roughness: Option<f64>,
     /// A base colour map in the objects' UVs, applied as C^α before
-    /// scattering and C^(1−α) after (Mikkelsen §3.5).
-    pub base_colour: Option<Image>,
+    /// scattering and C^(1−α) after (Mikkelsen §3.5). Shared, so that the
+    /// plan's copy of the request does not copy the image.
+    pub base_colour: Option<Arc<Image>>,
     /// α of the colour split, in [0, 1].
     pub colour_split: f32,
     /// The memory and work the bake may take; the plan refuses more.

@@ -51,7 +51,7 @@ fn irradiance_at(
     let rays = RayScene::new(&[&floor]);
     let emitters: Vec<Emitter> = lights
         .iter()
-        .map(|l| Emitter::new(l, map.clone()))
+        .map(|l| Emitter::new(l, map.clone().map(std::sync::Arc::new)))
         .collect();
     let normals = vec![normal; points.len()];
     let triangles = vec![0u32; points.len()];

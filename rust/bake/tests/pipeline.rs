@@ -122,7 +122,7 @@ fn a_base_colour_splits_before_and_after_scattering() {
     let colour = Image::new(w, h, texels).unwrap();
     let run = |alpha: f32, colour: Option<Image>| {
         let request = BakeRequest {
-            base_colour: colour,
+            base_colour: colour.map(std::sync::Arc::new),
             colour_split: alpha,
             ..request(128)
         };
@@ -178,7 +178,7 @@ fn an_irradiance_image_replaces_the_lights() {
     );
     let image = Image::new(4, 4, vec![[2.0, 1.0, 0.5]; 16]).unwrap();
     let request = BakeRequest {
-        lighting: Lighting::Irradiance(image),
+        lighting: Lighting::Irradiance(std::sync::Arc::new(image)),
         ..request(64)
     };
     let prepared = prepare_with(&scene, "square", &request, &Control::new()).unwrap();

@@ -61,18 +61,8 @@ pub fn decode(bytes: &[u8], space: ColourSpace) -> Result<(Image, &'static str),
         ColourSpace::Raw => false,
         ColourSpace::Auto => !float,
     };
-    let rgb = decoded.to_rgb32f();
-    let (width, height) = (rgb.width() as usize, rgb.height() as usize);
-    let texels = rgb
-        .pixels()
-        .map(|p| {
-            if srgb {
-                p.0.map(crate::image_reader::srgb_to_linear)
-            } else {
-                p.0
-            }
-        })
-        .collect();
+    let (width, height) = (decoded.width() as usize, decoded.height() as usize);
+    let texels = crate::linear_rgb::linear_rgb(decoded, srgb);
     let image = Image::new(width, height, texels).map_err(|e| e.to_string())?;
     Ok((image, if srgb { "sRGB" } else { "raw" }))
 }

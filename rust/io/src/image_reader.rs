@@ -73,11 +73,9 @@ fn read_png(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
     let decoded = image::ImageReader::open(path)
         .map_err(|e| format!("cannot open the PNG image: {e}"))?
         .decode()
-        .map_err(|e| format!("cannot decode the PNG image: {e}"))?
-        .to_rgb32f();
+        .map_err(|e| format!("cannot decode the PNG image: {e}"))?;
     let (width, height) = (decoded.width() as usize, decoded.height() as usize);
-    let texels = decoded.pixels().map(|p| p.0.map(srgb_to_linear)).collect();
-    Ok((width, height, texels))
+    Ok((width, height, crate::linear_rgb::linear_rgb(decoded, true)))
 }
 
 /// Refuses an image whose header claims more than [`MAX_IMAGE_TEXELS`].

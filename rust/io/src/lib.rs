@@ -12,6 +12,7 @@ pub mod gltf_writer;
 pub mod image_reader;
 pub mod image_writer;
 pub mod lighting;
+pub mod linear_rgb;
 pub mod look;
 pub mod options;
 pub mod python;

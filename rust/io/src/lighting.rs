@@ -7,6 +7,7 @@ use sssbake::irradiance::environment::EnvironmentMap;
 use sssbake::scene::LightKind;
 use sssbake::{Error, Lighting, Scene};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The lighting of `scene`, read from `scene_file`: `irradiance` (an image
 /// in the objects' UVs) replaces the lights; otherwise `environment`, or
@@ -18,7 +19,7 @@ pub fn scene_lighting(
     environment: Option<&Path>,
 ) -> Result<Lighting, Error> {
     if let Some(path) = irradiance {
-        return Ok(Lighting::Irradiance(read_image(path)?));
+        return Ok(Lighting::Irradiance(Arc::new(read_image(path)?)));
     }
     let named = scene.lights.iter().find_map(|l| match &l.kind {
         LightKind::Environment { texture: Some(t) } => Some(t.clone()),
@@ -32,7 +33,9 @@ pub fn scene_lighting(
     let image = read_image(&path)?;
     let environment = EnvironmentMap::new(image.width, image.height, image.texels)
         .map_err(|e| e.in_file(path.display().to_string()))?;
-    Ok(Lighting::SceneLightsWith { environment })
+    Ok(Lighting::SceneLightsWith {
+        environment: Arc::new(environment),
+    })
 }
 
 /// `file` as the scene names it, relative to the scene's folder.

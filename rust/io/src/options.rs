@@ -40,6 +40,7 @@ use sssbake::{BakeRequest, Error, Method, Output, Scene, UvPolicy};
 use sssbake_profile::Material;
 use sssbake_profile::model::Model;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A bake's options; `None` keeps the library's default.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -262,7 +263,7 @@ impl BakeOptions {
             integrators.seed(seed);
         }
         let base_colour = match &self.base_color {
-            Some(path) => Some(read_image(path)?),
+            Some(path) => Some(Arc::new(read_image(path)?)),
             None => None,
         };
         let lighting = scene_lighting(

@@ -28,7 +28,7 @@ fn irradiance(light: &Light, map: Option<EnvironmentMap>, point: Vec3, normal: V
         .collect();
     let (floor, _) = Mesh::new("floor", far, None, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
     let rays = RayScene::new(&[&floor]);
-    let emitters = [Emitter::new(light, map)];
+    let emitters = [Emitter::new(light, map.map(std::sync::Arc::new))];
     let e = transmitted_irradiance(
         Receivers {
             mesh: 1,

@@ -7,6 +7,7 @@ use super::sequence::{basis, concentric_disk, cosine_hemisphere, uniform_cone};
 use crate::scene::{ConeFalloff, Light, LightKind};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 /// One light sample as seen from a receiver.
 #[derive(Clone, Copy, Debug)]
@@ -79,14 +80,14 @@ enum Shape {
         half: Vec3,
     },
     Environment {
-        map: Option<EnvironmentMap>,
+        map: Option<Arc<EnvironmentMap>>,
     },
 }
 
 impl Emitter {
     /// Prepares `light`; `environment` is the image an environment light's
-    /// texture names, already read.
-    pub fn new(light: &Light, environment: Option<EnvironmentMap>) -> Self {
+    /// texture names, already read (shared by every object's bake).
+    pub fn new(light: &Light, environment: Option<Arc<EnvironmentMap>>) -> Self {
         let power = light.color.map(|c| {
             let p = c * light.intensity;
             if p.is_finite() { p.max(0.0) } else { 0.0 }
