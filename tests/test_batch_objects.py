@@ -15,7 +15,8 @@ from test_batch import SOME_FAILED, batch, examples
 from test_batch_farm import farm, maps
 
 # The ear with a second, smaller shell ("Lobe") 1 cm behind it: two objects
-# that shadow each other under the ear's two lights.
+# that shadow each other under the ear's two lights; in glTF, and in USD as a
+# layer over the ear's stage referencing the ear a second time.
 MANIFEST = """
 [defaults]
 resolution = 32
@@ -30,12 +31,41 @@ scene = "marble/marble.gltf"
 """
 
 
+PAIR_USD = """
+[assets.pair_usd]
+scene = "ear/pair.usda"
+preset = "skin1"
+"""
+
+PAIR_USDA = """#usda 1.0
+(
+    defaultPrim = "root"
+    metersPerUnit = 1
+    upAxis = "Z"
+    subLayers = [@./ear.usda@]
+)
+
+over "root"
+{
+    def Xform "Lobe" (
+        prepend references = @./ear.usda@</root/Ear>
+    )
+    {
+        double3 xformOp:translate = (0, -0.01, 0)
+        float3 xformOp:scale = (0.5, 1, 0.5)
+        uniform token[] xformOpOrder = ["xformOp:translate", "xformOp:scale"]
+    }
+}
+"""
+
+
 def pair_assets(tmp_path, manifest=MANIFEST):
     folder = examples(tmp_path)
     gltf = json.loads((folder / "ear" / "ear.gltf").read_text())
     gltf["nodes"].append({"mesh": 0, "name": "Lobe", "translation": [0, -0.01, 0], "scale": [0.5, 1, 0.5]})
     gltf["scenes"][0]["nodes"].append(len(gltf["nodes"]) - 1)
     (folder / "ear" / "pair.gltf").write_text(json.dumps(gltf))
+    (folder / "ear" / "pair.usda").write_text(PAIR_USDA)
     (folder / "batch.toml").write_text(manifest)
     return folder / "batch.toml"
 
@@ -64,27 +94,27 @@ def test_only_a_large_asset_of_several_objects_is_split(sssbake, tmp_path):
 
 
 def test_a_split_asset_on_the_cluster_equals_a_local_whole_bake(sssbake, client, tmp_path):
-    manifest = pair_assets(tmp_path)
+    manifest = pair_assets(tmp_path, MANIFEST + PAIR_USD)
     out = tmp_path / "farm"
     report = farm.run(manifest, out, client, sssbake=str(sssbake), threads_per_task=1, split_above=0)
-    assert report["counts"] == {"baked": 2, "skipped": 0, "failed": 0, "missing": 0}
+    assert report["counts"] == {"baked": 3, "skipped": 0, "failed": 0, "missing": 0}
     local, local_report = batch(sssbake, manifest, tmp_path / "local")
     assert local.returncode == 0, local.stderr
     farm_files, local_files = maps(out), maps(tmp_path / "local")
-    pair = sorted(str(p) for p in farm_files if p.parts[0] == "pair")
-    assert len([p for p in pair if p.endswith(".exr")]) == 2 * 3
-    assert "pair/pair.gltf" in pair and "pair/Lobe_diffuse_emissive.png" in pair
-    # Every map, preview, the glTF copy and the inputs record, byte for byte.
+    for asset, look in [("pair", "pair.gltf"), ("pair_usd", "pair_sssbake.usda")]:
+        files = sorted(str(p.relative_to(asset)) for p in farm_files if p.parts[0] == asset)
+        assert len([f for f in files if f.endswith(".exr")]) == 2 * 3, files
+        assert look in files
+    assert "Lobe_diffuse_emissive.png" in os.listdir(out / "pair")
+    # Every map, preview, the glTF copy, the USD layer and the inputs record, byte for byte.
     assert farm_files == local_files
     assert hidden(out) == [], "no parts or staging folders left"
-    farm_pair, local_pair = (
-        next(a for a in r["assets"] if a["name"] == "pair") for r in (report, local_report)
-    )
-    assert farm_pair["hash"] == local_pair["hash"]
-    assert summary_without_timings(farm_pair) == summary_without_timings(local_pair)
-    # A second run skips the assembled asset: its record is the whole bake's.
+    for farm_asset, local_asset in zip(report["assets"], local_report["assets"], strict=True):
+        assert farm_asset["hash"] == local_asset["hash"]
+        assert summary_without_timings(farm_asset) == summary_without_timings(local_asset)
+    # A second run skips the assembled assets: their record is the whole bake's.
     again = farm.run(manifest, out, client, sssbake=str(sssbake), threads_per_task=1, split_above=0)
-    assert again["counts"]["skipped"] == 2
+    assert again["counts"]["skipped"] == 3
     assert hidden(out) == []
 
 
