@@ -5,6 +5,7 @@ the asset's report, and the assembly refuses a missing or stale part."""
 
 import json
 import os
+import pathlib
 import signal
 import threading
 import time
@@ -75,6 +76,19 @@ def hidden(out):
     return sorted(str(p.relative_to(out)) for p in out.rglob(".*"))
 
 
+def processes_writing_to(out):
+    """The running processes whose command line names `out` (Linux)."""
+    found = []
+    for process in pathlib.Path("/proc").glob("[0-9]*"):
+        try:
+            command = (process / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+        except OSError:
+            continue
+        if str(out) in command:
+            found.append(command)
+    return found
+
+
 def summary_without_timings(report):
     """An asset report's summary without what differs between two bakes of
     the same inputs: seconds and the staging folders' paths."""
@@ -142,6 +156,7 @@ def test_a_worker_killed_mid_object_task_has_it_run_again(sssbake, client, tmp_p
     report = farm.run(manifest, out, client, sssbake=str(sssbake), threads_per_task=1, split_above=0)
     killer.join()
     assert killed, "the ear's worker was killed mid-bake"
+    assert processes_writing_to(out) == [], "the killed task's bake died with its worker"
     assert report["counts"] == {"baked": 1, "skipped": 0, "failed": 0, "missing": 0}
     pair = json.loads((out / "reports" / "pair.json").read_text())
     assert pair["status"] == "baked" and all(os.path.exists(f) for f in pair["files"])

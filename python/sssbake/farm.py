@@ -42,8 +42,10 @@ failed):
 from __future__ import annotations
 
 import argparse
+import ctypes
 import json
 import os
+import signal
 import subprocess
 import sys
 import uuid
@@ -70,11 +72,26 @@ def sssbake_batch(
     if threads:
         env["RAYON_NUM_THREADS"] = str(threads)
     command = [sssbake, "batch", manifest, "--out", out, "--asset", asset, *extra, "--json"]
-    result = subprocess.run(command, check=False, capture_output=True, text=True, env=env)
+    result = subprocess.run(
+        command,
+        check=False,
+        capture_output=True,
+        text=True,
+        env=env,
+        preexec_fn=die_with_the_worker if sys.platform == "linux" else None,
+    )
     if result.returncode not in (0, SOME_FAILED):
         last = (result.stderr.strip().splitlines() or ["no message"])[-1]
         raise FarmError(f"{asset}: sssbake exited with {result.returncode}: {last}")
     return json.loads(result.stdout)
+
+
+def die_with_the_worker() -> None:
+    """Run in the bake's process before `sssbake` starts (Linux): the kernel
+    kills it when the worker thread that started it dies, so a lost
+    worker's bake does not go on writing beside the task's retry."""
+    pr_set_pdeathsig = 1
+    ctypes.CDLL(None, use_errno=True).prctl(pr_set_pdeathsig, signal.SIGKILL)
 
 
 def bake_asset(sssbake: str, manifest: str, out: str, asset: str, threads: int | None) -> dict[str, Any]:

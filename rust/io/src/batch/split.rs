@@ -11,7 +11,7 @@ use sssbake::plan;
 /// which an asset of several objects is split into one task per object
 /// (each task reads and plans the whole scene again, and the assembly
 /// once more, so a split pays only for assets whose bake is long).
-pub const SPLIT_ABOVE: f64 = 1e9;
+pub const SPLIT_ABOVE: f64 = 1e7;
 
 /// An asset's farm tasks.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
