@@ -97,7 +97,7 @@ def summary_without_timings(report):
     return summary
 
 
-def test_only_a_large_asset_of_several_objects_is_split(sssbake, tmp_path):
+def test_an_asset_of_several_objects_is_split_when_large_or_asked(sssbake, tmp_path):
     manifest = pair_assets(tmp_path)
     tasks = json.loads(run(sssbake, "batch", str(manifest), "--tasks", "--split-above", "0").stdout)
     assert [(t["asset"], t["objects"]) for t in tasks] == [("marble", []), ("pair", ["Ear", "Lobe"])]
@@ -105,6 +105,17 @@ def test_only_a_large_asset_of_several_objects_is_split(sssbake, tmp_path):
     # At 32² the pair is far below the default threshold: one task.
     default = json.loads(run(sssbake, "batch", str(manifest), "--tasks").stdout)
     assert [t["objects"] for t in default] == [[], []]
+    # The manifest decides where it says so: always for the pair, never for the marble.
+    manifest.write_text(
+        MANIFEST.replace('preset = "skin1"', 'preset = "skin1"\nsplit = "objects"').replace(
+            'marble.gltf"', 'marble.gltf"\nsplit = "whole"'
+        )
+    )
+    asked = json.loads(run(sssbake, "batch", str(manifest), "--tasks", "--split-above", "inf").stdout)
+    assert [t["objects"] for t in asked] == [[], ["Ear", "Lobe"]]
+    manifest.write_text(MANIFEST.replace('preset = "skin1"', 'preset = "skin1"\nsplit = "whole"'))
+    whole = json.loads(run(sssbake, "batch", str(manifest), "--tasks", "--split-above", "0").stdout)
+    assert [t["objects"] for t in whole] == [[], []]
 
 
 def test_a_split_asset_on_the_cluster_equals_a_local_whole_bake(sssbake, client, tmp_path):

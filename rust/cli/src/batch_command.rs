@@ -42,8 +42,9 @@ pub struct BatchArgs {
     /// baking it.
     #[arg(long, requires = "assets", conflicts_with_all = ["collect", "openjd", "object"])]
     assemble: bool,
-    /// Bake nothing: print each asset's farm tasks (one per object for an
-    /// asset of several objects planned above --split-above) as JSON.
+    /// Bake nothing: print each asset's farm tasks as JSON: one per object
+    /// for an asset of several objects whose manifest says
+    /// `split = "objects"` or, saying nothing, planned above --split-above.
     #[arg(long, conflicts_with_all = ["assets", "collect", "openjd"])]
     tasks: bool,
     /// Planned work (rays, kernel evaluations and probes) above which

@@ -14,7 +14,7 @@ pub mod run;
 pub mod split;
 
 pub use fingerprint::{Fingerprint, fingerprint};
-pub use manifest::{Asset, Manifest};
+pub use manifest::{Asset, Manifest, Split};
 pub use parts::{PartReport, bake_part};
 pub use report::{AssetReport, BatchReport, Failure, Status};
 pub use run::{BatchOptions, collect_reports, run_batch};

@@ -1,9 +1,10 @@
 //! Which assets a farm bakes one object per task: an asset of more than
-//! one object whose planned work (the plan's shadow rays, kernel
-//! evaluations and probes) is above a threshold. The others are one task
-//! each, as is an asset whose plan fails (its bake says why).
+//! one object whose manifest says `split = "objects"`, or, when it says
+//! nothing, whose planned work (the plan's shadow rays, kernel evaluations
+//! and probes) is above a threshold. The others are one task each, as is
+//! an asset whose plan fails (its bake says why).
 
-use super::manifest::{Asset, Manifest};
+use super::manifest::{Asset, Manifest, Split};
 use serde::{Deserialize, Serialize};
 use sssbake::plan;
 
@@ -27,7 +28,8 @@ pub struct AssetTasks {
 }
 
 /// The tasks of every asset of `manifest` (in its order), splitting the
-/// assets of several objects planned above `split_above`.
+/// assets of several objects that ask for it or, asking nothing, are
+/// planned above `split_above`.
 pub fn farm_tasks(manifest: &Manifest, split_above: f64) -> Vec<AssetTasks> {
     manifest
         .assets
@@ -48,9 +50,14 @@ fn asset_tasks(asset: &Asset, split_above: f64) -> AssetTasks {
         objects: Vec::new(),
         work: planned.as_ref().map(|p| p.cost.evaluations),
     };
+    let large = |work: f64| match asset.split {
+        Some(Split::Objects) => true,
+        Some(Split::Whole) => false,
+        None => work > split_above,
+    };
     if let Some(plan) = planned
         && plan.objects.len() > 1
-        && plan.cost.evaluations > split_above
+        && large(plan.cost.evaluations)
     {
         tasks.objects = plan.objects.iter().map(|o| o.name.clone()).collect();
     }
