@@ -218,3 +218,22 @@ def test_the_assembly_refuses_a_missing_or_stale_part_naming_the_object(sssbake,
         assert "object `Ear`" in message and "other inputs" in message, message
     assert not (out / "pair").exists()
     assert hidden(out) == [".parts"], "the parts stay, and nothing else"
+
+
+def test_objects_of_one_name_are_split_by_their_file_stems(sssbake, tmp_path):
+    manifest = pair_assets(tmp_path)
+    pair = manifest.parent / "ear" / "pair.gltf"
+    pair.write_text(pair.read_text().replace('"Lobe"', '"Ear"'))
+    tasks = json.loads(run(sssbake, "batch", str(manifest), "--tasks", "--split-above", "0").stdout)
+    stems = next(t["objects"] for t in tasks if t["asset"] == "pair")
+    assert stems == ["Ear", "Ear.1"]
+    out = tmp_path / "out"
+    for stem in stems:
+        baked, part = batch(sssbake, manifest, out, "--asset", "pair", "--object", stem)
+        assert baked.returncode == 0 and part["status"] == "baked", baked.stderr
+    assembled, _ = batch(sssbake, manifest, out, "--asset", "pair", "--assemble")
+    assert assembled.returncode == 0, assembled.stderr
+    local, _ = batch(sssbake, manifest, tmp_path / "local", "--asset", "pair")
+    assert local.returncode == 0, local.stderr
+    assert maps(out / "pair") == maps(tmp_path / "local" / "pair")
+    assert "Ear.1_subsurface.exr" in os.listdir(out / "pair")

@@ -34,7 +34,8 @@ pub struct BatchArgs {
     /// (after a farm ran the assets one by one).
     #[arg(long, conflicts_with_all = ["assets", "force", "openjd"])]
     collect: bool,
-    /// Bake only this object of the one --asset into its part
+    /// Bake only this object (its file stem, as --tasks lists it, or its
+    /// name) of the one --asset into its part
     /// (OUT/.parts/ASSET/), for --assemble to put together.
     #[arg(long, value_name = "NAME", requires = "assets", conflicts_with_all = ["collect", "openjd"])]
     object: Option<String>,

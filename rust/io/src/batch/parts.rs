@@ -28,7 +28,7 @@ pub const PARTS: &str = ".parts";
 pub struct PartReport {
     /// The asset's name in the manifest.
     pub asset: String,
-    /// The object's name in the scene.
+    /// The object as asked for: its file stem or its name in the scene.
     pub object: String,
     /// `baked`; `skipped` when the asset's folder or this part is up to
     /// date; `failed` with `error`.
@@ -67,7 +67,8 @@ pub fn part_report_path(out: &Path, asset: &str, file_stem: &str) -> PathBuf {
     parts_folder(out, asset).join(format!("{file_stem}.json"))
 }
 
-/// Bakes object `object` of asset `asset` of `manifest` into its part in
+/// Bakes object `object` (its file stem, as [`super::farm_tasks`] lists
+/// it, or its name) of asset `asset` of `manifest` into its part in
 /// `options.out` and writes the part's report there (once the object is
 /// known); errors only for an unknown asset or object.
 pub fn bake_part(
@@ -137,12 +138,14 @@ fn bake_object(
     }
     let (scene, request) = asset.options.load(&asset.scene)?;
     let mut plan = plan(&scene, &request)?;
-    let Some(object) = plan
+    // The file stem first: it is unique among the objects, a name may not be.
+    let object = plan
         .objects
         .iter()
-        .find(|o| o.name == report.object)
-        .cloned()
-    else {
+        .find(|o| o.file_stem == report.object)
+        .or_else(|| plan.objects.iter().find(|o| o.name == report.object))
+        .cloned();
+    let Some(object) = object else {
         let names: Vec<&str> = plan.objects.iter().map(|o| o.name.as_str()).collect();
         return Err(Error::field(
             "object",

@@ -19,8 +19,9 @@ pub const SPLIT_ABOVE: f64 = 1e7;
 pub struct AssetTasks {
     /// The asset's name in the manifest.
     pub asset: String,
-    /// One task per object, then an assembly; empty for one task for the
-    /// whole asset.
+    /// One task per object (by its file stem, unique among the objects
+    /// where names may not be), then an assembly; empty for one task for
+    /// the whole asset.
     pub objects: Vec<String>,
     /// The plan's work estimate (rays, evaluations and probes); `None`
     /// when the asset could not be planned.
@@ -59,7 +60,7 @@ fn asset_tasks(asset: &Asset, split_above: f64) -> AssetTasks {
         && plan.objects.len() > 1
         && large(plan.cost.evaluations)
     {
-        tasks.objects = plan.objects.iter().map(|o| o.name.clone()).collect();
+        tasks.objects = plan.objects.iter().map(|o| o.file_stem.clone()).collect();
     }
     tasks
 }
