@@ -57,9 +57,7 @@ pub fn bake_to_folder(
     options: &FolderOptions,
     control: &Control,
 ) -> Result<Summary, Error> {
-    if !options.exposure.is_finite() {
-        return Err(Error::field("exposure", "must be a number of stops"));
-    }
+    check_exposure(options)?;
     refuse_input_folder(input, &options.out)?;
     let maps = map_paths(plan, &options.out);
     refuse_existing(maps.iter().map(|(_, _, p)| p.as_path()), options.force)?;
@@ -96,6 +94,7 @@ pub fn stage_maps(
     control: &Control,
     staging: &mut Staging,
 ) -> Result<(Summary, Vec<(String, Emissive)>), Error> {
+    check_exposure(options)?;
     let maps = map_paths(plan, &options.out);
     // The glTF copy shows the look through its own emissive encoding.
     let encode_look = AssetKind::of(input) == Some(AssetKind::Gltf);
@@ -168,6 +167,13 @@ pub fn stage_assets(
         staging.stage(path, bytes)?;
     }
     Ok(notes)
+}
+
+fn check_exposure(options: &FolderOptions) -> Result<(), Error> {
+    if !options.exposure.is_finite() {
+        return Err(Error::field("exposure", "must be a number of stops"));
+    }
+    Ok(())
 }
 
 /// (object, output, path) of every map `plan` makes in `out`: an EXR per

@@ -146,7 +146,7 @@ fn bake_object(
         .or_else(|| plan.objects.iter().find(|o| o.name == report.object))
         .cloned();
     let Some(object) = object else {
-        let names: Vec<&str> = plan.objects.iter().map(|o| o.name.as_str()).collect();
+        let names: Vec<&str> = plan.objects.iter().map(|o| o.file_stem.as_str()).collect();
         return Err(Error::field(
             "object",
             format!(
