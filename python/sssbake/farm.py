@@ -49,6 +49,7 @@ import signal
 import subprocess
 import sys
 import uuid
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -78,7 +79,7 @@ def sssbake_batch(
         capture_output=True,
         text=True,
         env=env,
-        preexec_fn=die_with_the_worker if sys.platform == "linux" else None,
+        preexec_fn=die_with_the_worker(),
     )
     if result.returncode not in (0, SOME_FAILED):
         last = (result.stderr.strip().splitlines() or ["no message"])[-1]
@@ -86,12 +87,17 @@ def sssbake_batch(
     return json.loads(result.stdout)
 
 
-def die_with_the_worker() -> None:
-    """Run in the bake's process before `sssbake` starts (Linux): the kernel
-    kills it when the worker thread that started it dies, so a lost
-    worker's bake does not go on writing beside the task's retry."""
+def die_with_the_worker() -> Callable[[], None] | None:
+    """What the bake's process runs before `sssbake` starts, on Linux: asks
+    the kernel to kill it when the worker thread that started it dies, so a
+    lost worker's bake does not go on writing beside the task's retry. The
+    call is looked up here, in the worker, so the forked child only makes
+    it."""
+    if sys.platform != "linux":
+        return None
+    prctl = ctypes.CDLL(None, use_errno=True).prctl
     pr_set_pdeathsig = 1
-    ctypes.CDLL(None, use_errno=True).prctl(pr_set_pdeathsig, signal.SIGKILL)
+    return lambda: prctl(pr_set_pdeathsig, signal.SIGKILL)
 
 
 def bake_asset(sssbake: str, manifest: str, out: str, asset: str, threads: int | None) -> dict[str, Any]:
