@@ -71,6 +71,19 @@ def sssbake() -> pathlib.Path:
     return path
 
 
+@pytest.fixture(scope="session")
+def client():
+    """A Dask LocalCluster of two single-threaded worker processes (the farm
+    tests share it: starting one takes seconds)."""
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
+    )
+    with distributed.Client(cluster) as client:
+        yield client
+    cluster.close()
+
+
 def run(binary: pathlib.Path, *args: str, env: dict | None = None) -> subprocess.CompletedProcess:
     """Runs the binary, capturing text output, with `env` added to the environment."""
     return subprocess.run(

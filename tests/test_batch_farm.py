@@ -27,17 +27,7 @@ def load_farm():
 
 
 farm = load_farm()
-distributed = pytest.importorskip("distributed")
-
-
-@pytest.fixture(scope="module")
-def client():
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
-    )
-    with distributed.Client(cluster) as client:
-        yield client
-    cluster.close()
+pytest.importorskip("distributed")
 
 
 def maps(folder):

@@ -13,7 +13,7 @@ use crate::scene::Scene;
 use crate::transport::Method;
 use crate::transport::choice;
 use crate::transport::verify::{ErrorEstimate, estimate_error};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::time::Instant;
 
@@ -33,7 +33,7 @@ pub struct BakedObject {
 }
 
 /// Seconds per stage of one object.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Seconds {
     /// UV analysis, unwrap and texels (while planning).
     pub layout: f64,
@@ -60,7 +60,7 @@ pub struct ObjectSummary {
 
 /// How far an object's exitance is from the exact sum, and what `auto`
 /// set aside to get there.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Accuracy {
     /// The method whose exitance the maps hold.
     pub method: Method,
@@ -79,7 +79,7 @@ pub struct Accuracy {
 }
 
 /// A method `auto` ran and set aside.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SetAside {
     /// The method.
     pub method: Method,

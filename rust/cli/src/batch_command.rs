@@ -4,7 +4,9 @@
 
 use sssbake::Error;
 use sssbake_io::batch::openjd::write_bundle;
-use sssbake_io::batch::{BatchOptions, Manifest, Status, collect_reports, run_batch};
+use sssbake_io::batch::{
+    BatchOptions, Manifest, SPLIT_ABOVE, Status, bake_part, collect_reports, farm_tasks, run_batch,
+};
 use std::path::PathBuf;
 
 /// Exit code of a batch in which some assets failed (the others were
@@ -17,7 +19,7 @@ pub struct BatchArgs {
     /// The manifest: a TOML file of [defaults] and [assets.NAME] tables.
     manifest: PathBuf,
     /// The folder for every asset's folder and the reports.
-    #[arg(long, required_unless_present = "openjd")]
+    #[arg(long, required_unless_present_any = ["openjd", "tasks"])]
     out: Option<PathBuf>,
     /// Bake every asset, even those unchanged since their last bake.
     #[arg(long)]
@@ -32,6 +34,24 @@ pub struct BatchArgs {
     /// (after a farm ran the assets one by one).
     #[arg(long, conflicts_with_all = ["assets", "force", "openjd"])]
     collect: bool,
+    /// Bake only this object (its file stem, as --tasks lists it, or its
+    /// name) of the one --asset into its part
+    /// (OUT/.parts/ASSET/), for --assemble to put together.
+    #[arg(long, value_name = "NAME", requires = "assets", conflicts_with_all = ["collect", "openjd"])]
+    object: Option<String>,
+    /// Build each --asset's folder from its objects' parts instead of
+    /// baking it.
+    #[arg(long, requires = "assets", conflicts_with_all = ["collect", "openjd", "object"])]
+    assemble: bool,
+    /// Bake nothing: print each asset's farm tasks as JSON: one per object
+    /// for an asset of several objects whose manifest says
+    /// `split = "objects"` or, saying nothing, planned above --split-above.
+    #[arg(long, conflicts_with_all = ["assets", "collect", "openjd"])]
+    tasks: bool,
+    /// Planned work (rays, kernel evaluations and probes) above which
+    /// --tasks splits an asset of several objects.
+    #[arg(long, value_name = "WORK", default_value_t = SPLIT_ABOVE, requires = "tasks")]
+    split_above: f64,
     /// Write an Open Job Description job bundle (one task per asset) into
     /// this folder instead of baking.
     #[arg(long, value_name = "DIR")]
@@ -51,16 +71,37 @@ pub fn run(args: &BatchArgs) -> Result<bool, Error> {
         }
         return Ok(true);
     }
+    if args.tasks {
+        crate::print_json(&farm_tasks(&manifest, args.split_above));
+        return Ok(true);
+    }
     let out = args.out.clone().unwrap_or_default();
+    let options = BatchOptions {
+        out: out.clone(),
+        force: args.force,
+        jobs: args.jobs,
+        only: args.assets.clone(),
+        assemble: args.assemble,
+    };
+    if let Some(object) = &args.object {
+        let [asset] = &args.assets[..] else {
+            return Err(Error::field("object", "give one --asset with --object"));
+        };
+        let part = bake_part(&manifest, asset, object, &options)?;
+        if args.json {
+            crate::print_json(&part);
+        } else {
+            let how = part
+                .error
+                .as_ref()
+                .map_or(String::new(), |e| format!(" ({})", e.message));
+            println!("{asset}, object {object}: {:?}{how}", part.status);
+        }
+        return Ok(part.status != Status::Failed);
+    }
     let report = if args.collect {
         collect_reports(&manifest, &out, 0.0)?
     } else {
-        let options = BatchOptions {
-            out,
-            force: args.force,
-            jobs: args.jobs,
-            only: args.assets.clone(),
-        };
         run_batch(&manifest, &options, |asset| {
             let what = match (&asset.status, &asset.error) {
                 (Status::Failed, Some(e)) => format!("failed ({}): {}", e.kind, e.message),

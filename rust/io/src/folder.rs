@@ -57,17 +57,49 @@ pub fn bake_to_folder(
     options: &FolderOptions,
     control: &Control,
 ) -> Result<Summary, Error> {
-    if !options.exposure.is_finite() {
-        return Err(Error::field("exposure", "must be a number of stops"));
-    }
+    check_exposure(options)?;
     refuse_input_folder(input, &options.out)?;
     let maps = map_paths(plan, &options.out);
     refuse_existing(maps.iter().map(|(_, _, p)| p.as_path()), options.force)?;
     let mut staging = Staging::new(&options.out)?;
+    let (mut summary, looks) = stage_maps(input, scene, plan, options, control, &mut staging)?;
+    let start = Instant::now();
+    let written: Vec<PathBuf> = staging.files().map(Path::to_path_buf).collect();
+    let record = AssetRecord {
+        input,
+        out: &options.out,
+        uv_set: options.uv_set,
+        objects: &scene.objects,
+        summary: &summary,
+        maps: &written,
+        emissive: &looks,
+        layer_writer: options.layer_writer.as_ref(),
+    };
+    let notes = stage_assets(&record, options.force, &mut staging)?;
+    summary.files = staging.files().map(|p| p.display().to_string()).collect();
+    staging.commit()?;
+    summary.left_out.extend(notes);
+    summary.write_seconds = start.elapsed().as_secs_f64();
+    Ok(summary)
+}
+
+/// Bakes every object of `plan` and stages its maps in `staging` (paths
+/// in `options.out`), one object at a time; returns the summary and, for
+/// a glTF input, each object's look encoded for the copy.
+pub fn stage_maps(
+    input: &Path,
+    scene: &Scene,
+    plan: &Plan,
+    options: &FolderOptions,
+    control: &Control,
+    staging: &mut Staging,
+) -> Result<(Summary, Vec<(String, Emissive)>), Error> {
+    check_exposure(options)?;
+    let maps = map_paths(plan, &options.out);
     // The glTF copy shows the look through its own emissive encoding.
     let encode_look = AssetKind::of(input) == Some(AssetKind::Gltf);
     let mut looks = Vec::new();
-    let mut summary = bake_each(scene, plan, control, |object| {
+    let summary = bake_each(scene, plan, control, |object| {
         let mine: Vec<&(String, sssbake::Output, PathBuf)> =
             maps.iter().filter(|(n, _, _)| n == object.name()).collect();
         let mut outputs: Vec<sssbake::Output> = mine.iter().map(|(_, o, _)| *o).collect();
@@ -117,29 +149,31 @@ pub fn bake_to_folder(
         }
         Ok(())
     })?;
-    let start = Instant::now();
-    let written: Vec<PathBuf> = staging.files().map(Path::to_path_buf).collect();
-    let record = AssetRecord {
-        input,
-        out: &options.out,
-        uv_set: options.uv_set,
-        objects: &scene.objects,
-        summary: &summary,
-        maps: &written,
-        emissive: &looks,
-        layer_writer: options.layer_writer.as_ref(),
-    };
+    Ok((summary, looks))
+}
+
+/// Stages the assets of `record` (the glTF copy or USD layer) in
+/// `staging`, refusing files already there unless `force`; returns what
+/// the assets could not show and why.
+pub fn stage_assets(
+    record: &AssetRecord,
+    force: bool,
+    staging: &mut Staging,
+) -> Result<Vec<String>, Error> {
     let mut notes = Vec::new();
-    let assets = asset_files(&record, &mut notes)?;
-    refuse_existing(assets.iter().map(|(p, _)| p.as_path()), options.force)?;
+    let assets = asset_files(record, &mut notes)?;
+    refuse_existing(assets.iter().map(|(p, _)| p.as_path()), force)?;
     for (path, bytes) in &assets {
         staging.stage(path, bytes)?;
     }
-    summary.files = staging.files().map(|p| p.display().to_string()).collect();
-    staging.commit()?;
-    summary.left_out.extend(notes);
-    summary.write_seconds = start.elapsed().as_secs_f64();
-    Ok(summary)
+    Ok(notes)
+}
+
+fn check_exposure(options: &FolderOptions) -> Result<(), Error> {
+    if !options.exposure.is_finite() {
+        return Err(Error::field("exposure", "must be a number of stops"));
+    }
+    Ok(())
 }
 
 /// (object, output, path) of every map `plan` makes in `out`: an EXR per

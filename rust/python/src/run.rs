@@ -112,6 +112,7 @@ pub fn batch(
         force,
         jobs,
         only: assets,
+        ..BatchOptions::default()
     };
     let control = Control::new();
     let watchers = Watchers {

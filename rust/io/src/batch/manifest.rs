@@ -12,7 +12,15 @@
 //! [assets.head_usd]
 //! scene = "head/head.usda"
 //! resolution = 1024
+//!
+//! [assets.crowd]
+//! scene = "crowd/crowd.gltf"
+//! split = "objects"
 //! ```
+//!
+//! `split` says how a farm bakes the asset: `"objects"`, one task per
+//! object and an assembly; `"whole"`, one task; left out, by the plan's
+//! work ([`super::split`]).
 //!
 //! An asset's name is its output folder, so two assets never share one,
 //! whatever their files or objects are called. Paths are relative to the
@@ -43,6 +51,18 @@ pub struct Asset {
     pub scene: PathBuf,
     /// Its options over the manifest's defaults, paths resolved.
     pub options: BakeOptions,
+    /// How a farm bakes it; `None` decides by the plan's work.
+    pub split: Option<Split>,
+}
+
+/// How a farm bakes an asset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Split {
+    /// One task per object, then an assembly (for an asset of several objects).
+    Objects,
+    /// One task for the whole asset.
+    Whole,
 }
 
 /// A manifest's text as written.
@@ -107,12 +127,22 @@ impl Manifest {
                 Some(_) => return Err(bad(Some(&name), "scene: must be a file path".into())),
                 None => return Err(bad(Some(&name), "has no scene (the file to bake)".into())),
             };
+            let split = match table.remove("split") {
+                None => None,
+                Some(value) => Some(Split::deserialize(value).map_err(|_| {
+                    bad(
+                        Some(&name),
+                        "split: must be \"objects\" or \"whole\"".into(),
+                    )
+                })?),
+            };
             let own = BakeOptions::deserialize(toml::Value::Table(table))
                 .map_err(|e| bad(Some(&name), e.message().trim().to_string()))?;
             assets.push(Asset {
                 name,
                 scene,
                 options: own.or(&parsed.defaults).relative_to(folder),
+                split,
             });
         }
         Ok(Manifest {
@@ -171,6 +201,24 @@ mod tests {
         assert!(
             error.contains("line 4") && error.contains("defualts"),
             "{error}"
+        );
+    }
+
+    #[test]
+    fn an_assets_split_is_read_and_a_wrong_one_refused_naming_the_asset() {
+        let manifest = parse(
+            "[assets.a]\nscene = \"a.gltf\"\nsplit = \"objects\"\n\
+             [assets.b]\nscene = \"b.gltf\"\nsplit = \"whole\"\n\
+             [assets.c]\nscene = \"c.gltf\"\n",
+        )
+        .unwrap();
+        let splits: Vec<Option<Split>> = manifest.assets.iter().map(|a| a.split).collect();
+        assert_eq!(splits, [Some(Split::Objects), Some(Split::Whole), None]);
+        let error = parse("[assets.head]\nscene = \"h.gltf\"\nsplit = \"parts\"\n").unwrap_err();
+        let text = error.to_string();
+        assert!(
+            text.contains("assets.head") && text.contains("split"),
+            "{text}"
         );
     }
 

@@ -44,6 +44,21 @@ impl From<&sssbake::Error> for Failure {
     }
 }
 
+impl Failure {
+    /// A panic caught: a bug, with what it said.
+    pub fn internal(panic: Box<dyn std::any::Any + Send>) -> Self {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Failure {
+            kind: "internal".into(),
+            message: format!("internal error (please report it): {what}"),
+        }
+    }
+}
+
 /// One asset's report.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AssetReport {

@@ -3,6 +3,7 @@
 //! a failing asset does not stop the others; `jobs` assets at once, the
 //! threads split between them.
 
+use super::assemble::assemble_into;
 use super::fingerprint::{Fingerprint, fingerprint};
 use super::manifest::{Asset, Manifest};
 use super::report::{
@@ -34,6 +35,9 @@ pub struct BatchOptions {
     /// Only these assets (by name); every asset when empty. A run of some
     /// assets writes their reports but not the batch's.
     pub only: Vec<String>,
+    /// Build each asset's folder from its objects' parts
+    /// ([`super::parts`]) instead of baking it.
+    pub assemble: bool,
 }
 
 /// Runs `manifest` as `options` say and writes the reports; `done` hears
@@ -186,7 +190,11 @@ fn run_asset(asset: &Asset, options: &BatchOptions) -> AssetReport {
             return Ok(Status::Skipped);
         }
         refuse_input_inside(&folder, &print)?;
-        let summary = bake_into(asset, &folder, &options.out, &print)?;
+        let summary = if options.assemble {
+            assemble_into(asset, &folder, &options.out, &print)?
+        } else {
+            bake_into(asset, &folder, &options.out, &print)?
+        };
         report.files = files_in(&folder);
         report.summary = serde_json::to_value(&summary).ok();
         Ok(Status::Baked)
@@ -194,17 +202,7 @@ fn run_asset(asset: &Asset, options: &BatchOptions) -> AssetReport {
     match outcome {
         Ok(Ok(status)) => report.status = status,
         Ok(Err(error)) => report.error = Some(Failure::from(&error)),
-        Err(panic) => {
-            let what = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_default();
-            report.error = Some(Failure {
-                kind: "internal".into(),
-                message: format!("internal error (please report it): {what}"),
-            });
-        }
+        Err(panic) => report.error = Some(Failure::internal(panic)),
     }
     report.seconds = start.elapsed().as_secs_f64();
     report
@@ -239,7 +237,7 @@ fn bake_into(
 /// there: the old folder is moved aside first and removed after, so
 /// `folder` holds one bake's files or none, never a mix. If the move
 /// fails the old folder comes back.
-fn place(staged: PathBuf, folder: &Path) -> Result<(), Error> {
+pub(super) fn place(staged: PathBuf, folder: &Path) -> Result<(), Error> {
     let cannot = |e: std::io::Error| {
         let _ = std::fs::remove_dir_all(&staged);
         Error::output(
@@ -259,7 +257,10 @@ fn place(staged: PathBuf, folder: &Path) -> Result<(), Error> {
         .keep();
     // The empty directory is there to reserve the name; a rename onto an
     // empty directory replaces it.
-    std::fs::rename(folder, &aside).map_err(cannot)?;
+    if let Err(e) = std::fs::rename(folder, &aside) {
+        let _ = std::fs::remove_dir(&aside);
+        return Err(cannot(e));
+    }
     if let Err(e) = std::fs::rename(&staged, folder) {
         let _ = std::fs::rename(&aside, folder);
         return Err(cannot(e));
@@ -298,13 +299,13 @@ fn refuse_input_inside(folder: &Path, print: &Fingerprint) -> Result<(), Error> 
 }
 
 /// The fingerprint recorded in `folder` by its last bake, if any.
-fn recorded(folder: &Path) -> Option<Fingerprint> {
+pub(super) fn recorded(folder: &Path) -> Option<Fingerprint> {
     let bytes = std::fs::read(folder.join(RECORD)).ok()?;
     serde_json::from_slice(&bytes).ok()
 }
 
 /// The files in `folder`, sorted, without hidden ones.
-fn files_in(folder: &Path) -> Vec<String> {
+pub(super) fn files_in(folder: &Path) -> Vec<String> {
     let mut files: Vec<String> = std::fs::read_dir(folder)
         .into_iter()
         .flatten()
@@ -317,7 +318,7 @@ fn files_in(folder: &Path) -> Vec<String> {
 }
 
 /// Writes `report` as pretty JSON to `path`, whole or not at all.
-fn write_report(path: &Path, report: &impl serde::Serialize) -> Result<(), Error> {
+pub(super) fn write_report(path: &Path, report: &impl serde::Serialize) -> Result<(), Error> {
     let bytes = serde_json::to_vec_pretty(report)
         .map_err(|e| Error::output(path.display(), format!("cannot write: {e}")))?;
     write_atomically(path, &bytes)
