@@ -225,9 +225,7 @@ fn add_geometry(document: &mut Value, baked: &[Baked], file: &str) -> Option<Vec
 /// primitives at it.
 fn show_bake(document: &mut Value, baked: &[Baked]) -> Result<(), String> {
     for b in baked {
-        let mesh = document["nodes"][b.node]["mesh"]
-            .as_u64()
-            .ok_or_else(|| format!("node {} has no mesh", b.node))? as usize;
+        let mesh = own_mesh(document, b.node)?;
         let image = push(
             document,
             "images",
@@ -266,6 +264,26 @@ fn show_bake(document: &mut Value, baked: &[Baked]) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The mesh of `node`, made its own: a mesh other nodes also show (an
+/// instance) is copied for it, so its baked material shows on it alone
+/// (each instance has its own bake) and the other nodes keep theirs. The
+/// copy names the same accessors; no geometry is duplicated.
+fn own_mesh(document: &mut Value, node: usize) -> Result<usize, String> {
+    let mesh = document["nodes"][node]["mesh"]
+        .as_u64()
+        .ok_or_else(|| format!("node {node} has no mesh"))? as usize;
+    let shown_by = document["nodes"].as_array().map_or(0, |nodes| {
+        nodes.iter().filter(|n| n["mesh"] == json!(mesh)).count()
+    });
+    if shown_by < 2 {
+        return Ok(mesh);
+    }
+    let copy = document["meshes"][mesh].clone();
+    let own = push(document, "meshes", copy);
+    document["nodes"][node]["mesh"] = json!(own);
+    Ok(own)
 }
 
 /// The material of a baked object whose emissive PNG is `texture`: it

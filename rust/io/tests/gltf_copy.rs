@@ -268,3 +268,66 @@ fn a_copy_of_a_file_without_extensions_lists_the_ones_it_uses_and_requires_none(
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Two nodes showing one mesh (instances) are two objects, each with its
+/// own bake: each shows its own look, and a third instance that was not
+/// baked keeps the input's material.
+#[test]
+fn instances_of_one_mesh_each_show_their_own_bake() {
+    let dir = scratch("instances");
+    let bytes = triangle_bytes();
+    std::fs::write(dir.join("tri.bin"), &bytes).unwrap();
+    let mut document = triangle_document(
+        json!({"uri": "tri.bin", "byteLength": bytes.len()}),
+        json!([]),
+    );
+    document["materials"] = json!([{"name": "Skin"}]);
+    document["meshes"][0]["primitives"][0]["material"] = json!(0);
+    document["nodes"] = json!([
+        {"name": "Tile", "mesh": 0},
+        {"name": "Copy", "mesh": 0, "translation": [2, 0, 0]},
+        {"name": "Unbaked", "mesh": 0, "translation": [4, 0, 0]}
+    ]);
+    document["scenes"] = json!([{"nodes": [0, 1, 2]}]);
+    let input = dir.join("tri.gltf");
+    std::fs::write(&input, serde_json::to_vec(&document).unwrap()).unwrap();
+
+    let tile = baked("Tile_diffuse_emissive.png");
+    let copy_of_tile = Baked {
+        node: 1,
+        object: "Copy".into(),
+        ..baked("Copy_diffuse_emissive.png")
+    };
+    let files = gltf_copy(&input, &[tile, copy_of_tile]).unwrap();
+    let copy: Value = serde_json::from_slice(file(&files, "tri.gltf")).unwrap();
+    let shown = |node: usize| {
+        let mesh = copy["nodes"][node]["mesh"].as_u64().unwrap() as usize;
+        let material = copy["meshes"][mesh]["primitives"][0]["material"]
+            .as_u64()
+            .unwrap() as usize;
+        let material = &copy["materials"][material];
+        let image = material["emissiveTexture"]["index"]
+            .as_u64()
+            .map(|t| copy["images"][copy["textures"][t as usize]["source"].as_u64().unwrap() as usize]["uri"].clone());
+        (material["name"].clone(), image)
+    };
+    assert_eq!(
+        shown(0),
+        (
+            json!("Tile (sssbake)"),
+            Some(json!("Tile_diffuse_emissive.png"))
+        )
+    );
+    assert_eq!(
+        shown(1),
+        (
+            json!("Copy (sssbake)"),
+            Some(json!("Copy_diffuse_emissive.png"))
+        )
+    );
+    assert_eq!(shown(2), (json!("Skin"), None));
+    // The copies name the input's accessors: no geometry is duplicated.
+    assert_eq!(copy["accessors"].as_array().unwrap().len(), 2);
+    assert_eq!(copy["meshes"].as_array().unwrap().len(), 3);
+    let _ = std::fs::remove_dir_all(&dir);
+}
