@@ -159,10 +159,16 @@ impl ObliqueKernel {
     }
 
     /// The annulus holding `r` mm in channel `c`, if any.
-    fn annulus(&self, c: usize, r: f64) -> Option<usize> {
+    pub fn annulus(&self, c: usize, r: f64) -> Option<usize> {
         let edges = &self.channels[c].edges_mm;
         let i = edges.partition_point(|&e| e <= r.max(0.0));
         (i >= 1 && i < edges.len()).then(|| i - 1)
+    }
+
+    /// Node `node`'s harmonics over annulus `b` of channel `c` (see
+    /// [`Self::annulus`]), 1/mm² per unit flux entering.
+    pub fn harmonics_in(&self, node: usize, c: usize, b: usize) -> &Harmonics {
+        &self.channels[c].harmonics[node][b]
     }
 
     /// Node `node`'s harmonics at `r` mm in channel `c`, 1/mm² per unit

@@ -11,6 +11,7 @@ mod exact_sum_tests;
 pub mod importance;
 pub mod integrator;
 pub mod kernel;
+pub mod oblique_sum;
 pub mod octree;
 mod source_table;
 pub mod sources;
