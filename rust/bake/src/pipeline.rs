@@ -346,18 +346,21 @@ impl Prepared {
             .collect()
     }
 
+    /// True when the light can be split by incidence for an oblique
+    /// kernel ([`Self::incidence`] gives it).
+    pub fn splits_by_incidence(&self) -> bool {
+        self.lights.is_some() && self.irradiance.len() == self.surfels.len()
+    }
+
     /// The light entering each texel split by incidence (after the colour
     /// split's first part, as [`Self::entering`]), for an oblique kernel;
     /// `None` when the material has none or the light is an irradiance
     /// image (no direction to split by). Gathered on first use, with
     /// the same samples as the irradiance.
     pub fn incidence(&self, control: &Control) -> Result<Option<&[IncidentHarmonics]>, Cancelled> {
-        let Some(lights) = &self.lights else {
+        let Some(lights) = self.lights.as_ref().filter(|_| self.splits_by_incidence()) else {
             return Ok(None);
         };
-        if self.irradiance.len() != self.surfels.len() {
-            return Ok(None);
-        }
         if self.incidence.get().is_none() {
             let surfels = &self.surfels;
             let mut split = incident_harmonics(

@@ -34,9 +34,9 @@ pub const INCIDENCE_NODES: [f64; 6] = [0.0, 0.2, 0.4, 0.6, 0.8, 1.0];
 pub const HARMONICS_TALLIED: usize = 9;
 /// Harmonics the kernel keeps, m₀ … m₄. Near the entry point the exitance
 /// of an oblique beam is a narrow forward lobe (m₁ above m₀ within a mean
-/// free path), so the series converges slowly: with m₀ and m₁ alone the
-/// kernel misplaces 31–68% of the light (L1, at 60°: marble, skin1,
-/// ketchup), with m₀ … m₄ 2–4% (6% for ketchup at 85°), about the
+/// free path), so the series converges slowly: at 60° the azimuthal mean
+/// m₀ alone misplaces 31–68% of the light (L1: marble, skin1, ketchup),
+/// m₀ and m₁ 12–34%, m₀ … m₄ 2–4% (6% for ketchup at 85°), about the
 /// tallies' own noise at 2·10⁵ photons (README, "The empirical model at
 /// oblique incidence").
 pub const HARMONICS_KEPT: usize = 5;
@@ -63,6 +63,54 @@ pub struct ObliqueTally {
     pub centroid: f64,
     /// Its standard error (ratio estimate, first order).
     pub centroid_stderr: f64,
+}
+
+impl ObliqueTally {
+    /// The share of the light a kernel keeping harmonics m₀ … m_{kept−1}
+    /// puts in the wrong place: ∫ |Σ_{k ≥ kept} m_k cos kθ_s| dA over the
+    /// total, on annuli `edges_mfp` (the tallies' own), θ_s on 360 points.
+    /// Noise in the tallied harmonics adds to it; [`Self::noise_share`] is
+    /// that floor.
+    pub fn misplaced_share(&self, edges_mfp: &[f64], kept: usize) -> f64 {
+        const POINTS: usize = 360;
+        let mut dropped = 0.0;
+        let mut total = 0.0;
+        for (m, e) in self.harmonics.iter().zip(edges_mfp.windows(2)) {
+            let area = PI * (e[1] * e[1] - e[0] * e[0]);
+            total += area * m[0];
+            let mean_abs = (0..POINTS)
+                .map(|i| {
+                    let theta = (i as f64 + 0.5) / POINTS as f64 * 2.0 * PI;
+                    (kept..HARMONICS_TALLIED)
+                        .map(|k| m[k] * (k as f64 * theta).cos())
+                        .sum::<f64>()
+                        .abs()
+                })
+                .sum::<f64>()
+                / POINTS as f64;
+            dropped += area * mean_abs;
+        }
+        if total > 0.0 { dropped / total } else { 0.0 }
+    }
+
+    /// The same sum over the standard errors in place of the harmonics
+    /// (each error with a random sign): what noise alone misplaces.
+    pub fn noise_share(&self, edges_mfp: &[f64], kept: usize) -> f64 {
+        // E|Σ e_k cos kθ ε_k| ≈ √(2/π) · RMS, the RMS being √(Σ e_k²/2).
+        let mut dropped = 0.0;
+        let mut total = 0.0;
+        let errors = self.harmonics_stderr.iter().zip(edges_mfp.windows(2));
+        for (m, (e, edge)) in self.harmonics.iter().zip(errors) {
+            let area = PI * (edge[1] * edge[1] - edge[0] * edge[0]);
+            total += area * m[0];
+            let rms = (kept..HARMONICS_TALLIED)
+                .map(|k| e[k] * e[k] / 2.0)
+                .sum::<f64>()
+                .sqrt();
+            dropped += area * (2.0 / PI).sqrt() * rms;
+        }
+        if total > 0.0 { dropped / total } else { 0.0 }
+    }
 }
 
 /// A channel's tallies at every incidence node.
