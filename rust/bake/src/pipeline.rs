@@ -460,6 +460,21 @@ impl Prepared {
         image
     }
 
+    /// For each texel of the N × N layout, row-major with y growing with
+    /// v, the surfel it holds or copies (the same dilation as
+    /// [`Self::entering_texture`]); `u32::MAX` where none.
+    pub fn surfel_texture(&self) -> Vec<u32> {
+        let n = self.surfels.resolution as usize;
+        let mut image = vec![u32::MAX; n * n];
+        for (s, &t) in self.surfels.texel.iter().enumerate() {
+            image[t as usize] = s as u32;
+        }
+        for &(to, from) in &self.dilation().offsets {
+            image[to as usize] = image[from as usize];
+        }
+        image
+    }
+
     /// Exitance `m` at texel `i` with the colour split's second part
     /// applied: C^(1 − α).
     pub fn after_scattering(&self, i: usize, m: [f32; 3]) -> [f32; 3] {

@@ -97,9 +97,10 @@ impl ExitanceKernel {
         }
     }
 
-    /// Methods that integrate an oblique kernel per light: the exact sum.
+    /// Methods that integrate an oblique kernel per light: the exact sum
+    /// and importance sampling.
     pub fn takes_oblique(method: Method) -> bool {
-        method == Method::Brute
+        matches!(method, Method::Brute | Method::Importance)
     }
 
     /// In words, for the summary.

@@ -190,9 +190,26 @@ fn pair(kernel: &ObliqueKernel, lit: &Lit, j: usize, d: Vec3, harmonics: usize) 
 
 /// The kernel of source `j`'s light (per unit area) at offset `d`.
 fn point(kernel: &ObliqueKernel, lit: &Lit, j: usize, d: Vec3, harmonics: usize) -> [f64; 3] {
+    let nodes = lit.nodes[lit.runs[j].clone()]
+        .iter()
+        .map(|n| (n.node, &n.light));
+    light_at(kernel, nodes, lit.normal[j], lit.frame[j], d, harmonics)
+}
+
+/// The kernel per unit area of light entering at a point of unit normal
+/// `n` and tangent frame `frame` ([`frame`]), split by incidence into
+/// `nodes` (node, components), read at offset `d` (exit − entry) with the
+/// first `harmonics` harmonics.
+pub(crate) fn light_at<'a>(
+    kernel: &ObliqueKernel,
+    nodes: impl Iterator<Item = (usize, &'a [[f32; 3]; COMPONENTS])> + Clone,
+    n: Vec3,
+    frame: (Vec3, Vec3),
+    d: Vec3,
+    harmonics: usize,
+) -> [f64; 3] {
     let r = d.length() as f64;
-    let n = lit.normal[j];
-    let (u, v) = lit.frame[j];
+    let (u, v) = frame;
     let along = d - n * d.dot(n);
     let direction = Vec2::new(along.dot(u), along.dot(v));
     let unit = direction.try_normalize().unwrap_or(Vec2::X).as_dvec2();
@@ -207,11 +224,11 @@ fn point(kernel: &ObliqueKernel, lit: &Lit, j: usize, d: Vec3, harmonics: usize)
         let Some(b) = kernel.annulus(c, r) else {
             continue;
         };
-        for node in &lit.nodes[lit.runs[j].clone()] {
-            let m = kernel.harmonics_in(node.node, c, b);
-            let mut v = m[0] * node.light[0][c] as f64;
+        for (node, light) in nodes.clone() {
+            let m = kernel.harmonics_in(node, c, b);
+            let mut v = m[0] * light[0][c] as f64;
             for (k, &(cos_k, sin_k)) in turns.iter().enumerate().take(harmonics).skip(1) {
-                let (cw, sw) = (node.light[2 * k - 1][c], node.light[2 * k][c]);
+                let (cw, sw) = (light[2 * k - 1][c], light[2 * k][c]);
                 v += m[k] * (cw as f64 * cos_k + sw as f64 * sin_k);
             }
             *o += v;
