@@ -10,9 +10,10 @@ use crate::pipeline::{Prepared, prepare};
 use crate::plan::{ObjectPlan, Plan};
 use crate::request::BakeRequest;
 use crate::scene::Scene;
+use crate::transport::ExitanceKernel;
+use crate::transport::Method;
 use crate::transport::choice;
 use crate::transport::verify::{ErrorEstimate, estimate_error};
-use crate::transport::{ExitanceKernel, Method};
 use serde::Serialize;
 use std::fmt;
 use std::time::Instant;
@@ -77,10 +78,12 @@ pub struct Accuracy {
     /// Methods `auto` ran and set aside for missing the tolerance.
     pub set_aside: Vec<SetAside>,
     /// The kernel the maps' exitance was integrated with.
+    #[serde(default)]
     pub kernel: ExitanceKernel,
     /// The kernel of the exact sum the estimate compares against: the
     /// oblique one wherever the model has it and the light has directions,
     /// so an azimuthal-mean method's estimate counts what it misses.
+    #[serde(default)]
     pub reference_kernel: ExitanceKernel,
 }
 

@@ -70,10 +70,11 @@ impl Method {
 }
 
 /// Which kernel an object's exitance was integrated with.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ExitanceKernel {
     /// The model's radially symmetric profile (it has no other).
+    #[default]
     Radial,
     /// The model's oblique kernel, each light at its own incidence and
     /// azimuth (the empirical model under scene lights, by a method that
