@@ -192,3 +192,53 @@ fn truncation_after_four_harmonics_is_near_the_noise() {
         }
     }
 }
+
+/// On extreme inputs (no scattering, a huge or zero extinction, angles
+/// and radii out of range, NaN) every number the kernel gives is finite
+/// and non-negative where physics says so.
+#[test]
+fn the_kernel_is_finite_on_extreme_inputs() {
+    for (sigma_a, sigma_s) in [(1.0, 0.0), (1e-9, 1e6), (0.0, 0.0), (1e6, 1e-6)] {
+        let mut material = top_layer("skin1");
+        if let Optics::Layers(layers) = &mut material.optics {
+            layers[0].sigma_a = [sigma_a; 3];
+            layers[0].sigma_s = [sigma_s; 3];
+        }
+        let settings = EmpiricalSettings {
+            photons: 2_000,
+            ..EmpiricalSettings::default()
+        };
+        let profile = EmpiricalProfile::simulate(&material, &settings).unwrap();
+        let top = &material.layers().unwrap()[0];
+        let oblique = [0, 1, 2].map(|c| {
+            let edges = profile.slices()[c].edges_mfp.clone();
+            ObliqueSlice::simulate(SliceOptics::of(top, c), edges, 2_000, 1, c as u64)
+        });
+        let kernel = ObliqueKernel::new(&material, &profile, &oblique).unwrap();
+        for cos in [1.0, 0.5, 0.0, -1.0, 2.0, f64::NAN] {
+            for r in [0.0, 1e-6, 0.3, 1e9, f64::INFINITY, -1.0, f64::NAN] {
+                for theta in [0.0, 1.0, std::f64::consts::PI, f64::NAN] {
+                    let e = kernel.exitance(1, r, theta, cos);
+                    assert!(
+                        e.is_finite() && e >= 0.0,
+                        "{sigma_a} {sigma_s}: E({r}, {theta}; {cos}) = {e}"
+                    );
+                }
+                let enclosed = kernel.enclosed(0, 1, r);
+                assert!(enclosed.is_finite() && enclosed >= 0.0);
+            }
+            let total = kernel.total(1, cos);
+            assert!(
+                total.is_finite() && (0.0..=1.0 + 1e-9).contains(&total),
+                "total {total}"
+            );
+            assert!(kernel.centroid(1, cos).is_finite());
+        }
+        assert!(
+            kernel
+                .truncation_error()
+                .iter()
+                .all(|t| t.is_finite() && *t >= 0.0)
+        );
+    }
+}
