@@ -185,6 +185,7 @@ fn main() {
         probes: &probes,
         irradiance: &texture,
         resolution: prepared.surfels.resolution,
+        oblique: None,
     };
     for samples in [64u32, 256] {
         let start = Instant::now();

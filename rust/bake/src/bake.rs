@@ -10,6 +10,7 @@ use crate::pipeline::{Prepared, prepare};
 use crate::plan::{ObjectPlan, Plan};
 use crate::request::BakeRequest;
 use crate::scene::Scene;
+use crate::transport::ExitanceKernel;
 use crate::transport::Method;
 use crate::transport::choice;
 use crate::transport::verify::{ErrorEstimate, estimate_error};
@@ -76,6 +77,14 @@ pub struct Accuracy {
     pub octree_epsilon: Option<f32>,
     /// Methods `auto` ran and set aside for missing the tolerance.
     pub set_aside: Vec<SetAside>,
+    /// The kernel the maps' exitance was integrated with.
+    #[serde(default)]
+    pub kernel: ExitanceKernel,
+    /// The kernel of the exact sum the estimate compares against: the
+    /// oblique one wherever the model has it and the light has directions,
+    /// so an azimuthal-mean method's estimate counts what it misses.
+    #[serde(default)]
+    pub reference_kernel: ExitanceKernel,
 }
 
 /// A method `auto` ran and set aside.
@@ -120,6 +129,7 @@ fn scatter(
     );
     let mut set_aside = Vec::new();
     let mut seconds = 0.0;
+    let (oblique, directions) = (scattering.oblique.is_some(), prepared.splits_by_incidence());
     let mut integrators = request.integrators.clone();
     let mut refined = false;
     loop {
@@ -171,6 +181,8 @@ fn scatter(
                     seconds,
                     sources: integration.sources,
                     accuracy: Accuracy {
+                        kernel: ExitanceKernel::of(method, oblique, directions),
+                        reference_kernel: ExitanceKernel::of(Method::Brute, oblique, directions),
                         method,
                         octree_epsilon: epsilon,
                         estimated_error: estimate.relative_rmse,
@@ -400,6 +412,9 @@ impl fmt::Display for Summary {
                         aside.seconds
                     )?;
                 }
+                if a.kernel != ExitanceKernel::Radial {
+                    writeln!(f, "{}: exitance by {}", p.name, a.kernel.describe())?;
+                }
                 if a.method == Method::Brute {
                     writeln!(f, "{}: {}: the exact sum", p.name, a.method)?;
                 } else {
@@ -411,11 +426,16 @@ impl fmt::Display for Summary {
                     };
                     writeln!(
                         f,
-                        "{}: {}{}: estimated error {:.2}% (relative RMSE against the exact sum at {} texels){over}",
+                        "{}: {}{}: estimated error {:.2}% (relative RMSE against the {}exact sum at {} texels){over}",
                         p.name,
                         a.method,
                         at_epsilon(a.octree_epsilon),
                         100.0 * a.estimated_error,
+                        if a.reference_kernel == ExitanceKernel::Oblique {
+                            "oblique "
+                        } else {
+                            ""
+                        },
                         a.texels_checked
                     )?;
                 }

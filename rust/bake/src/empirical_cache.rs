@@ -4,18 +4,25 @@
 //! (the optics, photons, seed, grid and this code's version) and holding
 //! that key in full, so a stale or colliding file is fitted anew. A slice
 //! does not depend on σt, so media that differ only in scale share it.
+//! The oblique-incidence tallies of each channel
+//! ([`sssbake_profile::empirical_oblique`]) are kept the same way, keyed
+//! by the same optics and annuli.
 
 use crate::monte_carlo_cache::{cached, file_for};
 use sssbake_profile::Material;
 use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings, Slice, SliceOptics};
+use sssbake_profile::empirical_kernel::ObliqueKernel;
+use sssbake_profile::empirical_oblique::{DEFAULT_OBLIQUE_PHOTONS, ObliqueSlice};
 use std::path::{Path, PathBuf};
 
 /// Changes whenever the simulation or the fit change meaning without the
 /// crate's version changing.
-const FORMAT: u32 = 2;
+const FORMAT: u32 = 3;
 
 /// The name the slices' files start with.
 const KIND: &str = "empirical";
+/// The name the oblique tallies' files start with.
+const OBLIQUE_KIND: &str = "empirical-oblique";
 
 /// Everything that decides one channel's slice, as text.
 fn key_text(optics: &SliceOptics, settings: &EmpiricalSettings, channel: usize) -> String {
@@ -69,5 +76,43 @@ fn slice_is_physical(slice: &Slice) -> bool {
         ]
         .iter()
         .all(|v| v.is_finite() && *v >= 0.0)
+    })
+}
+
+/// The oblique-incidence kernel of `material` over its normal-incidence
+/// `profile`, each channel's tallies ([`DEFAULT_OBLIQUE_PHOTONS`] photons
+/// per incidence node, the seed of `settings`) read from `dir` when
+/// simulated before, else simulated and stored there.
+pub fn empirical_oblique_kernel(
+    material: &Material,
+    profile: &EmpiricalProfile,
+    settings: &EmpiricalSettings,
+    dir: Option<&Path>,
+) -> Result<ObliqueKernel, String> {
+    let top = material
+        .layers()
+        .and_then(|l| l.first())
+        .ok_or("a measured sum of Gaussians has no optical coefficients")?;
+    let oblique = [0, 1, 2].map(|c| {
+        let optics = SliceOptics::of(top, c);
+        let edges = profile.slices()[c].edges_mfp.clone();
+        let key = format!(
+            "sssbake {} empirical oblique format {FORMAT}\noptics {optics:?}\nedges {edges:?}\nphotons {DEFAULT_OBLIQUE_PHOTONS} seed {}\nchannel {c}",
+            env!("CARGO_PKG_VERSION"),
+            settings.seed,
+        );
+        cached(dir, OBLIQUE_KIND, key, oblique_is_physical, || {
+            ObliqueSlice::simulate(optics, edges, DEFAULT_OBLIQUE_PHOTONS, settings.seed, c as u64)
+        })
+    });
+    ObliqueKernel::new(material, profile, &oblique)
+}
+
+/// True when every tallied harmonic is finite and every mean non-negative.
+fn oblique_is_physical(slice: &ObliqueSlice) -> bool {
+    slice.nodes.iter().all(|n| {
+        n.harmonics
+            .iter()
+            .all(|m| m.iter().all(|v| v.is_finite()) && m[0] >= 0.0)
     })
 }

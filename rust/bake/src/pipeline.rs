@@ -2,12 +2,13 @@
 //! texels, made while planning), its light (the irradiance entering every
 //! texel), and the integration of the exitance by any [`Integrator`].
 
-use crate::control::Control;
+use crate::control::{Cancelled, Control};
 use crate::error::{Error, InputError};
 use crate::image::Image;
 use crate::irradiance::emitters::Emitter;
 use crate::irradiance::entry::EntryTransmittance;
 use crate::irradiance::environment::EnvironmentMap;
+use crate::irradiance::incidence::{IncidentHarmonics, incident_harmonics};
 use crate::irradiance::{IrradianceSettings, Receivers, transmitted_irradiance};
 use crate::mesh::Mesh;
 use crate::rays::RayScene;
@@ -171,6 +172,21 @@ pub struct Prepared {
     colour_split: f32,
     dilation: OnceLock<SeamAwareDilation>,
     seconds: f64,
+    /// The lights and scene kept for splitting the light by incidence,
+    /// when the material has an oblique kernel and scene lights light it.
+    lights: Option<SceneLighting>,
+    /// The light split by incidence, made on first use.
+    incidence: OnceLock<Vec<IncidentHarmonics>>,
+}
+
+/// What the irradiance was gathered from, kept for
+/// [`Prepared::incidence`].
+struct SceneLighting {
+    mesh: u32,
+    rays: RayScene,
+    emitters: Vec<Emitter>,
+    entry: EntryTransmittance,
+    settings: IrradianceSettings,
 }
 
 /// The layout's fields read straight through a prepared object.
@@ -202,6 +218,7 @@ pub fn prepare(
     } else {
         vec![[1.0; 3]; count]
     };
+    let mut lights = None;
     let irradiance = if !lit {
         Vec::new()
     } else {
@@ -232,22 +249,33 @@ pub fn prepare(
                     })
                     .collect();
                 let surfels = &layout.surfels;
-                transmitted_irradiance(
+                let kept = SceneLighting {
+                    mesh: index as u32,
+                    rays: RayScene::new(&meshes),
+                    emitters,
+                    entry: EntryTransmittance::of_surface(&scattering.surface),
+                    settings: IrradianceSettings {
+                        samples: request.light_samples,
+                        shadows: true,
+                    },
+                };
+                let irradiance = transmitted_irradiance(
                     Receivers {
-                        mesh: index as u32,
+                        mesh: kept.mesh,
                         position: &surfels.position,
                         normal: &surfels.normal,
                         triangle: &surfels.triangle,
                     },
-                    &emitters,
-                    &RayScene::new(&meshes),
-                    &EntryTransmittance::of_surface(&scattering.surface),
-                    &IrradianceSettings {
-                        samples: request.light_samples,
-                        shadows: true,
-                    },
+                    &kept.emitters,
+                    &kept.rays,
+                    &kept.entry,
+                    &kept.settings,
                     control,
-                )?
+                )?;
+                if scattering.oblique.is_some() {
+                    lights = Some(kept);
+                }
+                irradiance
             }
         }
     };
@@ -258,6 +286,8 @@ pub fn prepare(
         colour_split: request.colour_split.clamp(0.0, 1.0),
         dilation: OnceLock::new(),
         seconds: start.elapsed().as_secs_f64(),
+        lights,
+        incidence: OnceLock::new(),
     })
 }
 
@@ -314,6 +344,50 @@ impl Prepared {
             .zip(&self.colour)
             .map(|(e, c)| [0, 1, 2].map(|k| e[k] * c[k].powf(alpha)))
             .collect()
+    }
+
+    /// True when the light can be split by incidence for an oblique
+    /// kernel ([`Self::incidence`] gives it).
+    pub fn splits_by_incidence(&self) -> bool {
+        self.lights.is_some() && self.irradiance.len() == self.surfels.len()
+    }
+
+    /// The light entering each texel split by incidence (after the colour
+    /// split's first part, as [`Self::entering`]), for an oblique kernel;
+    /// `None` when the material has none or the light is an irradiance
+    /// image (no direction to split by). Gathered on first use, with
+    /// the same samples as the irradiance.
+    pub fn incidence(&self, control: &Control) -> Result<Option<&[IncidentHarmonics]>, Cancelled> {
+        let Some(lights) = self.lights.as_ref().filter(|_| self.splits_by_incidence()) else {
+            return Ok(None);
+        };
+        if self.incidence.get().is_none() {
+            let surfels = &self.surfels;
+            let mut split = incident_harmonics(
+                Receivers {
+                    mesh: lights.mesh,
+                    position: &surfels.position,
+                    normal: &surfels.normal,
+                    triangle: &surfels.triangle,
+                },
+                &lights.emitters,
+                &lights.rays,
+                &lights.entry,
+                &lights.settings,
+                control,
+            )?;
+            let alpha = self.colour_split;
+            for (h, colour) in split.iter_mut().zip(&self.colour) {
+                let scale = colour.map(|c| c.powf(alpha));
+                for v in h.iter_mut().flatten() {
+                    for k in 0..3 {
+                        v[k] *= scale[k];
+                    }
+                }
+            }
+            let _ = self.incidence.set(split);
+        }
+        Ok(self.incidence.get().map(Vec::as_slice))
     }
 
     /// The texels as sources of light.
@@ -379,6 +453,21 @@ impl Prepared {
         let mut image = vec![[0.0f32; 3]; n * n];
         for (s, e) in self.entering().into_iter().enumerate() {
             image[self.surfels.texel[s] as usize] = e;
+        }
+        for &(to, from) in &self.dilation().offsets {
+            image[to as usize] = image[from as usize];
+        }
+        image
+    }
+
+    /// For each texel of the N × N layout, row-major with y growing with
+    /// v, the surfel it holds or copies (the same dilation as
+    /// [`Self::entering_texture`]); `u32::MAX` where none.
+    pub fn surfel_texture(&self) -> Vec<u32> {
+        let n = self.surfels.resolution as usize;
+        let mut image = vec![u32::MAX; n * n];
+        for (s, &t) in self.surfels.texel.iter().enumerate() {
+            image[t as usize] = s as u32;
         }
         for &(to, from) in &self.dilation().offsets {
             image[to as usize] = image[from as usize];

@@ -1,12 +1,13 @@
 //! A material's profile and the kernel the integrators read it through,
 //! built once and together, so every stage sees the same reach.
 
-use crate::empirical_cache::empirical_profile;
+use crate::empirical_cache::{empirical_oblique_kernel, empirical_profile};
 use crate::error::Error;
 use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::transport::kernel::Kernel;
 use sssbake_profile::Material;
 use sssbake_profile::empirical::EmpiricalSettings;
+use sssbake_profile::empirical_kernel::ObliqueKernel;
 use sssbake_profile::model::{Model, ModelError, build_profile};
 use sssbake_profile::monte_carlo_profile::ProfileSettings;
 use sssbake_profile::profile::Profile;
@@ -29,6 +30,11 @@ pub struct Scattering {
     /// material's index and roughness, or its Stam top layer under the
     /// `stam` model.
     pub surface: Surface,
+    /// The exitance kernel at oblique incidence, for models that have one
+    /// (`empirical`): the exact sum and importance integrate each light's
+    /// incidence with it; the other integrators, and every model without
+    /// one, use the radially symmetric `profile`.
+    pub oblique: Option<ObliqueKernel>,
 }
 
 impl std::fmt::Debug for Scattering {
@@ -52,6 +58,7 @@ impl Scattering {
         d_max_epsilon: f64,
     ) -> Result<Self, Error> {
         let model = model.unwrap_or_else(|| Model::default_for(&material));
+        let mut oblique = None;
         let profile = if model == Model::MonteCarlo {
             // Simulated once per material and kept on disk.
             let cached = monte_carlo_profile(
@@ -72,7 +79,16 @@ impl Scattering {
                 cache_dir().as_deref(),
             );
             match fitted {
-                Ok(profile) => Box::new(profile) as Box<dyn Profile>,
+                Ok(profile) => {
+                    oblique = empirical_oblique_kernel(
+                        &material,
+                        &profile,
+                        &EmpiricalSettings::default(),
+                        cache_dir().as_deref(),
+                    )
+                    .ok();
+                    Box::new(profile) as Box<dyn Profile>
+                }
                 // The model does not apply: the library says why.
                 Err(_) => build_profile(&material, model, gaussians)?,
             }
@@ -86,6 +102,7 @@ impl Scattering {
         })?;
         Ok(Scattering {
             surface,
+            oblique,
             ..Scattering::from_profile(material, model, profile, d_max_epsilon)
         })
     }
@@ -107,6 +124,7 @@ impl Scattering {
             profile,
             kernel,
             surface,
+            oblique: None,
         }
     }
 

@@ -21,7 +21,7 @@ use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Photons per reproducible stream.
-const CHUNK: u64 = 4096;
+pub(crate) const CHUNK: u64 = 4096;
 /// Below this weight a photon plays Russian roulette...
 const ROULETTE_THRESHOLD: f64 = 1e-4;
 /// ...and survives with this probability, its weight divided by it.
@@ -223,10 +223,40 @@ pub fn simulate(
     }
 }
 
-/// One photon from entry to absorption or exit. Depth z grows downwards.
+/// One photon from entry to absorption or exit, tallied on `grid`.
 fn trace(albedo: f64, g: f64, eta: f64, grid: &Grid, rng: &mut Rng, tally: &mut Tally) {
+    match walk(albedo, g, eta, [0.0, 0.0, 1.0], rng) {
+        Exit::Left {
+            position,
+            direction,
+            weight,
+        } => record(direction, position, eta, grid, weight, tally),
+        Exit::Absorbed => {}
+        Exit::Truncated(weight) => tally.truncated += weight,
+    }
+}
+
+/// How a photon's walk ended.
+pub(crate) enum Exit {
+    /// It left through the surface at `position` (z = 0, mean free paths
+    /// from the entry point) travelling `direction` inside, with `weight`.
+    Left {
+        position: [f64; 3],
+        direction: [f64; 3],
+        weight: f64,
+    },
+    /// Russian roulette ended it.
+    Absorbed,
+    /// It was still alive after the interaction limit, with this weight.
+    Truncated(f64),
+}
+
+/// One photon entering at the origin travelling `start` (unit, z > 0 is
+/// down into the medium), walked to absorption or exit. Depth z grows
+/// downwards.
+pub(crate) fn walk(albedo: f64, g: f64, eta: f64, start: [f64; 3], rng: &mut Rng) -> Exit {
     let mut position = [0.0f64; 3];
-    let mut direction = [0.0, 0.0, 1.0];
+    let mut direction = start;
     let mut weight = 1.0;
     for _ in 0..MAX_INTERACTIONS {
         let step = -rng.uniform_open().ln();
@@ -240,8 +270,11 @@ fn trace(albedo: f64, g: f64, eta: f64, grid: &Grid, rng: &mut Rng, tally: &mut 
                 direction[2] = cos_i;
                 continue;
             }
-            record(direction, position, eta, grid, weight, tally);
-            return;
+            return Exit::Left {
+                position,
+                direction,
+                weight,
+            };
         }
         for (p, d) in position.iter_mut().zip(direction) {
             *p += step * d;
@@ -252,11 +285,11 @@ fn trace(albedo: f64, g: f64, eta: f64, grid: &Grid, rng: &mut Rng, tally: &mut 
             if rng.uniform() < ROULETTE_SURVIVAL {
                 weight /= ROULETTE_SURVIVAL;
             } else {
-                return;
+                return Exit::Absorbed;
             }
         }
     }
-    tally.truncated += weight;
+    Exit::Truncated(weight)
 }
 
 /// Tallies a photon leaving at `position` (on the surface) travelling

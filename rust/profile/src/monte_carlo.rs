@@ -76,6 +76,15 @@ pub struct MonteCarlo {
     pub total_transmittance: Rgb,
     /// Its standard error.
     pub total_transmittance_stderr: Rgb,
+    /// Σ weight·x of the diffuse reflectance, mm per unit flux entering,
+    /// x along the beam's horizontal travel direction: over
+    /// `total_reflectance`, how far forward of the entry point the
+    /// reflected light leaves on average (0 at normal incidence).
+    #[serde(default)]
+    pub reflectance_moment_x: Rgb,
+    /// Its standard error.
+    #[serde(default)]
+    pub reflectance_moment_x_stderr: Rgb,
     /// Light leaving the top without scattering (internal reflections only).
     pub unscattered_reflectance: Rgb,
     /// Light leaving the bottom without scattering (ballistic).
@@ -97,6 +106,7 @@ struct Tally {
     transmit: Vec<[f64; 2]>,
     reflect_total: [f64; 2],
     transmit_total: [f64; 2],
+    reflect_moment: [f64; 2],
     unscattered: [f64; 2],
     truncated: f64,
     interactions: u64,
@@ -109,6 +119,7 @@ impl Tally {
             transmit: vec![[0.0; 2]; bins],
             reflect_total: [0.0; 2],
             transmit_total: [0.0; 2],
+            reflect_moment: [0.0; 2],
             unscattered: [0.0; 2],
             truncated: 0.0,
             interactions: 0,
@@ -130,6 +141,7 @@ impl Tally {
             .for_each(|(a, b)| add(a, b));
         add(&mut self.reflect_total, &other.reflect_total);
         add(&mut self.transmit_total, &other.transmit_total);
+        add(&mut self.reflect_moment, &other.reflect_moment);
         add(&mut self.unscattered, &other.unscattered);
         self.truncated += other.truncated;
         self.interactions += other.interactions;
@@ -232,6 +244,10 @@ pub fn simulate_oblique(layers: &[Layer], settings: &Settings, cos_inside: f64) 
             result.total_transmittance[c],
             result.total_transmittance_stderr[c],
         ) = mean_and_error(total.transmit_total);
+        (
+            result.reflectance_moment_x[c],
+            result.reflectance_moment_x_stderr[c],
+        ) = mean_and_error(total.reflect_moment);
         result.unscattered_reflectance[c] = total.unscattered[0] / n;
         result.unscattered_transmittance[c] = total.unscattered[1] / n;
         result.truncated[c] = total.truncated / n;
@@ -312,8 +328,7 @@ fn trace_photon(
                 continue;
             }
             let Some(next) = neighbour else {
-                let radius = position[0].hypot(position[1]);
-                record(tally, edges, downward, radius, weight, scattered);
+                record(tally, edges, downward, position, weight, scattered);
                 return;
             };
             let ratio = slab.ior / n_t;
@@ -354,10 +369,11 @@ fn record(
     tally: &mut Tally,
     edges: &[f64],
     downward: bool,
-    radius: f64,
+    position: [f64; 3],
     weight: f64,
     scattered: bool,
 ) {
+    let radius = position[0].hypot(position[1]);
     if !scattered {
         tally.unscattered[usize::from(downward)] += weight;
         return;
@@ -369,6 +385,11 @@ fn record(
     };
     total[0] += weight;
     total[1] += weight * weight;
+    if !downward {
+        let moment = weight * position[0];
+        tally.reflect_moment[0] += moment;
+        tally.reflect_moment[1] += moment * moment;
+    }
     let bin = edges.partition_point(|&e| e <= radius);
     if bin >= 1 && bin < edges.len() {
         bins[bin - 1][0] += weight;

@@ -5,6 +5,7 @@
 pub mod emitters;
 pub mod entry;
 pub mod environment;
+pub mod incidence;
 pub mod sequence;
 
 use crate::control::{Cancelled, Control, parallel_fill};
@@ -57,49 +58,28 @@ pub fn transmitted_irradiance(
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
     let mut out = vec![[0.0f32; 3]; receivers.position.len()];
-    let lit: Vec<&Emitter> = emitters.iter().filter(|e| !e.is_dark()).collect();
+    let lit = lit(emitters);
     parallel_fill(&mut out, 1024, control, |i| {
-        let p = receivers.position[i];
-        let n = receivers.normal[i];
-        let skip = rays.scene_triangle(receivers.mesh, receivers.triangle[i]);
-        let origin = p + n * rays.epsilon();
         let mut e = [0.0f32; 3];
         for (l, emitter) in lit.iter().enumerate() {
-            let count = if emitter.is_delta() {
-                1
-            } else {
-                settings.samples.max(1)
-            };
-            // Samples alternate between the emitter's strategies; each
-            // strategy draws from its own point set, so none of them sees
-            // only part of the square.
-            let strategies = emitter.strategies();
             let mut sum = [0.0f32; 3];
-            for s in 0..count {
-                let (strategy, j) = (s % strategies, s / strategies);
-                let own = count.div_ceil(strategies);
-                let rotation = sequence::rotation(i as u64, (l as u64) << 8 | strategy as u64);
-                let u = sequence::hammersley(j, own, rotation);
-                let Some(sample) = emitter.sample(p, n, u, strategy) else {
-                    continue;
-                };
-                let cos = sample.direction.dot(n);
-                if cos <= 0.0 {
-                    continue;
-                }
-                if settings.shadows
-                    && emitter.casts_shadow()
-                    && rays.occluded(origin, sample.direction, sample.distance, skip)
-                {
-                    continue;
-                }
-                let entering = entry.at_rgb(cos);
-                for ((s, w), t) in sum.iter_mut().zip(sample.weight).zip(entering) {
-                    *s += w * cos * t;
-                }
-            }
+            light_samples(
+                &receivers,
+                i,
+                l,
+                emitter,
+                rays,
+                entry,
+                settings,
+                |_, _, v| {
+                    for (s, v) in sum.iter_mut().zip(v) {
+                        *s += v;
+                    }
+                },
+            );
+            let count = sample_count(emitter, settings) as f32;
             for c in 0..3 {
-                let v = sum[c] / count as f32;
+                let v = sum[c] / count;
                 if v.is_finite() {
                     e[c] += v;
                 }
@@ -108,4 +88,66 @@ pub fn transmitted_irradiance(
         e
     })?;
     Ok(out)
+}
+
+/// Samples per receiver of `emitter`: one for a light without a size.
+pub(crate) fn sample_count(emitter: &Emitter, settings: &IrradianceSettings) -> u32 {
+    if emitter.is_delta() {
+        1
+    } else {
+        settings.samples.max(1)
+    }
+}
+
+/// Lit emitters (those that send any light).
+pub(crate) fn lit(emitters: &[Emitter]) -> Vec<&Emitter> {
+    emitters.iter().filter(|e| !e.is_dark()).collect()
+}
+
+/// Calls `visit(direction, cos θ, share)` for every sample of emitter `l`
+/// seen from receiver `i` that is unoccluded and above its horizon:
+/// `direction` towards the light, `share` its transmitted irradiance
+/// times the light's [`sample_count`], W/m² per channel.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn light_samples(
+    receivers: &Receivers,
+    i: usize,
+    l: usize,
+    emitter: &Emitter,
+    rays: &RayScene,
+    entry: &EntryTransmittance,
+    settings: &IrradianceSettings,
+    mut visit: impl FnMut(Vec3, f32, [f32; 3]),
+) {
+    let p = receivers.position[i];
+    let n = receivers.normal[i];
+    let skip = rays.scene_triangle(receivers.mesh, receivers.triangle[i]);
+    let origin = p + n * rays.epsilon();
+    let count = sample_count(emitter, settings);
+    // Samples alternate between the emitter's strategies; each
+    // strategy draws from its own point set, so none of them sees
+    // only part of the square.
+    let strategies = emitter.strategies();
+    for s in 0..count {
+        let (strategy, j) = (s % strategies, s / strategies);
+        let own = count.div_ceil(strategies);
+        let rotation = sequence::rotation(i as u64, (l as u64) << 8 | strategy as u64);
+        let u = sequence::hammersley(j, own, rotation);
+        let Some(sample) = emitter.sample(p, n, u, strategy) else {
+            continue;
+        };
+        let cos = sample.direction.dot(n);
+        if cos <= 0.0 {
+            continue;
+        }
+        if settings.shadows
+            && emitter.casts_shadow()
+            && rays.occluded(origin, sample.direction, sample.distance, skip)
+        {
+            continue;
+        }
+        let entering = entry.at_rgb(cos);
+        let share = std::array::from_fn(|c| sample.weight[c] * cos * entering[c]);
+        visit(sample.direction, cos, share);
+    }
 }

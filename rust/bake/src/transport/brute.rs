@@ -189,6 +189,39 @@ pub fn integrate(
     Ok(out)
 }
 
+/// The exact sum of `prepared`'s texels at `targets` under `scattering`:
+/// with its oblique kernel and each light's incidence where it has one
+/// and the light has directions ([`super::oblique_sum`]), else with its
+/// radially symmetric kernel. `true` with the exitance when the oblique
+/// kernel was used.
+pub fn exact_sum(
+    prepared: &Prepared,
+    scattering: &Scattering,
+    sources: &Sources,
+    targets: Targets,
+    control: &Control,
+) -> Result<(Vec<[f32; 3]>, bool), Cancelled> {
+    if let Some(kernel) = &scattering.oblique
+        && let Some(incidence) = prepared.incidence(control)?
+    {
+        let reach = scattering.kernel.d_max;
+        let exitance = super::oblique_sum::integrate(
+            kernel,
+            reach,
+            sources,
+            Some(incidence),
+            targets,
+            false,
+            control,
+        )?;
+        return Ok((exitance, true));
+    }
+    Ok((
+        integrate(&scattering.kernel, sources, targets, control)?,
+        false,
+    ))
+}
+
 /// The exact discrete sum over every texel within d_max: the reference
 /// every other method is measured against. It has no settings.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -211,7 +244,7 @@ impl Integrator for BruteIntegrator {
             own: OwnSource::Same,
             ..prepared.targets()
         };
-        let exitance = integrate(&scattering.kernel, &sources, targets, control)?;
+        let (exitance, _) = exact_sum(prepared, scattering, &sources, targets, control)?;
         Ok(Integrated {
             exitance,
             sources: sources.len(),

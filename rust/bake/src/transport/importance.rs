@@ -10,12 +10,20 @@
 //! disk; dividing by that sum (the balance heuristic over axes and
 //! strategies) gives an unbiased estimate of ∫ P(|x − x_o|) E(x) dA that
 //! stays bounded where the surface turns away from any one axis.
+//!
+//! With an oblique kernel (the empirical model under scene lights) a hit
+//! reads the light of the texel under it split by incidence and weighs it
+//! by each light's kernel from there to the target
+//! ([`super::oblique_sum::light_at`]); the probes are still drawn from the
+//! radial profile, which is positive wherever the kernel is.
 
 use super::Method;
 use super::integrator::{Integrated, Integrator};
 use super::kernel::{Kernel, Separation};
+use super::oblique_sum::light_at;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
+use crate::irradiance::incidence::{IncidentHarmonics, frame};
 use crate::irradiance::sequence::basis;
 use crate::mesh::Mesh;
 use crate::pipeline::Prepared;
@@ -23,6 +31,8 @@ use crate::rays::RayScene;
 use crate::scattering::Scattering;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
+use sssbake_profile::empirical_kernel::ObliqueKernel;
+use sssbake_profile::empirical_oblique::HARMONICS_KEPT;
 use sssbake_profile::profile::Profile;
 use sssbake_profile::rng::Rng;
 use std::f32::consts::{PI, TAU};
@@ -53,6 +63,21 @@ pub struct Surface<'a> {
     pub irradiance: &'a [[f32; 3]],
     /// N.
     pub resolution: u32,
+    /// The oblique kernel and the light split by incidence, when used.
+    pub oblique: Option<Oblique<'a>>,
+}
+
+/// What a hit reads for an oblique kernel.
+pub struct Oblique<'a> {
+    /// The kernel.
+    pub kernel: &'a ObliqueKernel,
+    /// Each surfel's light split by incidence.
+    pub incidence: &'a [IncidentHarmonics],
+    /// Each surfel's unit normal (its light's frame).
+    pub normal: &'a [Vec3],
+    /// The surfel each texel of the N × N layout holds or copies
+    /// (`u32::MAX`: none).
+    pub texels: &'a [u32],
 }
 
 /// Radiant exitance (W/m²) at each target by `samples` probes per target,
@@ -213,6 +238,13 @@ impl Estimate<'_> {
                     return;
                 }
                 let uv: Vec2 = (0..3).map(|k| surface.uvs[tri[k] as usize] * w[k]).sum();
+                if let Some(oblique) = &surface.oblique {
+                    let v = oblique_hit(oblique, surface.resolution, uv, self.origin - point);
+                    for c in 0..3 {
+                        total[c] += v[c] as f32 / density;
+                    }
+                    return;
+                }
                 let e = bilinear(surface.irradiance, surface.resolution, uv);
                 let separation = Separation::new(
                     point,
@@ -229,6 +261,37 @@ impl Estimate<'_> {
             });
         total.map(|v| if v.is_finite() { v } else { 0.0 })
     }
+}
+
+/// The oblique kernel of the light entering the texel under `uv` (nearest:
+/// each texel's light is in its own frame), read at offset `d` from there.
+fn oblique_hit(oblique: &Oblique, n: u32, uv: Vec2, d: Vec3) -> [f64; 3] {
+    let n_f = n as f32;
+    let x = ((uv.x * n_f).floor() as i64).clamp(0, n as i64 - 1) as usize;
+    let y = ((uv.y * n_f).floor() as i64).clamp(0, n as i64 - 1) as usize;
+    let Some(&s) = oblique.texels.get(y * n as usize + x) else {
+        return [0.0; 3];
+    };
+    let (Some(light), Some(&normal)) = (
+        oblique.incidence.get(s as usize),
+        oblique.normal.get(s as usize),
+    ) else {
+        return [0.0; 3];
+    };
+    let nodes = light
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.iter().flatten().any(|&v| v != 0.0));
+    // Not clamped per hit: a truncated series can dip below zero behind an
+    // entry point, and the exact sum clamps only the sum.
+    light_at(
+        oblique.kernel,
+        nodes,
+        normal,
+        frame(normal),
+        d,
+        HARMONICS_KEPT,
+    )
 }
 
 /// Bilinear lookup of an N × N texture at `uv` (texel centres at
@@ -290,12 +353,32 @@ impl Integrator for ImportanceIntegrator {
     ) -> Result<Integrated, Error> {
         let probes = RayScene::new(&[&prepared.mesh]);
         let texture = prepared.entering_texture();
+        let incidence = match &scattering.oblique {
+            Some(_) => prepared.incidence(control)?,
+            None => None,
+        };
+        let texels = if incidence.is_some() {
+            prepared.surfel_texture()
+        } else {
+            Vec::new()
+        };
+        let oblique = scattering
+            .oblique
+            .as_ref()
+            .zip(incidence)
+            .map(|(kernel, incidence)| Oblique {
+                kernel,
+                incidence,
+                normal: &prepared.surfels.normal,
+                texels: &texels,
+            });
         let surface = Surface {
             mesh: &prepared.mesh,
             uvs: &prepared.uvs,
             probes: &probes,
             irradiance: &texture,
             resolution: prepared.surfels.resolution,
+            oblique,
         };
         let exitance = integrate(
             &scattering.kernel,

@@ -11,6 +11,7 @@ mod exact_sum_tests;
 pub mod importance;
 pub mod integrator;
 pub mod kernel;
+pub mod oblique_sum;
 pub mod octree;
 mod source_table;
 pub mod sources;
@@ -65,5 +66,52 @@ impl Method {
     /// The name the command line, file names and summaries use.
     pub fn name(self) -> &'static str {
         self.into()
+    }
+}
+
+/// Which kernel an object's exitance was integrated with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ExitanceKernel {
+    /// The model's radially symmetric profile (it has no other).
+    #[default]
+    Radial,
+    /// The model's oblique kernel, each light at its own incidence and
+    /// azimuth (the empirical model under scene lights, by a method that
+    /// takes it).
+    Oblique,
+    /// The model has an oblique kernel, but the method (or an irradiance
+    /// image without directions) used its radially symmetric profile at
+    /// normal incidence: the azimuthal mean at θ_i = 0.
+    AzimuthalMean,
+}
+
+impl ExitanceKernel {
+    /// The kernel `method` integrates with, for a model with an oblique
+    /// kernel or not (`oblique`) under light with directions or not
+    /// (`directions`).
+    pub fn of(method: Method, oblique: bool, directions: bool) -> Self {
+        match (oblique, directions && Self::takes_oblique(method)) {
+            (false, _) => ExitanceKernel::Radial,
+            (true, true) => ExitanceKernel::Oblique,
+            (true, false) => ExitanceKernel::AzimuthalMean,
+        }
+    }
+
+    /// Methods that integrate an oblique kernel per light: the exact sum
+    /// and importance sampling.
+    pub fn takes_oblique(method: Method) -> bool {
+        matches!(method, Method::Brute | Method::Importance)
+    }
+
+    /// In words, for the summary.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ExitanceKernel::Radial => "the radial profile",
+            ExitanceKernel::Oblique => "the oblique kernel, each light at its own incidence",
+            ExitanceKernel::AzimuthalMean => {
+                "the azimuthal mean at normal incidence (this method cannot take the oblique kernel)"
+            }
+        }
     }
 }

@@ -57,7 +57,9 @@ pub fn estimate_error(
         own: OwnSource::Listed(&picked),
     };
     let sources = prepared.texel_sources();
-    let exact = brute::integrate(&scattering.kernel, &sources, targets, control)?;
+    // The oblique exact sum where the material has one: the estimate then
+    // counts what an azimuthal-mean method misses of each light's direction.
+    let (exact, _) = brute::exact_sum(prepared, scattering, &sources, targets, control)?;
     let exact: Vec<[f32; 3]> = picked
         .iter()
         .zip(exact)
