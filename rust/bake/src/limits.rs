@@ -47,6 +47,14 @@ const BYTES_PER_TEXEL: u64 = 220;
 /// every object until the bake ends.
 const LAYOUT_BYTES_PER_TEXEL: u64 = 80;
 
+/// Bytes per covered texel of the light split by incidence that an oblique
+/// kernel reads ([`crate::irradiance::incidence`]), held while the object
+/// bakes, and the exact sum's copy of the nodes a texel's light falls in
+/// (two, as under one light between two nodes).
+const INCIDENCE_BYTES_PER_TEXEL: usize =
+    std::mem::size_of::<crate::irradiance::incidence::IncidentHarmonics>()
+        + 2 * std::mem::size_of::<[[f32; 3]; crate::irradiance::incidence::COMPONENTS]>();
+
 /// Texels `mesh` will cover in maps of `resolution`² texels, estimated
 /// before its layout is made: its UV area, or the whole square where it
 /// may be unwrapped (no UVs, or UVs that overlap or cover almost nothing).
@@ -143,6 +151,24 @@ impl ObjectCost {
                 (n * n.max(2.0).log2()).min(n * neighbours(texel_area_mm2, d_max_mm))
             }
         };
+        self
+    }
+}
+
+impl ObjectCost {
+    /// This cost when an oblique kernel reads the light split by incidence
+    /// (`split`): its light samples are traced a second time, the split is
+    /// held per texel, and each pair of the exact sum or probe of
+    /// importance sampling reads every component of a node
+    /// ([`crate::irradiance::incidence::COMPONENTS`]) instead of one value.
+    pub fn with_incidence_split(mut self, split: bool, method: Option<Method>) -> ObjectCost {
+        if split {
+            self.rays *= 2.0;
+            self.memory_bytes += self.texels * INCIDENCE_BYTES_PER_TEXEL as f64;
+            if matches!(method, Some(Method::Brute | Method::Importance)) {
+                self.evaluations *= crate::irradiance::incidence::COMPONENTS as f64;
+            }
+        }
         self
     }
 }

@@ -352,13 +352,19 @@ fn plan_object(
         _ if request.lights() => scene.lights.len() as f64 * f64::from(request.light_samples),
         _ => 0.0,
     };
-    let cost = ObjectCost::memory(texels as f64, request.resolution, &request.outputs).with_work(
-        integrator.as_ref().map(|i| i.method),
-        texel_area_mm2 / texels.max(1) as f64,
-        f64::from(scattering.kernel.d_max),
-        rays_per_texel,
-        request.integrators.importance.samples,
-    );
+    let method = integrator.as_ref().map(|i| i.method);
+    // An oblique kernel splits the light of the scene's lights by incidence
+    // (not an irradiance image's, which has no direction).
+    let splits = scattering.oblique.is_some() && rays_per_texel > 0.0 && method.is_some();
+    let cost = ObjectCost::memory(texels as f64, request.resolution, &request.outputs)
+        .with_work(
+            method,
+            texel_area_mm2 / texels.max(1) as f64,
+            f64::from(scattering.kernel.d_max),
+            rays_per_texel,
+            request.integrators.importance.samples,
+        )
+        .with_incidence_split(splits, method);
     Ok(ObjectPlan {
         name,
         index,
