@@ -287,7 +287,7 @@ fn bake_object(
     let request = &plan.request;
     let scattering = &object.scattering_profile;
     stage(0, "lighting");
-    let prepared = prepare(
+    let mut prepared = prepare(
         scene,
         object.index,
         object.layout.clone(),
@@ -309,6 +309,9 @@ fn bake_object(
         }
         None => (Vec::new(), 0.0, 0, None),
     };
+    // The scene's rays and the light split by incidence served the
+    // scattering; a baked object kept for its maps does not hold them.
+    prepared.release_lighting();
     let start = Instant::now();
     let fill = margin_fill(&prepared, request.margin);
     let summary = ObjectSummary {

@@ -49,11 +49,16 @@ const LAYOUT_BYTES_PER_TEXEL: u64 = 80;
 
 /// Bytes per covered texel of the light split by incidence that an oblique
 /// kernel reads ([`crate::irradiance::incidence`]), held while the object
-/// bakes, and the exact sum's copy of the nodes a texel's light falls in
-/// (two, as under one light between two nodes).
-const INCIDENCE_BYTES_PER_TEXEL: usize =
-    std::mem::size_of::<crate::irradiance::incidence::IncidentHarmonics>()
-        + 2 * std::mem::size_of::<[[f32; 3]; crate::irradiance::incidence::COMPONENTS]>();
+/// bakes, and the exact sum's copy of it: every node a texel's light may
+/// fall in (an area light or the environment reaches them all), each with
+/// its index, and the source's position, normal, frame, area, footprint,
+/// index and run (100 bytes).
+const INCIDENCE_BYTES_PER_TEXEL: usize = {
+    use crate::irradiance::incidence::{COMPONENTS, IncidentHarmonics, NODES};
+    std::mem::size_of::<IncidentHarmonics>()
+        + NODES * std::mem::size_of::<(usize, [[f32; 3]; COMPONENTS])>()
+        + 100
+};
 
 /// Texels `mesh` will cover in maps of `resolution`² texels, estimated
 /// before its layout is made: its UV area, or the whole square where it
@@ -161,12 +166,22 @@ impl ObjectCost {
     /// held per texel, and each pair of the exact sum or probe of
     /// importance sampling reads every component of a node
     /// ([`crate::irradiance::incidence::COMPONENTS`]) instead of one value.
-    pub fn with_incidence_split(mut self, split: bool, method: Option<Method>) -> ObjectCost {
+    /// Importance sampling also maps each of the `resolution`² map texels
+    /// to its surfel (4 bytes each).
+    pub fn with_incidence_split(
+        mut self,
+        split: bool,
+        method: Option<Method>,
+        resolution: u32,
+    ) -> ObjectCost {
         if split {
             self.rays *= 2.0;
             self.memory_bytes += self.texels * INCIDENCE_BYTES_PER_TEXEL as f64;
             if matches!(method, Some(Method::Brute | Method::Importance)) {
                 self.evaluations *= crate::irradiance::incidence::COMPONENTS as f64;
+            }
+            if method == Some(Method::Importance) {
+                self.memory_bytes += 4.0 * f64::from(resolution).powi(2);
             }
         }
         self

@@ -346,6 +346,14 @@ impl Prepared {
             .collect()
     }
 
+    /// Drops what only the scattering reads: the scene's lights and rays
+    /// kept for splitting the light by incidence, and the split. After
+    /// this, [`Self::incidence`] gives `None`.
+    pub fn release_lighting(&mut self) {
+        self.lights = None;
+        self.incidence = OnceLock::new();
+    }
+
     /// True when the light can be split by incidence for an oblique
     /// kernel ([`Self::incidence`] gives it).
     pub fn splits_by_incidence(&self) -> bool {

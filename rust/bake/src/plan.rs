@@ -364,7 +364,7 @@ fn plan_object(
             rays_per_texel,
             request.integrators.importance.samples,
         )
-        .with_incidence_split(splits, method);
+        .with_incidence_split(splits, method, request.resolution);
     Ok(ObjectPlan {
         name,
         index,

@@ -80,13 +80,20 @@ impl Scattering {
             );
             match fitted {
                 Ok(profile) => {
-                    oblique = empirical_oblique_kernel(
+                    // A profile without its oblique kernel would bake every
+                    // light as if at normal incidence: say why instead.
+                    let kernel = empirical_oblique_kernel(
                         &material,
                         &profile,
                         &EmpiricalSettings::default(),
                         cache_dir().as_deref(),
                     )
-                    .ok();
+                    .map_err(|reason| ModelError {
+                        material: material.name.clone(),
+                        model,
+                        reason: format!("its kernel at oblique incidence: {reason}"),
+                    })?;
+                    oblique = Some(kernel);
                     Box::new(profile) as Box<dyn Profile>
                 }
                 // The model does not apply: the library says why.

@@ -382,20 +382,28 @@ fn the_oblique_exact_sum_makes_no_energy() {
                 .all(|v| v.is_finite() && *v >= 0.0)
         );
         let entering = sources.flux();
+        let kernel = scattering.oblique.as_ref().unwrap();
         for c in 0..3 {
             let leaving: f64 = exitance
                 .iter()
                 .zip(&sources.area)
                 .map(|(m, &a)| m[c] as f64 * a as f64)
                 .sum();
+            // At most what the kernel returns of light entering at 60°
+            // (a finite square loses some past its edges), so clamping the
+            // truncated series at zero adds no light. At albedo 0.02 the
+            // exitance lies within a fraction of a texel, where the sum
+            // reads each texel's own disc: 4% over the total in one channel
+            // and 6% under in another, hence the 5% margin; at 0.995 the
+            // square keeps 79% of what an endless plane would return.
+            let returned = kernel.total(c, 0.5) * entering[c];
             eprintln!(
-                "albedo {albedo} channel {c}: leaving {leaving:.4} of entering {:.4}",
+                "albedo {albedo} channel {c}: leaving {leaving:.5}, the kernel returns {returned:.5} of entering {:.4}",
                 entering[c]
             );
             assert!(
-                leaving > 0.0 && leaving <= entering[c],
-                "albedo {albedo}: {leaving} > {}",
-                entering[c]
+                leaving > 0.0 && leaving <= 1.05 * returned,
+                "albedo {albedo}: {leaving} leaves, the kernel returns {returned}"
             );
         }
     }

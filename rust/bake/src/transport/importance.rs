@@ -130,7 +130,16 @@ pub fn integrate(
                 sum[c] += v[c] as f64;
             }
         }
-        sum.map(|s| (s / samples.max(1) as f64) as f32)
+        // A truncated oblique kernel may dip below zero behind an entry
+        // point, and the probes' noise with it; exitance does not.
+        sum.map(|s| {
+            let v = s / samples.max(1) as f64;
+            if v.is_finite() {
+                v.max(0.0) as f32
+            } else {
+                0.0
+            }
+        })
     })?;
     Ok(out)
 }

@@ -212,7 +212,12 @@ pub(crate) fn light_at<'a>(
     let (u, v) = frame;
     let along = d - n * d.dot(n);
     let direction = Vec2::new(along.dot(u), along.dot(v));
-    let unit = direction.try_normalize().unwrap_or(Vec2::X).as_dvec2();
+    // Straight above the entry point there is no azimuth: the harmonics,
+    // whose sum over a circle is zero, have no direction to lean to.
+    let (unit, harmonics) = match direction.try_normalize() {
+        Some(unit) => (unit.as_dvec2(), harmonics),
+        None => (Vec2::X.as_dvec2(), 1),
+    };
     // cos kβ, sin kβ by powers of e^{iβ}.
     let mut turns = [(1.0f64, 0.0f64); HARMONICS_KEPT];
     for k in 1..HARMONICS_KEPT {
