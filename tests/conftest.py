@@ -1,5 +1,6 @@
 """Shared fixtures: the sssbake binary the tests run, and the Blender add-on."""
 
+import gc
 import os
 import pathlib
 import struct
@@ -46,12 +47,16 @@ def addon():
     loaded as Blender loads the extension, baking through the `sssbake` package."""
     import bpy
 
+    # Python objects wrapping the last test's Blender data are freed here, on the main
+    # thread, before the factory settings free the data they point at.
+    gc.collect()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     module = load_extension("sssbake", ROOT / "blender_addon")
     module.register()
     yield module
     module.unregister()
     _take_modules(module.__name__)
+    gc.collect()
 
 
 def _take_modules(name: str) -> dict:
@@ -71,10 +76,13 @@ def sssbake() -> pathlib.Path:
     return path
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def client():
-    """A Dask LocalCluster of two single-threaded worker processes (the farm
-    tests share it: starting one takes seconds)."""
+    """A Dask LocalCluster of two single-threaded worker processes, shared by
+    a module's farm tests (starting one takes seconds) and closed after them:
+    its threads must not outlive them into the Blender tests, where a garbage
+    collection run on one of them could free Blender's data off the main
+    thread."""
     distributed = pytest.importorskip("distributed")
     cluster = distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
