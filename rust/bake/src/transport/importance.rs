@@ -132,14 +132,7 @@ pub fn integrate(
         }
         // A truncated oblique kernel may dip below zero behind an entry
         // point, and the probes' noise with it; exitance does not.
-        sum.map(|s| {
-            let v = s / samples.max(1) as f64;
-            if v.is_finite() {
-                v.max(0.0) as f32
-            } else {
-                0.0
-            }
-        })
+        sum.map(|s| super::stored_exitance(s / samples.max(1) as f64))
     })?;
     Ok(out)
 }

@@ -19,6 +19,17 @@ pub mod texture_space;
 pub mod thin;
 pub mod verify;
 
+/// An exitance (W/m²) as a map stores it: finite and non-negative (a sum
+/// that is neither, from a truncated series or noise, stores 0 or its
+/// positive part).
+pub(crate) fn stored_exitance(value: f64) -> f32 {
+    if value.is_finite() {
+        value.max(0.0) as f32
+    } else {
+        0.0
+    }
+}
+
 use serde::{Deserialize, Serialize};
 
 /// How the exitance is integrated.

@@ -84,13 +84,7 @@ pub fn integrate(
                 }
             }
         });
-        sum.map(|v| {
-            if v.is_finite() {
-                v.max(0.0) as f32
-            } else {
-                0.0
-            }
-        })
+        sum.map(super::stored_exitance)
     })?;
     Ok(out)
 }
