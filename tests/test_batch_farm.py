@@ -1,4 +1,4 @@
-"""The batch on a Dask cluster (`python/sssbake/farm.py`): a LocalCluster of two
+"""The batch on a Dask cluster (`sssbake.farm`): a LocalCluster of two
 worker processes bakes the same maps as a local run, bit for bit, and a worker
 killed mid-task has its task run again elsewhere, with a complete report."""
 
@@ -10,6 +10,7 @@ import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 import pytest
 from conftest import ROOT
@@ -95,12 +96,29 @@ def test_a_worker_killed_mid_task_has_its_task_run_again(sssbake, client, tmp_pa
     assert maps(out / "ear") == maps(tmp_path / "local" / "ear")
 
 
+def test_python_dash_m_runs_the_installed_farm(tmp_path):
+    """`python -m sssbake.farm` is the installed package's own, from any folder."""
+    result = subprocess.run(
+        [sys.executable, "-m", "sssbake.farm", "--help"],
+        check=False,
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    assert "--scheduler" in result.stdout and "sssbake-farm" in result.stdout
+
+
 def test_the_farm_runs_from_a_shell_against_a_scheduler_address(sssbake, client, tmp_path):
     folder = examples(tmp_path)
     manifest = folder / "batch.toml"
     manifest.write_text('[defaults]\nresolution = 32\n[assets.marble]\nscene = "marble/marble.gltf"\n')
+    # The console script the installed package provides, as a user runs it.
+    farm_command = Path(sys.executable).with_name("sssbake-farm")
+    assert farm_command.is_file(), "pip install . provides the sssbake-farm command"
     result = subprocess.run(
-        [sys.executable, str(ROOT / "python" / "sssbake" / "farm.py"), str(manifest)]
+        [str(farm_command), str(manifest)]
         + ["--out", str(tmp_path / "farm"), "--scheduler", client.scheduler.address]
         + ["--sssbake", str(sssbake), "--threads-per-task", "1"],
         check=False,

@@ -32,11 +32,12 @@ module, which is sent to them by value.
     report = farm.run("assets/batch.toml", "/shared/baked", Client("tcp://scheduler:8786"))
     assert report["counts"]["failed"] == 0
 
-or from a shell, printing the batch report (exit 0, or 5 when some asset
-failed):
+or from a shell, after `pip install "sssbake[farm]"`, printing the batch
+report (exit 0, or 5 when some asset failed):
 
-    python python/sssbake/farm.py assets/batch.toml --out /shared/baked \
-        --scheduler tcp://scheduler:8786
+    sssbake-farm assets/batch.toml --out /shared/baked --scheduler tcp://scheduler:8786
+
+(`python -m sssbake.farm …` is the same command).
 """
 
 from __future__ import annotations
@@ -206,11 +207,10 @@ def run(
 
 
 def main(argv: list[str] | None = None) -> int:
-    """`farm.py MANIFEST --out DIR --scheduler ADDRESS`: runs the batch on the
-    cluster at ADDRESS and prints its report; the exit code is sssbake's."""
-    from distributed import Client
-
-    parser = argparse.ArgumentParser(description="Run an sssbake batch on a Dask cluster.")
+    """`sssbake-farm MANIFEST --out DIR --scheduler ADDRESS` (or `python -m
+    sssbake.farm …`): runs the batch on the cluster at ADDRESS and prints its
+    report; the exit code is sssbake's."""
+    parser = argparse.ArgumentParser(prog="sssbake-farm", description="Run an sssbake batch on a Dask cluster.")
     parser.add_argument("manifest")
     parser.add_argument("--out", required=True, help="the batch's folder, on storage every worker shares")
     parser.add_argument("--scheduler", required=True, help="the Dask scheduler, such as tcp://host:8786")
@@ -222,6 +222,11 @@ def main(argv: list[str] | None = None) -> int:
         help="planned work above which an asset of several objects is one task per object [sssbake's default]",
     )
     args = parser.parse_args(argv)
+    try:
+        from distributed import Client
+    except ImportError:
+        print('sssbake-farm: the farm needs Dask: pip install "sssbake[farm]"', file=sys.stderr)
+        return 2
     with Client(args.scheduler) as client:
         report = run(
             args.manifest,

@@ -2,13 +2,17 @@
 //! xatlas-rs crate ships beside the source it builds the library from, so the
 //! declarations we compile against are the ones the library was built with.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
+
+/// The xatlas-rs release this crate pins in its manifest (`=0.1.3`).
+const XATLAS_RS: &str = "xatlas-rs-0.1.3";
 
 fn main() {
     for file in ["src/lib.rs", "cpp/shim.h", "cpp/shim.cc"] {
         println!("cargo:rerun-if-changed={file}");
     }
+    println!("cargo:rerun-if-env-changed=CARGO_HOME");
     let xatlas = xatlas_header_dir();
     println!(
         "cargo:rerun-if-changed={}",
@@ -22,19 +26,55 @@ fn main() {
         .compile("sssbake_xatlas_shim");
 }
 
-/// The folder holding xatlas.h: `vendor/` beside the manifest of the resolved
-/// xatlas-rs package. That crate declares no `links` key, so Cargo hands its
-/// dependents nothing about it; `cargo metadata` finds it wherever it was
-/// unpacked (registry, vendored sources or a patch).
+/// The folder holding xatlas.h: `vendor/` beside the manifest of the xatlas-rs
+/// package the build unpacked. That crate declares no `links` key, so Cargo
+/// hands its dependents nothing about it. Where Cargo unpacks registry
+/// packages (`$CARGO_HOME/registry/src/<registry>/`) is looked at first: it
+/// needs nothing but the package this build already downloaded. Vendored
+/// sources and patches are found by `cargo metadata`, which needs every
+/// package of the workspace on disk (true where sources are vendored), so it
+/// is only the fallback: on a fresh machine `cargo run -p sssbake-cli` has
+/// downloaded only what the CLI needs.
 fn xatlas_header_dir() -> PathBuf {
+    if let Some(dir) = cargo_home().and_then(|home| in_registry(&home)) {
+        return dir;
+    }
+    from_metadata()
+}
+
+/// Cargo's home: `$CARGO_HOME`, else `~/.cargo` (`%USERPROFILE%\.cargo`).
+fn cargo_home() -> Option<PathBuf> {
+    let var = |name: &str| std::env::var_os(name).filter(|v| !v.is_empty());
+    var("CARGO_HOME").map(PathBuf::from).or_else(|| {
+        var("HOME")
+            .or_else(|| var("USERPROFILE"))
+            .map(|home| Path::new(&home).join(".cargo"))
+    })
+}
+
+/// `vendor/` of the pinned xatlas-rs under any registry Cargo unpacked into
+/// below `home`. Every registry serves the same checksummed package, so any
+/// copy is the one the build compiles.
+fn in_registry(home: &Path) -> Option<PathBuf> {
+    let registries = std::fs::read_dir(home.join("registry").join("src")).ok()?;
+    let mut found: Vec<PathBuf> = registries
+        .filter_map(|entry| entry.ok())
+        .map(|entry| entry.path().join(XATLAS_RS).join("vendor"))
+        .filter(|dir| dir.join("xatlas.h").is_file())
+        .collect();
+    found.sort();
+    found.into_iter().next()
+}
+
+/// The header folder as `cargo metadata` resolves the package.
+fn from_metadata() -> PathBuf {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let manifest =
         PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap()).join("Cargo.toml");
     let target = std::env::var("TARGET").expect("Cargo sets TARGET for build scripts");
-    // Offline and locked: the outer build has already resolved and unpacked
-    // every package it needs, and a build script must neither download nor
-    // rewrite Cargo.lock. Filtered to the target, because the packages of
-    // other platforms' dependencies need not be on this machine.
+    // Offline and locked: a build script must neither download nor rewrite
+    // Cargo.lock. Filtered to the target, because the packages of other
+    // platforms' dependencies need not be on this machine.
     let output = Command::new(cargo)
         .args(["metadata", "--format-version", "1", "--offline", "--locked"])
         .args(["--filter-platform", &target])
@@ -44,7 +84,8 @@ fn xatlas_header_dir() -> PathBuf {
         .expect("cannot run `cargo metadata` to locate xatlas-rs");
     assert!(
         output.status.success(),
-        "`cargo metadata` failed: {}",
+        "xatlas.h is not under $CARGO_HOME/registry/src/*/{XATLAS_RS}/vendor, and \
+         `cargo metadata` failed to locate xatlas-rs: {}",
         String::from_utf8_lossy(&output.stderr)
     );
     let metadata: serde_json::Value =

@@ -36,23 +36,30 @@ struct Cli {
     command: Command,
 }
 
+// A negative number is a value, so `--resolution -5` is refused as out of
+// range for that option rather than as an unknown flag.
 #[derive(Subcommand)]
 enum Command {
     /// Bake subsurface scattering maps for the objects of a scene.
+    #[command(allow_negative_numbers = true)]
     Bake(bake_command::BakeArgs),
     /// Bake the assets of a TOML manifest, each into its own folder,
     /// skipping those unchanged since their last bake; or write the batch
     /// as an Open Job Description job bundle.
+    #[command(allow_negative_numbers = true)]
     Batch(batch_command::BatchArgs),
     /// Print and plot a material's diffusion reflectance profile.
+    #[command(allow_negative_numbers = true)]
     Profile(profile_command::ProfileArgs),
     /// Show what a bake with the same options would do, and what it would
     /// leave out, without baking.
+    #[command(allow_negative_numbers = true)]
     Plan(plan_command::PlanArgs),
     /// List the material presets.
     Presets,
     /// Run every integrator on a scene across a ladder of settings and
     /// report each one's error against the exact sum and its run time.
+    #[command(allow_negative_numbers = true)]
     Report(report_command::ReportArgs),
 }
 

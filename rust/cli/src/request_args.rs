@@ -45,7 +45,8 @@ pub struct RequestArgs {
     #[arg(long, value_parser = named::<Model>(Model::VARIANTS))]
     pub model: Option<Model>,
     /// Texels per side of each map (1 to 16384).
-    #[arg(long, default_value_t = DEFAULTS.resolution)]
+    #[arg(long, default_value_t = DEFAULTS.resolution,
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
     pub resolution: u32,
     /// The texture-coordinate set to bake into.
     #[arg(long, default_value_t = 0)]
@@ -130,13 +131,6 @@ impl RequestArgs {
             return Err(Error::field(
                 "--unit-scale",
                 format!("{s} must be a positive number of millimetres"),
-            ));
-        }
-        if !(1..=MAX_RESOLUTION).contains(&self.resolution) {
-            // Checked again by the library; here before the scene is read.
-            return Err(Error::field(
-                "--resolution",
-                format!("{} must be between 1 and {MAX_RESOLUTION}", self.resolution),
             ));
         }
         if let Some(threads) = self.threads {

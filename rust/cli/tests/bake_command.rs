@@ -201,7 +201,17 @@ fn bad_inputs_name_the_problem_and_leave_nothing_behind() {
         ),
         (
             vec![scene.into(), "--resolution".into(), "0".into()],
-            1,
+            2,
+            "--resolution",
+        ),
+        (
+            vec![scene.into(), "--resolution".into(), "-5".into()],
+            2,
+            "'--resolution <RESOLUTION>': -5 is not in 1..=16384",
+        ),
+        (
+            vec![scene.into(), "--resolution".into(), "16385".into()],
+            2,
             "--resolution",
         ),
         (

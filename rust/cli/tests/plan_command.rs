@@ -116,7 +116,10 @@ fn the_plan_says_what_it_will_do_and_leave_out() {
         "{stderr}"
     );
     let zero = sssbake(&["plan", scene.to_str().unwrap(), "--resolution", "0"]);
-    assert_eq!(zero.status.code(), Some(1));
+    assert_eq!(zero.status.code(), Some(2));
+    let negative = sssbake(&["plan", scene.to_str().unwrap(), "--resolution", "-5"]);
+    assert_eq!(negative.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&negative.stderr).contains("--resolution"));
 }
 
 #[test]

@@ -12,9 +12,13 @@ use gltf::mesh::Semantic;
 /// Parses a .gltf or .glb file's bytes and validates the document; the GLB
 /// binary chunk comes back with it.
 pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), String> {
-    if bytes.starts_with(b"glTF") {
+    let json = if bytes.starts_with(b"glTF") {
         glb_frame(bytes).map_err(|e| format!("not a valid glTF file: {e}"))?;
-    }
+        glb_json_chunk(bytes)
+    } else {
+        bytes
+    };
+    check_version(json)?;
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| format!("not a valid glTF file: {e}"))?;
     let root = document.into_json();
@@ -23,6 +27,52 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), S
     let document =
         gltf::Document::from_json(root).map_err(|e| format!("not a valid glTF file: {e}"))?;
     Ok((document, blob))
+}
+
+/// The JSON chunk of a GLB whose frame [`glb_frame`] has checked (empty
+/// when the first chunk is cut short).
+fn glb_json_chunk(bytes: &[u8]) -> &[u8] {
+    let length = bytes
+        .get(12..16)
+        .map_or(0, |w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]) as usize);
+    bytes.get(20..20 + length).unwrap_or_default()
+}
+
+/// The document says it is glTF 2.x (`asset.version`, and `asset.minVersion`
+/// when given): glTF 1.0 differs in meaning as well as shape (its meshes,
+/// materials and techniques are not 2.0's), so reading it as 2.0 would bake
+/// something the file does not say. A document whose `asset` cannot be read
+/// at all is left to the parser, whose message says where it breaks.
+fn check_version(json: &[u8]) -> Result<(), String> {
+    #[derive(serde::Deserialize)]
+    struct Head {
+        asset: Asset,
+    }
+    #[derive(serde::Deserialize)]
+    struct Asset {
+        version: String,
+        #[serde(rename = "minVersion")]
+        min_version: Option<String>,
+    }
+    let Ok(Head { asset }) = serde_json::from_slice::<Head>(json) else {
+        return Ok(());
+    };
+    let major = |version: &str| version.split('.').next().map(str::trim).map(String::from);
+    if major(&asset.version).as_deref() != Some("2") {
+        return Err(format!(
+            "asset.version is \"{}\": sssbake reads glTF 2.x (convert the file to glTF 2.0 first)",
+            asset.version
+        ));
+    }
+    if let Some(min) = asset
+        .min_version
+        .filter(|min| major(min).as_deref() != Some("2"))
+    {
+        return Err(format!(
+            "asset.minVersion is \"{min}\": sssbake reads glTF 2.x"
+        ));
+    }
+    Ok(())
 }
 
 /// A GLB's header and chunk lengths agree with each other and with the

@@ -5,6 +5,7 @@
 
 use crate::colour_texture::{self, ColourSpace};
 use crate::gltf_checks;
+use crate::gltf_uri;
 use crate::{InputError, ReadOptions};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use gltf::mesh::Mode;
@@ -42,6 +43,7 @@ pub fn read_gltf_bytes(
     };
     let (document, blob) = gltf_checks::parse(bytes).map_err(error)?;
     let base = path.parent().unwrap_or(Path::new("."));
+    gltf_uri::check_buffer_files(&document, base).map_err(error)?;
     let buffers = gltf::import_buffers(&document, Some(base), blob)
         .map_err(|e| error(format!("cannot load its buffers: {e}")))?;
     let data: Vec<&[u8]> = buffers.iter().map(|b| b.0.as_slice()).collect();
@@ -427,8 +429,7 @@ fn image_of(image: &gltf::Image, context: &Context) -> (String, Result<Vec<u8>, 
                     .and_then(|(_, encoded)| base64_decode(encoded));
                 return (name, bytes);
             }
-            let decoded = urlencoding::decode(uri).map_or_else(|_| uri.to_string(), String::from);
-            let path = context.folder.join(&decoded);
+            let path = gltf_uri::local_path(context.folder, uri);
             let bytes =
                 std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()));
             (path.display().to_string(), bytes)

@@ -104,7 +104,7 @@ fn copied_references(document: &mut Value, folder: &Path) -> Result<Vec<OutputFi
     for key in ["buffers", "images"] {
         let items = document.get_mut(key).and_then(Value::as_array_mut);
         for item in items.into_iter().flatten() {
-            let Some(uri) = item["uri"].as_str().map(percent_decode) else {
+            let Some(uri) = item["uri"].as_str().map(crate::gltf_uri::percent_decode) else {
                 continue;
             };
             if uri.starts_with("data:") || uri.contains("://") || Path::new(&uri).is_absolute() {
@@ -370,12 +370,6 @@ fn join_glb(json: Vec<u8>, binary: Option<Vec<u8>>) -> Result<Vec<u8>, String> {
     }
     .to_vec()
     .map_err(|e| format!("cannot write the GLB: {e}"))
-}
-
-/// `%20`-style escapes decoded, as glTF URIs may carry them; a URI whose
-/// escapes do not spell UTF-8 is taken as it is written.
-fn percent_decode(uri: &str) -> String {
-    urlencoding::decode(uri).map_or_else(|_| uri.to_string(), Cow::into_owned)
 }
 
 /// A file name as a URI path segment (spaces, `%` and non-ASCII escaped),

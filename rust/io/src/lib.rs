@@ -8,6 +8,7 @@ pub mod colour_texture;
 pub mod folder;
 mod gltf_checks;
 pub mod gltf_reader;
+mod gltf_uri;
 pub mod gltf_writer;
 pub mod image_reader;
 pub mod image_writer;

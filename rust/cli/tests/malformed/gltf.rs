@@ -255,8 +255,27 @@ pub fn cases() -> Vec<Case> {
         ),
         broken(
             "buffer-file-missing",
-            &["cannot load its buffers"],
+            &["cannot load its buffers", "buffer 0", "absent.bin"],
             |d, _| d["buffers"][0]["uri"] = "absent.bin".into(),
+        ),
+        broken(
+            "buffer-file-missing-escaped",
+            &["cannot load its buffers", "absent quad.bin"],
+            |d, _| d["buffers"][0]["uri"] = "absent%20quad.bin".into(),
+        ),
+        // Another version of glTF than 2.x.
+        broken(
+            "gltf-version-1",
+            &["asset.version", "\"1.0\"", "2.x"],
+            |d, _| d["asset"]["version"] = "1.0".into(),
+        ),
+        broken("gltf-version-3", &["asset.version", "\"3.0\""], |d, _| {
+            d["asset"]["version"] = "3.0".into()
+        }),
+        broken(
+            "gltf-min-version-3",
+            &["asset.minVersion", "\"3.0\""],
+            |d, _| d["asset"]["minVersion"] = "3.0".into(),
         ),
         broken("buffer-uri-remote", &["cannot load its buffers"], |d, _| {
             d["buffers"][0]["uri"] = "https://example.com/quad.bin".into()
@@ -408,6 +427,16 @@ pub fn cases() -> Vec<Case> {
             "cut.glb",
             valid_glb[..valid_glb.len() / 2].to_vec(),
             &["not a valid glTF"],
+        ),
+        raw(
+            "glb-asset-version-1",
+            "quad.glb",
+            {
+                let mut document = quad::document(None);
+                document["asset"]["version"] = "1.0".into();
+                quad::glb(&document, &quad::bin())
+            },
+            &["asset.version", "\"1.0\""],
         ),
         raw(
             "glb-header-only",

@@ -86,10 +86,7 @@ fn gltf_files(scene: &Path) -> Vec<PathBuf> {
     buffers
         .chain(images)
         .filter(|uri| !uri.starts_with("data:"))
-        .map(|uri| {
-            let decoded = urlencoding::decode(uri).map(|d| d.into_owned());
-            folder.join(decoded.unwrap_or_else(|_| uri.to_string()))
-        })
+        .map(|uri| crate::gltf_uri::local_path(folder, uri))
         .collect()
 }
 
