@@ -122,10 +122,12 @@ fn main() {
         .map(|&s| prepared.surfels.position[s])
         .collect();
     let normal: Vec<Vec3> = subset.iter().map(|&s| prepared.surfels.normal[s]).collect();
+    let piece: Vec<u32> = subset.iter().map(|&s| prepared.surfels.piece[s]).collect();
     let targets = Targets {
         position: &position,
         normal: &normal,
         own: OwnSource::Listed(&subset),
+        piece: &piece,
     };
     let start = Instant::now();
     let reference = brute::integrate(kernel, &prepared.texel_sources(), targets, &control).unwrap();
@@ -186,6 +188,7 @@ fn main() {
         irradiance: &texture,
         resolution: prepared.surfels.resolution,
         oblique: None,
+        pieces: None,
     };
     for samples in [64u32, 256] {
         let start = Instant::now();

@@ -319,6 +319,7 @@ impl Prepared {
             position: &self.surfels.position,
             normal: &self.surfels.normal,
             own: OwnSource::None,
+            piece: &self.surfels.piece,
         }
     }
 
@@ -432,6 +433,7 @@ impl Prepared {
             area: self.surfels.area.clone(),
             irradiance: self.entering(),
             footprint,
+            piece: self.surfels.piece.clone(),
         }
     }
 

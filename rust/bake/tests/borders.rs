@@ -158,10 +158,12 @@ fn a_seam_through_the_lit_side_does_not_show() {
             .iter()
             .map(|&s| prepared.surfels.normal[s])
             .collect();
+        let piece: Vec<u32> = checked.iter().map(|&s| prepared.surfels.piece[s]).collect();
         let targets = Targets {
             position: &position,
             normal: &normal,
             own: OwnSource::Listed(&checked),
+            piece: &piece,
         };
         let exact = brute::integrate(&skin.kernel, &sources, targets, &Control::new()).unwrap();
         let got = exitance(&prepared, &skin, method, &with(64, 6, 1));

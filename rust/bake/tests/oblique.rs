@@ -201,10 +201,12 @@ fn a_shadow_edge_at_sixty_degrees_follows_the_oblique_half_plane_integral() {
             .map(|&s| prepared.surfels.position[s])
             .collect();
         let normal: Vec<Vec3> = picked.iter().map(|&s| prepared.surfels.normal[s]).collect();
+        let piece: Vec<u32> = picked.iter().map(|&s| prepared.surfels.piece[s]).collect();
         let targets = Targets {
             position: &position,
             normal: &normal,
             own: OwnSource::Listed(&picked),
+            piece: &piece,
         };
         let sources = prepared.texel_sources();
         let control = Control::new();
@@ -231,6 +233,7 @@ fn a_shadow_edge_at_sixty_degrees_follows_the_oblique_half_plane_integral() {
                 normal: &prepared.surfels.normal,
                 texels: &texels,
             }),
+            pieces: None,
         };
         let sampled = importance::integrate(
             &scattering.kernel,

@@ -16,8 +16,9 @@ use sssbake::{BakeRequest, Error, Lighting, Output, bake, plan};
 use sssbake_profile::material::{Layer, Material, Optics};
 use sssbake_profile::model::Model;
 
-/// Two 80 mm squares `gap` mm apart, back to back (top faces +Z, bottom
-/// faces −Z), in one object; the top in the left half of the UVs.
+/// A closed sheet: two 80 mm squares `gap` mm apart, back to back (top
+/// faces +Z, bottom faces −Z), joined by a rim; the top in the left half
+/// of the UVs.
 fn sheet(gap: f32) -> Mesh {
     let h = 40.0;
     let z = gap / 2.0;
@@ -41,7 +42,31 @@ fn sheet(gap: f32) -> Mesh {
         Vec2::new(1.0, 0.49),
         Vec2::new(0.51, 0.49),
     ];
-    let triangles = vec![[0, 1, 2], [0, 2, 3], [4, 6, 5], [4, 7, 6]];
+    let mut triangles = vec![[0, 1, 2], [0, 2, 3], [4, 6, 5], [4, 7, 6]];
+    let (mut positions, mut uvs) = (positions, uvs);
+    // The rim: four walls `gap` high close the sheet, so one medium fills
+    // it (faces of separate pieces would exchange no light). Their UVs are
+    // thin strips in the upper half.
+    for k in 0..4 {
+        let (a, b) = (positions[k], positions[(k + 1) % 4]);
+        let base = positions.len() as u32;
+        positions.extend([a, b, b - Vec3::Z * gap, a - Vec3::Z * gap]);
+        let (u0, u1) = (0.02 + 0.245 * k as f32, 0.245 * (k + 1) as f32);
+        uvs.extend([
+            Vec2::new(u0, 0.6),
+            Vec2::new(u1, 0.6),
+            Vec2::new(u1, 0.62),
+            Vec2::new(u0, 0.62),
+        ]);
+        // Wound counter-clockwise seen from outside.
+        let outward = (a + b).with_z(0.0);
+        let facing = (b - a).cross(-Vec3::Z * gap).dot(outward) > 0.0;
+        triangles.extend(if facing {
+            [[base, base + 1, base + 2], [base, base + 2, base + 3]]
+        } else {
+            [[base, base + 2, base + 1], [base, base + 3, base + 2]]
+        });
+    }
     Mesh::new("sheet", positions, None, Some(uvs), triangles)
         .unwrap()
         .0

@@ -6,6 +6,7 @@ use crate::surface::raster::{
     EdgeFunctions, TexelMoments, TexelTriangle, barycentric, contains, edge_functions,
     moments_with, signed_area2, texel_bounds,
 };
+use crate::surface::topology::triangle_pieces;
 use glam::{DVec2, Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -44,6 +45,10 @@ pub struct TexelSurfels {
     /// edge, so the light a part-covered texel stands for is spread over
     /// the surface it covers and not over the next chart's.
     pub extent: Vec<[Vec2; 2]>,
+    /// The piece of the mesh the texel's triangle belongs to
+    /// ([`triangle_pieces`]): light scatters only between texels of one
+    /// piece.
+    pub piece: Vec<u32>,
 }
 
 impl TexelSurfels {
@@ -142,6 +147,7 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
         area: vec![0.0; total],
         stretch: vec![Vec2::ZERO; total],
         extent: vec![[Vec2::ZERO; 2]; total],
+        piece: Vec::new(),
     };
     let mut parts = Vec::with_capacity(counts.len());
     let (mut texel, mut position, mut normal) = (
@@ -201,6 +207,8 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
     for (surfel, &texel) in out.texel.iter().enumerate() {
         out.index[texel as usize] = surfel as u32;
     }
+    let pieces = triangle_pieces(mesh);
+    out.piece = out.triangle.iter().map(|&t| pieces[t as usize]).collect();
     out
 }
 

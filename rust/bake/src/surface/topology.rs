@@ -54,6 +54,26 @@ pub fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
 /// Counts the mesh's parts, boundary edges and non-manifold edges.
 pub fn topology_report(mesh: &Mesh) -> TopologyReport {
     let mut report = TopologyReport::default();
+    for sharing in edges(mesh).values() {
+        match sharing.len() {
+            1 => report.boundary_edges += 1,
+            2 => {}
+            _ => report.non_manifold_edges += 1,
+        }
+    }
+    report.parts = triangle_pieces(mesh)
+        .iter()
+        .max()
+        .map_or(0, |&last| last as usize + 1);
+    report
+}
+
+/// The piece each triangle belongs to (0, 1, … in the order of each
+/// piece's first triangle): triangles are of one piece when a chain of
+/// shared edges (welded by position, non-manifold ones included) joins
+/// them. Light scattered inside an object stays in its piece: two pieces
+/// of one mesh, however near, are joined by air, not by the medium.
+pub fn triangle_pieces(mesh: &Mesh) -> Vec<u32> {
     let mut parent: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
     fn root(parent: &mut [u32], mut i: u32) -> u32 {
         while parent[i as usize] != i {
@@ -63,20 +83,23 @@ pub fn topology_report(mesh: &Mesh) -> TopologyReport {
         i
     }
     for sharing in edges(mesh).values() {
-        match sharing.len() {
-            1 => report.boundary_edges += 1,
-            2 => {}
-            _ => report.non_manifold_edges += 1,
-        }
         for pair in sharing.windows(2) {
             let (a, b) = (root(&mut parent, pair[0].0), root(&mut parent, pair[1].0));
             parent[a as usize] = b;
         }
     }
-    report.parts = (0..parent.len() as u32)
-        .filter(|&t| root(&mut parent, t) == t)
-        .count();
-    report
+    let mut piece_of_root = vec![u32::MAX; parent.len()];
+    let mut pieces = 0u32;
+    (0..parent.len() as u32)
+        .map(|t| {
+            let r = root(&mut parent, t) as usize;
+            if piece_of_root[r] == u32::MAX {
+                piece_of_root[r] = pieces;
+                pieces += 1;
+            }
+            piece_of_root[r]
+        })
+        .collect()
 }
 
 /// A canonical vertex per distinct position.

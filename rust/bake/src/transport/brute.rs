@@ -45,9 +45,17 @@ impl Sorted {
     }
 
     /// Σ over sources within the kernel's reach of `p` of P·flux, `own`
-    /// being the source the target is, if any.
+    /// being the source the target is, if any, and `piece` the piece of the
+    /// mesh it lies on (sources of other pieces send it nothing).
     #[inline]
-    pub fn gather(&self, disks: &DiskKernel, p: Vec3, n: Vec3, own: Option<usize>) -> [f64; 3] {
+    pub fn gather(
+        &self,
+        disks: &DiskKernel,
+        p: Vec3,
+        n: Vec3,
+        own: Option<usize>,
+        piece: Option<u32>,
+    ) -> [f64; 3] {
         let own = self.table.rank_of(own);
         let reach = disks.kernel().d_max;
         let reflects_only = !disks.kernel().transmits();
@@ -58,9 +66,9 @@ impl Sorted {
                 let block = start..(start + BLOCK).min(run.end);
                 start = block.end;
                 let part = if reflects_only {
-                    self.reflected_block(disks, block, p, n, own)
+                    self.reflected_block(disks, block, p, n, own, piece)
                 } else {
-                    self.general_block(disks, block, p, n, own)
+                    self.general_block(disks, block, p, n, own, piece)
                 };
                 sum += part.truncate().as_dvec3();
             }
@@ -79,6 +87,7 @@ impl Sorted {
         p: Vec3,
         n: Vec3,
         own: Option<usize>,
+        piece: Option<u32>,
     ) -> Vec4 {
         let table = &self.table;
         let reach = disks.kernel().d_max;
@@ -102,7 +111,7 @@ impl Sorted {
             let d = d2.sqrt();
             squared[k] = d2;
             (entry[k], fraction[k]) = split_place(disks.place(d));
-            let within = d2 <= reach2 && d <= reach;
+            let within = d2 <= reach2 && d <= reach && table.joins(block.start + k, piece);
             let special = d2 < near2[k] || block.start + k == own;
             kind[k] = within as u8 * (1 + special as u8);
         }
@@ -142,12 +151,13 @@ impl Sorted {
         p: Vec3,
         n: Vec3,
         own: Option<usize>,
+        piece: Option<u32>,
     ) -> Vec4 {
         let reach = disks.kernel().d_max;
         let mut sum = Vec4::ZERO;
         for j in block {
             let d2 = (self.table.position[j] - p).length_squared();
-            if d2 > reach * reach {
+            if d2 > reach * reach || !self.table.joins(j, piece) {
                 continue;
             }
             sum += self.table.contribution4(disks, j, p, n, d2, own);
@@ -183,6 +193,7 @@ pub fn integrate(
                 targets.position[i],
                 targets.normal[i],
                 targets.own.of(i),
+                targets.piece_of(i),
             )
             .map(|v| v as f32)
     })?;

@@ -8,6 +8,7 @@
 use super::sources::{Grid, Sources};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
+use std::collections::BTreeMap;
 
 /// Clusters `texels` (sources with area and irradiance) around `centres`
 /// spaced about `spacing` mm apart. Cells that hold no texel are dropped.
@@ -30,9 +31,13 @@ pub fn cluster(texels: &Sources, centres: &[Vec3], spacing: f32) -> Sources {
         by_area: DVec3,
         normal: DVec3,
     }
-    let mut cells = vec![Cell::default(); centres.len()];
+    // A cell per centre and piece, in that order: texels of two pieces
+    // near one centre stay apart, as their light does.
+    let pieces = texels.piece.len() == texels.len();
+    let mut cells: BTreeMap<(u32, u32), Cell> = BTreeMap::new();
     for (t, &c) in nearest.iter().enumerate() {
-        let cell = &mut cells[c as usize];
+        let piece = if pieces { texels.piece[t] } else { 0 };
+        let cell = cells.entry((c, piece)).or_default();
         let a = texels.area[t] as f64;
         let e = texels.irradiance[t];
         let p = texels.position[t].as_dvec3();
@@ -47,7 +52,10 @@ pub fn cluster(texels: &Sources, centres: &[Vec3], spacing: f32) -> Sources {
         cell.normal += texels.normal[t].as_dvec3() * a;
     }
     let mut out = Sources::default();
-    for cell in cells.into_iter().filter(|c| c.area > 0.0) {
+    for ((_, piece), cell) in cells.into_iter().filter(|(_, c)| c.area > 0.0) {
+        if pieces {
+            out.piece.push(piece);
+        }
         let centre = if cell.light > 0.0 {
             cell.by_light / cell.light
         } else {

@@ -134,6 +134,7 @@ fn assert_walk_is_the_plain_sum(kernel: &Kernel, sources: &Sources) {
         position: &position,
         normal: &normal,
         own: OwnSource::Listed(&listed),
+        piece: &[],
     };
     let walked = brute::integrate(kernel, sources, targets, &Control::new()).unwrap();
     let disks = texel_disks(kernel, sources);

@@ -29,6 +29,7 @@ use crate::mesh::Mesh;
 use crate::pipeline::Prepared;
 use crate::rays::RayScene;
 use crate::scattering::Scattering;
+use crate::surface::topology::triangle_pieces;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use sssbake_profile::empirical_kernel::ObliqueKernel;
@@ -65,6 +66,17 @@ pub struct Surface<'a> {
     pub resolution: u32,
     /// The oblique kernel and the light split by incidence, when used.
     pub oblique: Option<Oblique<'a>>,
+    /// The pieces of the mesh, when hits on another piece than the
+    /// target's are to be left out (light does not cross air).
+    pub pieces: Option<Pieces<'a>>,
+}
+
+/// Which piece of the mesh each triangle and each target lies on.
+pub struct Pieces<'a> {
+    /// Per triangle of the mesh.
+    pub triangle: &'a [u32],
+    /// Per target.
+    pub target: &'a [u32],
 }
 
 /// What a hit reads for an oblique kernel.
@@ -111,6 +123,10 @@ pub fn integrate(
             exact,
             origin: position[i],
             normal: normal[i],
+            piece: surface
+                .pieces
+                .as_ref()
+                .and_then(|pieces| Some((pieces.triangle, *pieces.target.get(i)?))),
         };
         let mut sum = [0.0f64; 3];
         // Each sample's four numbers are uniform on their own (a random
@@ -145,6 +161,8 @@ struct Estimate<'a> {
     exact: bool,
     origin: Vec3,
     normal: Vec3,
+    /// The pieces of the triangles, and the target's piece.
+    piece: Option<(&'a [u32], u32)>,
 }
 
 impl Estimate<'_> {
@@ -215,6 +233,11 @@ impl Estimate<'_> {
         surface
             .probes
             .for_each_hit(q - axis * half, axis, 0.0, 2.0 * half, |hit| {
+                if let Some((pieces, own)) = self.piece
+                    && pieces.get(hit.triangle as usize).is_some_and(|&p| p != own)
+                {
+                    return;
+                }
                 let tri = surface.mesh.triangles[hit.triangle as usize];
                 let w = [1.0 - hit.uv.x - hit.uv.y, hit.uv.x, hit.uv.y];
                 let point = q - axis * half + axis * hit.t;
@@ -374,6 +397,7 @@ impl Integrator for ImportanceIntegrator {
                 normal: &prepared.surfels.normal,
                 texels: &texels,
             });
+        let triangle_pieces = triangle_pieces(&prepared.mesh);
         let surface = Surface {
             mesh: &prepared.mesh,
             uvs: &prepared.uvs,
@@ -381,6 +405,10 @@ impl Integrator for ImportanceIntegrator {
             irradiance: &texture,
             resolution: prepared.surfels.resolution,
             oblique,
+            pieces: Some(Pieces {
+                triangle: &triangle_pieces,
+                target: &prepared.surfels.piece,
+            }),
         };
         let exitance = integrate(
             &scattering.kernel,

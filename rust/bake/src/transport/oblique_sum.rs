@@ -66,12 +66,13 @@ pub fn integrate(
     parallel_fill(&mut out, 64, control, |i| {
         let p = targets.position[i];
         let own = targets.own.of(i);
+        let piece = targets.piece_of(i);
         let mut sum = [0.0f64; 3];
         grid.for_each_run(p, reach, |run| {
             for &g in &grid.order[run] {
                 let j = g as usize;
                 let d = p - lit.position[j];
-                if d.length_squared() > reach * reach {
+                if d.length_squared() > reach * reach || !sources.joins(lit.index[j], piece) {
                     continue;
                 }
                 let part = if own == Some(lit.index[j]) {

@@ -26,6 +26,9 @@ use serde::{Deserialize, Serialize};
 /// Sources per leaf.
 const LEAF: usize = 8;
 
+/// The piece of a node whose sources lie on several pieces of the mesh.
+const MIXED: u32 = u32::MAX;
+
 #[derive(Clone, Debug, Default)]
 struct Node {
     lo: Vec3,
@@ -45,6 +48,10 @@ struct Node {
     first: u32,
     count: u32,
     leaf: bool,
+    /// The piece of the mesh every source of the node lies on, or
+    /// [`MIXED`]. Nodes split by piece first, so only nodes above the
+    /// pieces' own subtrees are mixed, and those are always opened.
+    piece: u32,
 }
 
 /// The tree over sources, with the sources in its leaf order.
@@ -83,6 +90,7 @@ impl Octree {
         p: Vec3,
         n: Vec3,
         own: Option<usize>,
+        piece: Option<u32>,
         epsilon: f32,
     ) -> [f64; 3] {
         let kernel = texels.kernel();
@@ -101,12 +109,16 @@ impl Octree {
             if outside.length_squared() > reach2 {
                 continue;
             }
+            // Light stays in its piece of the mesh.
+            if piece.is_some_and(|q| node.piece != MIXED && node.piece != q) {
+                continue;
+            }
             if !node.leaf {
                 // The solid angle from the node's nearest point, not its
                 // centre: a long node beside the target is near, whatever
                 // its centre's distance.
                 let d2 = (node.centre - p).length_squared();
-                if node.area < epsilon * outside.length_squared() {
+                if node.piece != MIXED && node.area < epsilon * outside.length_squared() {
                     let separation =
                         Separation::new(node.centre, node.normal, p, n, d2, kernel.transmits());
                     let w = nodes.weight(separation, node.slot);
@@ -120,7 +132,7 @@ impl Octree {
             }
             for j in node.first as usize..(node.first + node.count) as usize {
                 let d2 = (self.table.position[j] - p).length_squared();
-                if d2 > reach2 {
+                if d2 > reach2 || !self.table.joins(j, piece) {
                     continue;
                 }
                 let m = self.table.contribution(texels, j, p, n, d2, own);
@@ -161,6 +173,12 @@ impl Shape {
         let (mut light, mut by_light, mut square_by_light) = (0.0f64, DVec3::ZERO, 0.0f64);
         let (mut by_area, mut square_by_area) = (DVec3::ZERO, 0.0f64);
         let mut normal = Vec3::ZERO;
+        let piece_of = |i: &u32| sources.piece.get(*i as usize).copied().unwrap_or(0);
+        let piece = match items.first().map(piece_of) {
+            Some(first) if items.iter().all(|i| piece_of(i) == first) => first,
+            Some(_) => MIXED,
+            None => 0,
+        };
         for &i in items.iter() {
             let i = i as usize;
             let p = sources.position[i];
@@ -204,27 +222,31 @@ impl Shape {
             first: offset as u32,
             count: items.len() as u32,
             leaf: true,
+            piece,
         };
-        if items.len() <= LEAF || (hi - lo).max_element() <= 0.0 {
+        let mixed = piece == MIXED;
+        if !mixed && (items.len() <= LEAF || (hi - lo).max_element() <= 0.0) {
             return;
         }
+        // Sources of several pieces are split by piece, the rest at the
+        // box centre.
         let mid = 0.5 * (lo + hi);
-        let octant = |i: &u32| -> usize {
+        let child_of = |i: &u32| -> u32 {
+            if mixed {
+                return piece_of(i);
+            }
             let p = sources.position[*i as usize];
-            (p.x > mid.x) as usize | ((p.y > mid.y) as usize) << 1 | ((p.z > mid.z) as usize) << 2
+            (p.x > mid.x) as u32 | ((p.y > mid.y) as u32) << 1 | ((p.z > mid.z) as u32) << 2
         };
-        items.sort_unstable_by_key(octant);
-        let mut bounds = [0usize; 9];
-        for i in items.iter() {
-            bounds[octant(i) + 1] += 1;
+        items.sort_unstable_by_key(child_of);
+        let mut children: Vec<(usize, usize)> = Vec::with_capacity(8);
+        let mut start = 0;
+        for k in 1..=items.len() {
+            if k == items.len() || child_of(&items[k]) != child_of(&items[start]) {
+                children.push((start, k));
+                start = k;
+            }
         }
-        for k in 0..8 {
-            bounds[k + 1] += bounds[k];
-        }
-        let children: Vec<(usize, usize)> = (0..8)
-            .filter(|&k| bounds[k + 1] > bounds[k])
-            .map(|k| (bounds[k], bounds[k + 1]))
-            .collect();
         let first_child = self.nodes.len();
         self.nodes[at].first = first_child as u32;
         self.nodes[at].count = children.len() as u32;
@@ -275,6 +297,7 @@ pub fn integrate(
             targets.position[i],
             targets.normal[i],
             targets.own.of(i),
+            targets.piece_of(i),
             epsilon,
         )
         .map(|v| v as f32)

@@ -40,6 +40,8 @@ pub(super) struct SourceTable {
     pub near2: Vec<f32>,
     /// True when every source's size lies inside the disk means' table.
     pub tabulated: bool,
+    /// The piece of the mesh of each source (empty: one piece).
+    pub piece: Vec<u32>,
 }
 
 impl SourceTable {
@@ -97,7 +99,19 @@ impl SourceTable {
             edges,
             sub_slot,
             near2,
+            piece: if sources.piece.len() == sources.len() {
+                order.iter().map(|&i| sources.piece[i as usize]).collect()
+            } else {
+                Vec::new()
+            },
         }
+    }
+
+    /// True when source `j` (this order) and a target on `piece` are
+    /// joined by the medium (one piece, or either side does not say).
+    #[inline]
+    pub fn joins(&self, j: usize, piece: Option<u32>) -> bool {
+        piece.is_none_or(|q| self.piece.get(j).is_none_or(|&p| p == q))
     }
 
     /// The place in this order of source `i`, if it is one.

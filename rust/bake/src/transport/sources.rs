@@ -19,9 +19,21 @@ pub struct Sources {
     /// covered part's rectangle for a texel at a chart's edge); empty for
     /// samples without a shape.
     pub footprint: Vec<[Vec3; 2]>,
+    /// The piece of the mesh each sample lies on (see
+    /// [`crate::surface::topology::triangle_pieces`]); empty when every
+    /// sample is on one piece. Light travels only between samples of one
+    /// piece.
+    pub piece: Vec<u32>,
 }
 
 impl Sources {
+    /// True when source `i` and a target on `piece` are joined by the
+    /// medium: on one piece, or when either side does not say.
+    #[inline]
+    pub fn joins(&self, i: usize, piece: Option<u32>) -> bool {
+        piece.is_none_or(|q| self.piece.get(i).is_none_or(|&p| p == q))
+    }
+
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.position.len()
@@ -53,6 +65,16 @@ pub struct Targets<'a> {
     pub normal: &'a [Vec3],
     /// Which source each target is, if any.
     pub own: OwnSource<'a>,
+    /// The piece of the mesh each target lies on; empty to gather from
+    /// every piece (samples of one piece, or sources without pieces).
+    pub piece: &'a [u32],
+}
+
+impl Targets<'_> {
+    /// The piece target `i` lies on, when the targets say.
+    pub fn piece_of(&self, i: usize) -> Option<u32> {
+        self.piece.get(i).copied()
+    }
 }
 
 /// Which source each target is: a texel's own light is weighed by the

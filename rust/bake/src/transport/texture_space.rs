@@ -491,10 +491,12 @@ impl Integrator for TextureIntegrator {
             let texels = prepared.texel_sources();
             let position: Vec<_> = edge.iter().map(|&s| prepared.surfels.position[s]).collect();
             let normal: Vec<_> = edge.iter().map(|&s| prepared.surfels.normal[s]).collect();
+            let piece: Vec<_> = edge.iter().map(|&s| prepared.surfels.piece[s]).collect();
             let targets = Targets {
                 position: &position,
                 normal: &normal,
                 own: OwnSource::Listed(&edge),
+                piece: &piece,
             };
             let exact = brute::integrate(&scattering.kernel, &texels, targets, control)?;
             for (&s, m) in edge.iter().zip(exact) {

@@ -51,10 +51,12 @@ pub fn estimate_error(
         .map(|&i| prepared.surfels.position[i])
         .collect();
     let normal: Vec<_> = picked.iter().map(|&i| prepared.surfels.normal[i]).collect();
+    let piece: Vec<_> = picked.iter().map(|&i| prepared.surfels.piece[i]).collect();
     let targets = Targets {
         position: &position,
         normal: &normal,
         own: OwnSource::Listed(&picked),
+        piece: &piece,
     };
     let sources = prepared.texel_sources();
     // The oblique exact sum where the material has one: the estimate then
