@@ -15,7 +15,7 @@ use super::disk_kernel::{DiskKernel, Slot};
 use super::integrator::{Integrated, Integrator};
 use super::kernel::{Kernel, Separation};
 use super::source_table::{SourceTable, texel_disks};
-use super::sources::{OwnSource, Sources, Targets};
+use super::sources::{OwnSource, Sources, Target, Targets};
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
 use crate::pipeline::Prepared;
@@ -80,21 +80,18 @@ impl Octree {
         tree
     }
 
-    /// Σ over sources of P·flux at `p` with normal `n`, taking nodes whole
-    /// below the solid-angle threshold `epsilon`; `own` is the source the
-    /// target is, if any.
+    /// Σ over the sources of `target`'s piece of P·flux at the target,
+    /// taking nodes whole below the solid-angle threshold `epsilon`.
     fn gather(
         &self,
         texels: &DiskKernel,
         nodes: &DiskKernel,
-        p: Vec3,
-        n: Vec3,
-        own: Option<usize>,
-        piece: Option<u32>,
+        target: Target,
         epsilon: f32,
     ) -> [f64; 3] {
+        let (p, n, piece) = (target.position, target.normal, target.piece);
         let kernel = texels.kernel();
-        let own = self.table.rank_of(own);
+        let own = self.table.rank_of(target.own);
         let mut sum = [0.0f64; 3];
         if self.nodes.is_empty() {
             return sum;
@@ -291,16 +288,8 @@ pub fn integrate(
     let tree = Octree::new(sources, shape, &order, &texels, &nodes);
     let mut out = vec![[0.0f32; 3]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {
-        tree.gather(
-            &texels,
-            &nodes,
-            targets.position[i],
-            targets.normal[i],
-            targets.own.of(i),
-            targets.piece_of(i),
-            epsilon,
-        )
-        .map(|v| v as f32)
+        tree.gather(&texels, &nodes, targets.at(i), epsilon)
+            .map(|v| v as f32)
     })?;
     Ok(out)
 }

@@ -75,6 +75,29 @@ impl Targets<'_> {
     pub fn piece_of(&self, i: usize) -> Option<u32> {
         self.piece.get(i).copied()
     }
+
+    /// Target `i` alone.
+    pub fn at(&self, i: usize) -> Target {
+        Target {
+            position: self.position[i],
+            normal: self.normal[i],
+            own: self.own.of(i),
+            piece: self.piece_of(i),
+        }
+    }
+}
+
+/// One point at which exitance is wanted.
+#[derive(Clone, Copy, Debug)]
+pub struct Target {
+    /// Position, mm.
+    pub position: Vec3,
+    /// Unit normal.
+    pub normal: Vec3,
+    /// The source it is, if any.
+    pub own: Option<usize>,
+    /// The piece of the mesh it lies on, if known.
+    pub piece: Option<u32>,
 }
 
 /// Which source each target is: a texel's own light is weighed by the
