@@ -11,7 +11,7 @@ from Blender's own primitives, so the files are the same on every run.
 
 Blender's exporters leave out the Principled BSDF's subsurface inputs, so each file
 gets them afterwards, stated by each format's own definition of what Cycles renders
-(README "Materials from Blender"): Cycles' Random Walk uses Radius × Scale / 4π as the
+(docs/materials.md "Materials from Blender"): Cycles' Random Walk uses Radius × Scale / 4π as the
 mean free path. glTF gets KHR_materials_volume (attenuation distance = Scale / 4π,
 attenuation colour = e^(-1/Radius), so the mean free path is Radius × Scale / 4π) and
 KHR_materials_volume_scatter's multiscatterColor = Base Color and KHR_materials_ior (kept

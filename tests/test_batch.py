@@ -10,7 +10,7 @@ import shutil
 import pytest
 from conftest import ROOT, run
 
-# Exit code of a batch in which some assets failed (README "Pipelines").
+# Exit code of a batch in which some assets failed (docs/pipelines.md).
 SOME_FAILED = 5
 
 # The examples at 64² (cheap); head and head_usd are the same head, with the

@@ -1,7 +1,7 @@
 """The `sssbake` Python package (pyproject.toml, rust/python, python/sssbake), installed
-into the test venv by scripts/test.sh: the README's examples run as written; a bake from
-Python equals the binary's bit for bit, from a file and from a USD stage in memory;
-progress rises to 1; cancellation, Ctrl-C-like callback errors and the library's errors
+into the test venv by scripts/test.sh: the examples of the README and docs/python.md run
+as written; a bake from Python equals the binary's bit for bit, from a file and from a USD
+stage in memory; progress rises to 1; cancellation, Ctrl-C-like callback errors and the library's errors
 arrive as the package's exceptions; the GIL is free while the library works; profiles are
 numpy arrays whose integral is the profile's total reflectance."""
 
@@ -33,16 +33,30 @@ def test_the_package_is_the_built_library_and_typed():
     assert "skin1" in sssbake.presets()
 
 
-def test_the_readmes_python_examples_run(tmp_path, monkeypatch):
-    text = (ROOT / "README.md").read_text()
-    section = text.split("\n## Python\n", 1)[1].split("\n## ", 1)[0]
-    blocks = re.findall(r"```python\n(.*?)```", section, re.DOTALL)
-    assert len(blocks) >= 3
+def python_blocks(page: pathlib.Path) -> list[str]:
+    return re.findall(r"```python\n(.*?)```", page.read_text(), re.DOTALL)
+
+
+def test_the_readmes_python_example_runs(tmp_path, monkeypatch):
+    blocks = python_blocks(ROOT / "README.md")
+    assert len(blocks) >= 1
     (tmp_path / "examples").symlink_to(ROOT / "examples")
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
     for block in blocks:
         exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102 - the README under test
+    assert namespace["head"]["accuracy"]["method"]
+    assert all(pathlib.Path(f).exists() for f in namespace["summary"]["files"])
+
+
+def test_the_python_pages_examples_run(tmp_path, monkeypatch):
+    blocks = python_blocks(ROOT / "docs" / "python.md")
+    assert len(blocks) >= 3
+    (tmp_path / "examples").symlink_to(ROOT / "examples")
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    for block in blocks:
+        exec(compile(block, "docs/python.md", "exec"), namespace)  # noqa: S102 - the page under test
     # What the examples claim they did.
     assert namespace["head"]["accuracy"]["method"]
     assert all(pathlib.Path(f).exists() for f in namespace["summary"]["files"])

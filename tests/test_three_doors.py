@@ -13,7 +13,7 @@ What each door can carry, and how the scene is built for it:
   by the format's own definition (glTF `KHR_materials_volume` with `KHR_materials_ior`,
   USD OpenPBR reading the exported `UsdUVTexture`), as `examples/make_examples.py` does.
   IOR is 1: the formats read the boundary at the IOR where Cycles' Random Walk is
-  index-matched (README, "Materials from Blender"), so only at IOR 1 do all three describe
+  index-matched (docs/materials.md, "Materials from Blender"), so only at IOR 1 do all three describe
   one medium. The add-on bakes with *Physical* colour to albedo, the inversion the formats'
   readers use.
 - glTF's punctual lights have no size and glTF has no area lights: the point and spot have

@@ -25,7 +25,7 @@ PRESETS = [
 SOURCES = [
     ("PRINCIPLED", "From Principled BSDF", "Base Color and the subsurface inputs, read as Cycles reads them"),
     ("PRESET", "Preset", "A measured material"),
-    ("LAYERS", "Custom layers", "A TOML file of layers (see the README)"),
+    ("LAYERS", "Custom layers", "A TOML file of layers (see docs/materials.md)"),
 ]
 ALBEDO_MAPPINGS = [
     ("CYCLES", "Like Cycles", "Colour to albedo by Cycles' own fit: the bake looks like Cycles' render"),
@@ -127,7 +127,7 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
         ),
         "layers_file": bpy.props.StringProperty(
             name="Layers",
-            description="A TOML file of layers (see the README); `//` is relative to the .blend file",
+            description="A TOML file of layers (see docs/materials.md); `//` is relative to the .blend file",
             subtype="FILE_PATH",
             options=_path_options(),
             default="",

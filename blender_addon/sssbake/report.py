@@ -1,4 +1,4 @@
-"""What a bake tells the artist, read from the library's summary (README, "The summary"):
+"""What a bake tells the artist, read from the library's summary (docs/outputs.md, "The summary"):
 per object the method, why it was chosen, its estimated error and the seconds per stage;
 and progress as plain lines for a log when Blender runs in the background."""
 

@@ -188,7 +188,7 @@ def principled_material(settings, slot, uv_keys):
         "anisotropy": value_of(inputs, "Subsurface Anisotropy", 0.0),
         # Roughness is Cycles' GGX specular layer over the subsurface, not the rough boundary
         # of Donner & Jensen that `roughness` describes, and the glTF and USD readers leave it
-        # out too: a smooth boundary keeps the three doors one bake (README, "Materials").
+        # out too: a smooth boundary keeps the three doors one bake (docs/materials.md, "Materials").
         "roughness": 0.0,
         "albedo": "physical" if settings.albedo_mapping == "PHYSICAL" else "cycles",
     }

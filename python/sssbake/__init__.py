@@ -5,7 +5,7 @@
     print(summary["objects"][0]["accuracy"]["method"], summary["files"])
 
 `bake`, `plan` and `batch` take the options of a batch manifest's tables
-(README "Pipelines": `resolution`, `preset`, `material`, `method`,
+(docs/pipelines.md: `resolution`, `preset`, `material`, `method`,
 `tolerance`, `max_memory`, ...) as keyword arguments and return what the
 command line prints with `--json`, as dicts. A scene is a file (glTF or USD)
 or a `pxr.Usd.Stage` held in memory; USD is read and written with this

@@ -54,7 +54,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-# Exit code of `sssbake batch` when an asset failed (README "Pipelines"):
+# Exit code of `sssbake batch` when an asset failed (docs/pipelines.md):
 # the task ran; its report says why the asset failed.
 SOME_FAILED = 5
 

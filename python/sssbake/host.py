@@ -75,7 +75,7 @@ class BakeResult:
 
     def image(self, output: str) -> np.ndarray:
         """Map `output` (`subsurface`, `irradiance`, `diffuse`, `thickness`, `stretch`,
-        `area`; units as the README's `sssbake bake`) as a float32 (n, n, 4) RGBA array,
+        `area`; units as docs/outputs.md gives them) as a float32 (n, n, 4) RGBA array,
         rows from v = 0 up, alpha 1 on covered and filled texels, 0 elsewhere."""
         n = self.resolution
         return self._native.image(output).reshape(n, n, 4)
@@ -125,7 +125,7 @@ class Scene:
         )
 
     def add_light(self, kind: str, **fields: Any) -> None:
-        """Adds a light in Blender's terms (README, the Blender light table): `kind`
+        """Adds a light in Blender's terms (docs/lights.md, the Blender light table): `kind`
         sun, point, spot, rectangle or disk, and any of `colour`, `power` (W, or a sun's
         W/m²), `position`, `direction` (where it shines), `tangent` (its X axis), `size`,
         `size_y`, `angle`, `spot_size`, `spot_blend`, `exposure`, `temperature_colour`,

@@ -3,7 +3,7 @@
 //! The first that applies: a sidecar's entry for the object (or its `*`),
 //! the material a caller names for every object (`--preset` or
 //! `--material`), the object's own material in the scene (translated as
-//! README "Materials from the asset" says), then the fallback (`skin1`).
+//! docs/materials.md "Materials from the asset" says), then the fallback (`skin1`).
 //!
 //! A sidecar is TOML that names each object's preset or material file
 //! (relative to the sidecar):
@@ -46,10 +46,10 @@ pub struct Sourced {
 /// for the nominal colour of a colour map.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ColourRecipe {
-    /// An asset's shader, as sssbake reads it (README, "Materials from the
+    /// An asset's shader, as sssbake reads it (docs/materials.md, "Materials from the
     /// asset").
     Appearance(Appearance),
-    /// Blender's Principled BSDF (README, "Materials from Blender").
+    /// Blender's Principled BSDF (docs/materials.md, "Materials from Blender").
     Principled(Principled),
 }
 
@@ -348,7 +348,7 @@ pub struct Principled {
 }
 
 impl Principled {
-    /// The material Cycles renders for these inputs (README, "Materials
+    /// The material Cycles renders for these inputs (docs/materials.md, "Materials
     /// from Blender").
     pub fn to_material(&self) -> Result<Material, Error> {
         let at = |message: String| {

@@ -94,7 +94,7 @@ pub struct ObjectPlan {
     /// The material and its profile.
     pub material: MaterialPlan,
     /// Where the base colour came from, the nominal colour the profile is
-    /// built for and the split (README, "Colour maps").
+    /// built for and the split (docs/materials.md, "Colour maps").
     pub colour: ColourPlan,
     /// Lighting: the irradiance entering every texel.
     pub lighting: Stage,

@@ -35,7 +35,7 @@ pub struct SceneObject {
     /// ... or the USD mesh prim's path.
     pub prim: Option<String>,
     /// The texture its material's colour reads, when one drives it
-    /// (README, "Colour maps").
+    /// (docs/materials.md, "Colour maps").
     pub colour_texture: Option<crate::colour::ColourTexture>,
     /// From the file's coordinates in the object's own frame (the glTF
     /// node's) to the scene's, in mm; identity where positions are read in
@@ -57,7 +57,7 @@ pub struct MaterialHint {
     /// Diffuse transmission factor and colour, when the asset has one.
     pub diffuse_transmission: Option<([f32; 3], f32)>,
     /// What the shader says about light under the surface, when it gives a
-    /// scattering distance (README, "Materials from the asset").
+    /// scattering distance (docs/materials.md, "Materials from the asset").
     pub subsurface: Option<Subsurface>,
 }
 
@@ -132,7 +132,7 @@ pub const DEFAULT_IOR: f32 = 1.5;
 
 /// A light source in world space, in radiometric units.
 ///
-/// Readers convert each format's units once (README, "Lights and units"):
+/// Readers convert each format's units once (docs/lights.md, "Lights and units"):
 /// glTF lux and candela as Blender's glTF exporter writes them (a sun's
 /// lux is its W/m²; a point's candela is 683 lm/W · W/(4π sr)), USD
 /// intensity × 2^exposure as UsdLux defines it, Blender's own units as
@@ -331,10 +331,10 @@ impl Scene {
     }
 }
 
-/// One row of a format's light table (README, "Lights and units"): what a
+/// One row of a format's light table (docs/lights.md, "Lights and units"): what a
 /// file says, what the bake makes of it, and the irradiance it gives at a
 /// point of a plane. Each reader keeps its table beside its code, and a
-/// test checks the README shows the same rows.
+/// test checks docs/lights.md shows the same rows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LightRow {
     /// The light as the format states it.

@@ -61,6 +61,47 @@ enum Command {
     /// report each one's error against the exact sum and its run time.
     #[command(allow_negative_numbers = true)]
     Report(report_command::ReportArgs),
+    /// Print every command and option as Markdown: the reference in
+    /// docs/cli.md.
+    #[command(hide = true)]
+    HelpMarkdown,
+}
+
+/// Every command and option as Markdown, from the definitions above: the
+/// headings one level down, to sit under a page's own title, and one blank
+/// line at most between blocks.
+fn help_markdown() -> String {
+    let options = clap_markdown::MarkdownOptions::new()
+        .title("Every command and option".to_string())
+        .show_footer(false);
+    let text = clap_markdown::help_markdown_custom::<Cli>(&options);
+    let mut markdown = String::with_capacity(text.len());
+    let mut blank = true;
+    for line in text.lines() {
+        let line = line.trim_end();
+        // The page says what the reference is; clap-markdown's own sentence
+        // calls it a document of its own.
+        if line.starts_with("This document contains") {
+            continue;
+        }
+        if line.is_empty() && blank {
+            continue;
+        }
+        blank = line.is_empty();
+        if let Some(label) = line.strip_prefix("###### ") {
+            markdown.push_str(label);
+        } else if line.starts_with('#') {
+            markdown.push('#');
+            markdown.push_str(line);
+        } else {
+            markdown.push_str(line);
+        }
+        markdown.push('\n');
+    }
+    while markdown.ends_with("\n\n") {
+        markdown.pop();
+    }
+    markdown
 }
 
 /// Prints `value` as pretty JSON on stdout.
@@ -116,6 +157,10 @@ fn run(cli: Cli) -> Result<bool, Option<Error>> {
         Command::Profile(args) => profile_command::run(&args),
         Command::Plan(args) => plan_command::run(&args),
         Command::Report(args) => report_command::run(&args),
+        Command::HelpMarkdown => {
+            print!("{}", help_markdown());
+            Ok(())
+        }
         Command::Presets => {
             for (name, description) in sssbake_profile::presets::list() {
                 println!("{name:<12} {description}");

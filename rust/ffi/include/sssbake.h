@@ -81,7 +81,7 @@
 #define SSSBAKE_MATERIAL_PRINCIPLED 1
 
 /**
- * A material file's TOML text in `toml` (README, "Materials").
+ * A material file's TOML text in `toml` (docs/materials.md, "Materials").
  */
 #define SSSBAKE_MATERIAL_TOML 2
 
@@ -317,7 +317,7 @@ typedef struct SssbakeMaterial {
    * texels of `image_channels` floats (3 RGB, or 4 RGBA whose alpha is
    * ignored), linear (the host decodes its colour space), rows from
    * v = 0 up (Blender's order). It replaces `base_colour` where it is
-   * sampled; the profile is built for its mean (README, "Colour maps").
+   * sampled; the profile is built for its mean (docs/materials.md, "Colour maps").
    */
   const float *image_pixels;
   /**
@@ -351,7 +351,7 @@ typedef struct SssbakeMaterial {
   const char *image_name;
   /**
    * Roughness r in [0, 1] of a rough boundary over the subsurface, whose
-   * Beckmann RMS slope is m = r² (Donner & Jensen 2005 §2.4; README,
+   * Beckmann RMS slope is m = r² (Donner & Jensen 2005 §2.4; docs/materials.md,
    * "Materials"); 0, the default, is smooth (Principled kind; a TOML
    * material gives its own `roughness`). A Principled BSDF's Roughness
    * is Cycles' specular layer, not this boundary: the add-on passes 0.
@@ -580,7 +580,7 @@ uint32_t sssbake_result_resolution(const struct SssbakeResult *result);
 
 /**
  * What the bake did, as JSON: the summary `sssbake bake --json` prints
- * (README, "The summary"), for this one object. Owned by the result
+ * (docs/outputs.md, "The summary"), for this one object. Owned by the result
  * (valid until it is freed; do not free it); null for a handle that is
  * not a live result, with [`sssbake_last_error`](crate::sssbake_last_error)
  * saying why.
@@ -589,7 +589,7 @@ const char *sssbake_result_summary(const struct SssbakeResult *result);
 
 /**
  * Copies map `output` (0 subsurface, 1 irradiance, 2 diffuse, 3 thickness,
- * 4 stretch, 5 area; units as README's `sssbake bake` gives them) into
+ * 4 stretch, 5 area; units as docs/outputs.md gives them) into
  * `rgba`, `len` = 4 × resolution² floats, rows from v = 0 up (Blender's
  * and OpenGL's order), alpha 1 on covered and filled texels, 0 elsewhere.
  *
@@ -650,7 +650,7 @@ enum SssbakeStatus sssbake_scene_read(const char *path,
  * `flags` is a sum of `SSSBAKE_FOLDER_*`. `material`, `settings`,
  * `progress`, `user` and `cancel` are as for
  * [`sssbake_bake`](crate::sssbake_bake). On success `*summary_out` holds
- * the summary as JSON (README, "The summary"), freed by
+ * the summary as JSON (docs/outputs.md, "The summary"), freed by
  * [`sssbake_string_free`].
  *
  * # Safety

@@ -404,7 +404,7 @@ pub extern "C" fn sssbake_result_resolution(result: *const SssbakeResult) -> u32
 }
 
 /// What the bake did, as JSON: the summary `sssbake bake --json` prints
-/// (README, "The summary"), for this one object. Owned by the result
+/// (docs/outputs.md, "The summary"), for this one object. Owned by the result
 /// (valid until it is freed; do not free it); null for a handle that is
 /// not a live result, with [`sssbake_last_error`](crate::sssbake_last_error)
 /// saying why.
@@ -420,7 +420,7 @@ pub extern "C" fn sssbake_result_summary(result: *const SssbakeResult) -> *const
 }
 
 /// Copies map `output` (0 subsurface, 1 irradiance, 2 diffuse, 3 thickness,
-/// 4 stretch, 5 area; units as README's `sssbake bake` gives them) into
+/// 4 stretch, 5 area; units as docs/outputs.md gives them) into
 /// `rgba`, `len` = 4 × resolution² floats, rows from v = 0 up (Blender's
 /// and OpenGL's order), alpha 1 on covered and filled texels, 0 elsewhere.
 ///

@@ -92,7 +92,7 @@ pub unsafe extern "C" fn sssbake_scene_read(
 /// `flags` is a sum of `SSSBAKE_FOLDER_*`. `material`, `settings`,
 /// `progress`, `user` and `cancel` are as for
 /// [`sssbake_bake`](crate::sssbake_bake). On success `*summary_out` holds
-/// the summary as JSON (README, "The summary"), freed by
+/// the summary as JSON (docs/outputs.md, "The summary"), freed by
 /// [`sssbake_string_free`].
 ///
 /// # Safety

@@ -1,5 +1,5 @@
 //! Lights in Blender's terms as C passes them; the library reads them
-//! (`sssbake_host::lights`, whose table the README shows).
+//! (`sssbake_host::lights`, whose table docs/lights.md shows).
 
 use crate::errors::Failure;
 use sssbake_host::{HostLight, LightShape};

@@ -13,7 +13,7 @@ pub const SSSBAKE_MATERIAL_PRESET: u32 = 0;
 /// Principled BSDF inputs: base colour, subsurface weight, radius, scale,
 /// method, IORs and anisotropy, read as Cycles reads them.
 pub const SSSBAKE_MATERIAL_PRINCIPLED: u32 = 1;
-/// A material file's TOML text in `toml` (README, "Materials").
+/// A material file's TOML text in `toml` (docs/materials.md, "Materials").
 pub const SSSBAKE_MATERIAL_TOML: u32 = 2;
 /// Each object's own material in the scene (a scene read from a file),
 /// else the fallback preset.
@@ -72,7 +72,7 @@ pub struct SssbakeMaterial {
     /// texels of `image_channels` floats (3 RGB, or 4 RGBA whose alpha is
     /// ignored), linear (the host decodes its colour space), rows from
     /// v = 0 up (Blender's order). It replaces `base_colour` where it is
-    /// sampled; the profile is built for its mean (README, "Colour maps").
+    /// sampled; the profile is built for its mean (docs/materials.md, "Colour maps").
     pub image_pixels: *const f32,
     /// Texels per row.
     pub image_width: u32,
@@ -90,7 +90,7 @@ pub struct SssbakeMaterial {
     /// The image's name for reports (UTF-8), or null.
     pub image_name: *const c_char,
     /// Roughness r in [0, 1] of a rough boundary over the subsurface, whose
-    /// Beckmann RMS slope is m = r² (Donner & Jensen 2005 §2.4; README,
+    /// Beckmann RMS slope is m = r² (Donner & Jensen 2005 §2.4; docs/materials.md,
     /// "Materials"); 0, the default, is smooth (Principled kind; a TOML
     /// material gives its own `roughness`). A Principled BSDF's Roughness
     /// is Cycles' specular layer, not this boundary: the add-on passes 0.

@@ -444,7 +444,7 @@ fn malformed_images_and_indices_are_refused_with_a_message() {
     }
 }
 
-/// The README's two-layer skin whose epidermis is declared a Stam layer
+/// docs/materials.md's two-layer skin whose epidermis is declared a Stam layer
 /// (or, with `top_model` "diffusion", the same stack by diffusion alone).
 fn stam_topped_toml(top_model: &str) -> CString {
     CString::new(format!(

@@ -1,6 +1,6 @@
 //! Lights in Blender's terms, converted to the library's radiometric units
 //! as Cycles defines them (`intern/cycles/blender/light.cpp` and
-//! `scene/light.cpp`). [`BLENDER_LIGHTS`] is the table, shown in the README.
+//! `scene/light.cpp`). [`BLENDER_LIGHTS`] is the table, shown in docs/lights.md.
 
 use glam::Vec3;
 use serde::Deserialize;
@@ -8,7 +8,7 @@ use sssbake::scene::spot_cone;
 use sssbake::{ConeFalloff, Error, Light, LightKind, LightRow};
 use std::f32::consts::PI;
 
-/// The column titles of [`BLENDER_LIGHTS`] in the README.
+/// The column titles of [`BLENDER_LIGHTS`] in docs/lights.md.
 pub const BLENDER_HEADER: [&str; 3] = [
     "C ABI kind: Blender light",
     "read as",
@@ -278,7 +278,7 @@ fn area_radiance(power: f32, area_m2: f32, normalize: bool) -> Result<f32, Error
 #[cfg(test)]
 mod tests {
     //! Each row of [`BLENDER_LIGHTS`] against its closed form or a
-    //! quadrature at a point of a plane, and the README's table.
+    //! quadrature at a point of a plane, and the table of docs/lights.md.
     use super::*;
     use sssbake::control::Control;
     use sssbake::irradiance::emitters::Emitter;
@@ -464,14 +464,14 @@ mod tests {
     }
 
     #[test]
-    fn the_readmes_blender_light_table_is_the_codes() {
-        let readme = include_str!("../../../README.md");
+    fn the_blender_light_table_of_the_docs_is_the_codes() {
+        let page = include_str!("../../../docs/lights.md");
         let table = light_table_markdown(BLENDER_HEADER, BLENDER_LIGHTS);
         let head = table.lines().next().unwrap();
-        let start = readme
+        let start = page
             .find(head)
-            .unwrap_or_else(|| panic!("the README has no table headed {head}"));
-        let rows: Vec<Vec<&str>> = readme[start..]
+            .unwrap_or_else(|| panic!("docs/lights.md has no table headed {head}"));
+        let rows: Vec<Vec<&str>> = page[start..]
             .lines()
             .skip(2)
             .take_while(|l| l.starts_with('|'))
@@ -481,6 +481,9 @@ mod tests {
             .iter()
             .map(|r| vec![r.source, r.read_as, r.irradiance])
             .collect();
-        assert_eq!(rows, want, "the README's table should read:\n{table}");
+        assert_eq!(
+            rows, want,
+            "the table in docs/lights.md should read:\n{table}"
+        );
     }
 }

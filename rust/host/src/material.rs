@@ -20,7 +20,7 @@ pub enum HostMaterialKind {
     Preset,
     /// Principled BSDF inputs, read as Cycles reads them.
     Principled(HostPrincipled),
-    /// A material file's TOML text (README, "Materials").
+    /// A material file's TOML text (docs/materials.md, "Materials").
     Toml(String),
     /// Each object's own material in the scene (a scene read from a file),
     /// else the fallback preset.
@@ -64,7 +64,7 @@ pub struct HostPrincipled {
     #[serde(with = "albedo_name")]
     pub albedo: AlbedoMapping,
     /// Roughness r in [0, 1] of a rough boundary over the subsurface
-    /// (Beckmann RMS slope m = r²; README, "Materials"); 0 is smooth. A
+    /// (Beckmann RMS slope m = r²; docs/materials.md, "Materials"); 0 is smooth. A
     /// Principled BSDF's Roughness is Cycles' specular layer, not this.
     pub roughness: f32,
 }
@@ -136,7 +136,7 @@ pub fn subsurface_method(name: &str) -> Option<SubsurfaceMethod> {
 /// RGB, or 4 RGBA whose alpha is ignored), linear (the host decodes its
 /// colour space), rows from v = 0 up (Blender's order). It replaces the
 /// base colour where it is sampled; the profile is built for its mean
-/// (README, "Colour maps").
+/// (docs/materials.md, "Colour maps").
 #[derive(Clone, Copy, Debug)]
 pub struct HostImage<'a> {
     /// The texels.

@@ -1,7 +1,7 @@
 //! Base-colour textures a scene's materials name: the image decoded (PNG,
 //! JPEG, EXR, HDR, by content) into linear RGB by its colour space. A
 //! texture that cannot be read keeps its error, which stops only a bake
-//! whose colour it drives (README, "Colour maps").
+//! whose colour it drives (docs/materials.md, "Colour maps").
 
 use sssbake::image::Image;
 use std::io::Cursor;

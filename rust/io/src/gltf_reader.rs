@@ -559,7 +559,7 @@ fn subsurface_of(
 /// The start of `asset.generator` in files Blender's glTF exporter writes.
 const BLENDER_GENERATOR: &str = "Khronos glTF Blender I/O";
 
-/// The column titles of [`GLTF_LIGHTS`] in the README.
+/// The column titles of [`GLTF_LIGHTS`] in docs/lights.md.
 pub const GLTF_HEADER: [&str; 3] = [
     "glTF light",
     "read as",

@@ -2,7 +2,7 @@
 //! defines them, and as Blender's USD exporter means them where it departs
 //! from the schema (detected from the layer's documentation string, which
 //! Blender sets to `Blender vX.Y.Z`). [`USD_LIGHTS`] is the table, shown in
-//! the README.
+//! docs/lights.md.
 //!
 //! I' = intensity × 2^exposure; every light is also multiplied by
 //! C = color × diffuse × (the blackbody colour of colorTemperature when
@@ -21,7 +21,7 @@ use sssbake::scene::spot_cone;
 use sssbake::{ConeFalloff, Light, LightKind, LightRow};
 use std::f32::consts::PI;
 
-/// The column titles of [`USD_LIGHTS`] in the README.
+/// The column titles of [`USD_LIGHTS`] in docs/lights.md.
 pub const USD_HEADER: [&str; 3] = [
     "UsdLux prim",
     "read as",

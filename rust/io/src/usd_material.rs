@@ -1,5 +1,5 @@
 //! A USD surface shader, as `usd/read_stage.py` reports it, translated into
-//! the bake's material hint (README, "Materials from the asset").
+//! the bake's material hint (docs/materials.md, "Materials from the asset").
 //!
 //! - OpenPBR (`ND_open_pbr_surface_surfaceshader`) with a positive
 //!   subsurface_weight: colour = subsurface_color, mean free path = subsurface_radius ×

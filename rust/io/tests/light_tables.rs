@@ -1,6 +1,6 @@
 //! Every row of the UsdLux and glTF light tables against its closed-form
 //! irradiance at a point of a plane (or a quadrature of its own where the
-//! light has an area), and the README's tables against the code's.
+//! light has an area), and the tables of docs/lights.md against the code's.
 
 use glam::Vec3;
 use serde_json::{Value, json};
@@ -403,14 +403,14 @@ fn gltf_lights_give_their_irradiance() {
     }
 }
 
-/// The rows of the README table whose header row is `header`, as cells.
-fn readme_rows(header: [&str; 3]) -> Vec<[String; 3]> {
-    let readme = include_str!("../../../README.md");
+/// The rows of the docs/lights.md table whose header row is `header`, as cells.
+fn page_rows(header: [&str; 3]) -> Vec<[String; 3]> {
+    let page = include_str!("../../../docs/lights.md");
     let head = format!("| {} | {} | {} |", header[0], header[1], header[2]);
-    let start = readme
+    let start = page
         .find(&head)
-        .unwrap_or_else(|| panic!("the README has no table headed {head}"));
-    readme[start..]
+        .unwrap_or_else(|| panic!("docs/lights.md has no table headed {head}"));
+    page[start..]
         .lines()
         .skip(2)
         .take_while(|l| l.starts_with('|'))
@@ -426,21 +426,21 @@ fn readme_rows(header: [&str; 3]) -> Vec<[String; 3]> {
         .collect()
 }
 
-fn check_readme(header: [&str; 3], rows: &[LightRow]) {
+fn check_page(header: [&str; 3], rows: &[LightRow]) {
     let want: Vec<[String; 3]> = rows
         .iter()
         .map(|r| [r.source, r.read_as, r.irradiance].map(String::from))
         .collect();
     assert_eq!(
-        readme_rows(header),
+        page_rows(header),
         want,
-        "the README's table differs from the code's; it should read:\n{}",
+        "the table in docs/lights.md differs from the code's; it should read:\n{}",
         light_table_markdown(header, rows)
     );
 }
 
 #[test]
-fn the_readmes_usd_and_gltf_light_tables_are_the_codes() {
-    check_readme(sssbake_io::usd_lights::USD_HEADER, USD_LIGHTS);
-    check_readme(sssbake_io::gltf_reader::GLTF_HEADER, GLTF_LIGHTS);
+fn the_usd_and_gltf_light_tables_of_the_docs_are_the_codes() {
+    check_page(sssbake_io::usd_lights::USD_HEADER, USD_LIGHTS);
+    check_page(sssbake_io::gltf_reader::GLTF_HEADER, GLTF_LIGHTS);
 }

@@ -37,7 +37,7 @@ pub const HARMONICS_TALLIED: usize = 9;
 /// free path), so the series converges slowly: at 60° the azimuthal mean
 /// m₀ alone misplaces 31–68% of the light (L1: marble, skin1, ketchup),
 /// m₀ and m₁ 12–34%, m₀ … m₄ 2–4% (6% for ketchup at 85°), about the
-/// tallies' own noise at 2·10⁵ photons (README, "The empirical model at
+/// tallies' own noise at 2·10⁵ photons (docs/accuracy.md, "The empirical model at
 /// oblique incidence").
 pub const HARMONICS_KEPT: usize = 5;
 /// Photons per channel and incidence node a bake simulates by default.

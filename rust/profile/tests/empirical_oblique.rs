@@ -151,7 +151,7 @@ fn normal_incidence_has_no_harmonics_and_oblique_has() {
 /// How many harmonics the kernel needs: keeping m₀ … m₄ misplaces at most
 /// 5% of skin1's light at 60° (measured 3.4% at 10⁵ photons, about its
 /// noise floor), while the azimuthal mean m₀ alone misplaces over a
-/// third. With `SSSBAKE_LONG_EMPIRICAL`, prints the README's table.
+/// third. With `SSSBAKE_LONG_EMPIRICAL`, prints the table of docs/accuracy.md.
 #[test]
 fn truncation_after_four_harmonics_is_near_the_noise() {
     let long = std::env::var_os("SSSBAKE_LONG_EMPIRICAL").is_some();

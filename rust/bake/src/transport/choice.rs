@@ -6,7 +6,7 @@ use super::texture_space::MAX_REACH;
 /// Pairs the exact sum may visit before it stops being the cheap choice:
 /// about 7 s on two cores at the walk's 7·10⁷ pairs a second (fewer where
 /// texels are unlit), which on the bundled head at 512² in skin1 beats the
-/// octree with its error check (README "Speed").
+/// octree with its error check (docs/speed.md "Speed").
 const BRUTE_PAIRS: f64 = 5e8;
 
 /// The chosen method and the reason, for the plan and the summary.
