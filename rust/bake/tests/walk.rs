@@ -259,3 +259,191 @@ fn a_thin_index_matched_slab_reflects_and_transmits_as_the_slab_monte_carlo() {
 fn a_thin_dielectric_slab_reflects_and_transmits_as_the_slab_monte_carlo() {
     compare_with_slab_monte_carlo(4.0, 1.4);
 }
+
+/// A 10 mm cube with every texel lit by `value`.
+fn lit_cube() -> (Mesh, Vec<Vec2>, Vec<[f32; 3]>) {
+    let mut builder = BoxBuilder::new();
+    builder.cuboid(Vec3::ZERO, Vec3::splat(5.0), TOP_UV, SIDE_UV);
+    let (mesh, uvs) = builder.mesh();
+    (mesh, uvs, vec![[1.0; 3]; (MAP * MAP) as usize])
+}
+
+#[test]
+fn the_standard_error_falls_as_one_over_the_root_of_the_walks_and_states_the_spread() {
+    let (mesh, uvs) = slab(100.0);
+    let light = top_lit(1.0);
+    let point = [(Vec3::new(0.7, 0.3, 0.0), Vec3::Z)];
+    let run = |walks: u32, seed: u64| {
+        let settings = WalkSettings {
+            walks,
+            max_events: 100_000,
+            seed,
+            start: StartDirection::Diffuse,
+        };
+        walk_at(&mesh, &uvs, &light, &medium(1.4), &point, &settings)
+    };
+    let (few, many) = (run(1000, 1), run(4000, 2));
+    for c in 0..3 {
+        let ratio = many.standard_error[0][c] / few.standard_error[0][c];
+        assert!(
+            (0.4..0.6).contains(&ratio),
+            "channel {c}: 4× the walks gave {ratio}× the error"
+        );
+    }
+    // The stated error is the spread of independent estimates: 24 seeds.
+    let runs: Vec<WalkEstimate> = (0..24).map(|seed| run(250, 100 + seed)).collect();
+    for c in 0..3 {
+        let values: Vec<f64> = runs.iter().map(|r| r.exitance[0][c] as f64).collect();
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let spread = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>()
+            / (values.len() - 1) as f64)
+            .sqrt();
+        let stated = runs
+            .iter()
+            .map(|r| r.standard_error[0][c] as f64)
+            .sum::<f64>()
+            / 24.0;
+        // 24 samples know a standard deviation to about 15 %.
+        assert!(
+            (0.6..1.5).contains(&(spread / stated)),
+            "channel {c}: spread {spread} of 24 runs, stated {stated}"
+        );
+    }
+}
+
+#[test]
+fn no_light_crosses_the_air_between_two_pieces_of_one_mesh() {
+    // Two 10 mm boxes 1 mm apart: the left one's faces in the lit left
+    // half of the map, the right one's in the dark right half.
+    let mut builder = BoxBuilder::new();
+    let half = Vec3::new(5.25, 5.0, 5.0);
+    builder.cuboid(
+        Vec3::new(-5.75, 0.0, -5.0),
+        half,
+        [Vec2::new(0.05, 0.05), Vec2::new(0.45, 0.45)],
+        [Vec2::new(0.05, 0.55), Vec2::new(0.45, 0.95)],
+    );
+    builder.cuboid(
+        Vec3::new(5.75, 0.0, -5.0),
+        half,
+        [Vec2::new(0.55, 0.05), Vec2::new(0.95, 0.45)],
+        [Vec2::new(0.55, 0.55), Vec2::new(0.95, 0.95)],
+    );
+    let (mesh, uvs) = builder.mesh();
+    let light: Vec<[f32; 3]> = (0..MAP * MAP)
+        .map(|t| if t % MAP < 2 { [1.0; 3] } else { [0.0; 3] })
+        .collect();
+    // Far-reaching, hardly absorbing: across air the light would arrive.
+    let medium = |ior| WalkMedium {
+        channels: [ChannelMedium::new(0.001, 1.0, 0.0); 3],
+        boundary: Boundary::of_index(ior),
+    };
+    let points = [
+        (Vec3::new(0.5, 0.2, -5.0), Vec3::NEG_X), // dark box, facing the gap
+        (Vec3::new(5.75, 0.2, 0.0), Vec3::Z),     // dark box, top
+        (Vec3::new(-0.5, 0.2, -5.0), Vec3::X),    // lit box, facing the gap
+    ];
+    for ior in [1.0, 1.4] {
+        let settings = WalkSettings {
+            walks: 2000,
+            max_events: 10_000,
+            seed: 3,
+            start: StartDirection::Diffuse,
+        };
+        let walked = walk_at(&mesh, &uvs, &light, &medium(ior), &points, &settings);
+        for k in 0..2 {
+            assert_eq!(walked.exitance[k], [0.0; 3], "η {ior}: point {k}");
+            assert_eq!(walked.standard_error[k], [0.0; 3]);
+        }
+        assert!(
+            walked.exitance[2].iter().all(|&m| m > 0.5),
+            "η {ior}: the lit box glows {:?}",
+            walked.exitance[2]
+        );
+        assert_eq!(walked.lost, [0.0; 3], "η {ior}: walks escaped the boxes");
+    }
+}
+
+#[test]
+fn a_lossless_medium_returns_all_the_light_it_is_lit_by() {
+    // Lit everywhere with 1 and absorbing nothing, every walk leaves with
+    // its start weight: index-matched, each scores exactly 1; through a
+    // dielectric the diffuse start's weight (1 − F)/(1 − F_dr) has mean 1.
+    let (mesh, uvs, light) = lit_cube();
+    let points = [(Vec3::new(0.3, 0.7, 5.0), Vec3::Z)];
+    for ior in [1.0, 1.4] {
+        let settings = WalkSettings {
+            walks: 4000,
+            max_events: 1_000_000,
+            seed: 5,
+            start: StartDirection::Diffuse,
+        };
+        let medium = WalkMedium {
+            channels: [0.1, 1.0, 10.0].map(|s| ChannelMedium::new(0.0, s, 0.3)),
+            boundary: Boundary::of_index(ior),
+        };
+        let walked = walk_at(&mesh, &uvs, &light, &medium, &points, &settings);
+        assert_eq!(walked.truncated, [0.0; 3]);
+        for c in 0..3 {
+            let (m, e) = (walked.exitance[0][c], walked.standard_error[0][c]);
+            if ior == 1.0 {
+                assert_eq!((m, e), (1.0, 0.0), "channel {c}");
+            } else {
+                assert!((m - 1.0).abs() <= 4.0 * e, "η {ior} channel {c}: {m} ± {e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn extreme_media_give_finite_bounded_exitance_within_the_event_bound() {
+    let (mesh, uvs, light) = lit_cube();
+    let points = [
+        (Vec3::new(0.3, 0.7, 5.0), Vec3::Z),
+        (Vec3::new(5.0, 0.2, -0.4), Vec3::X),
+    ];
+    let settings = WalkSettings {
+        walks: 64,
+        max_events: 200,
+        seed: 9,
+        start: StartDirection::Diffuse,
+    };
+    for ior in [1.0, 1.4, 3.0] {
+        let boundary = Boundary::of_index(ior);
+        // The largest score one walk can carry (lit by 1).
+        let largest = 1.0 / (1.0 - boundary.diffuse_reflectance());
+        for sigma_t in [0.0, 1e-6, 1.0, 1e4] {
+            for albedo in [0.0, 1e-6, 0.5, 1.0 - 1e-9, 1.0] {
+                let medium = WalkMedium {
+                    channels: [
+                        ChannelMedium::new(sigma_t * (1.0 - albedo), sigma_t * albedo, 0.0),
+                        ChannelMedium::new(sigma_t * (1.0 - albedo), sigma_t * albedo, 0.95),
+                        ChannelMedium::new(sigma_t * (1.0 - albedo), sigma_t * albedo, -0.95),
+                    ],
+                    boundary,
+                };
+                let walked = walk_at(&mesh, &uvs, &light, &medium, &points, &settings);
+                let case = format!("η {ior}, σt {sigma_t}, albedo {albedo}");
+                assert!(
+                    walked.events <= walked.walks * settings.max_events as u64,
+                    "{case}"
+                );
+                for (m, e) in walked.exitance.iter().zip(&walked.standard_error) {
+                    for c in 0..3 {
+                        assert!(m[c].is_finite() && m[c] >= 0.0, "{case}: {m:?}");
+                        assert!(m[c] as f64 <= largest + 1e-6, "{case}: {m:?}");
+                        // Energy: lit by 1, no more than 1 leaves.
+                        assert!(m[c] <= 1.0 + 4.0 * e[c] + 1e-6, "{case}: {m:?} ± {e:?}");
+                    }
+                }
+                for c in 0..3 {
+                    let dropped = walked.truncated[c] + walked.lost[c];
+                    assert!(
+                        (0.0..=largest).contains(&dropped),
+                        "{case}: dropped {dropped}"
+                    );
+                }
+            }
+        }
+    }
+}
