@@ -395,6 +395,7 @@ impl Integrator for ImportanceIntegrator {
         Ok(Integrated {
             exitance,
             sources: 0,
+            walk: None,
         })
     }
 }
