@@ -41,6 +41,11 @@ METHODS = [
     ("OCTREE", "Octree", "Hierarchical: near-exact, fast"),
     ("TEXTURE", "Texture space", "Separable blurs: fastest, a few percent off"),
     ("IMPORTANCE", "Monte Carlo", "Probe rays: noisy at low quality"),
+    (
+        "WALK",
+        "Random walk",
+        "Light walked through the mesh itself, as Cycles' Random Walk: the truth for the model, noisy and slow",
+    ),
 ]
 QUALITY_SAMPLES = {"DRAFT": 4, "GOOD": 16, "FINAL": 64}
 QUALITIES = [

@@ -14,6 +14,7 @@ use crate::transport::ExitanceKernel;
 use crate::transport::Method;
 use crate::transport::choice;
 use crate::transport::verify::{ErrorEstimate, estimate_error};
+use crate::transport::walk::WalkNoise;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::time::Instant;
@@ -85,6 +86,12 @@ pub struct Accuracy {
     /// so an azimuthal-mean method's estimate counts what it misses.
     #[serde(default)]
     pub reference_kernel: ExitanceKernel,
+    /// The walk's own noise and dropped weight when `method` is `walk`
+    /// (its `estimated_error` is then the profile's distance from the
+    /// walk, as measured by the exact sum: the model's error plus the
+    /// walk's noise).
+    #[serde(default)]
+    pub walk: Option<WalkNoise>,
 }
 
 /// A method `auto` ran and set aside.
@@ -189,6 +196,7 @@ fn scatter(
                         texels_checked: estimate.texels,
                         tolerance: chosen.then_some(request.tolerance),
                         set_aside,
+                        walk: integration.walk,
                     },
                 });
             }
@@ -417,6 +425,20 @@ impl fmt::Display for Summary {
                 }
                 if a.kernel != ExitanceKernel::Radial {
                     writeln!(f, "{}: exitance by {}", p.name, a.kernel.describe())?;
+                }
+                if let Some(walk) = &a.walk {
+                    let [r, g, b] = walk.relative_standard_error.map(|e| 100.0 * e);
+                    let dropped = (0..3)
+                        .map(|c| walk.truncated[c] + walk.lost[c])
+                        .fold(0.0, f64::max);
+                    writeln!(
+                        f,
+                        "{}: walk: relative standard error {r:.2}% / {g:.2}% / {b:.2}% (R/G/B, {} walks per texel and channel, {:.0} events each on average); {:.3}% of the light dropped at the event bound or lost",
+                        p.name,
+                        walk.samples,
+                        walk.events_per_walk,
+                        100.0 * dropped
+                    )?;
                 }
                 if a.method == Method::Brute {
                     writeln!(f, "{}: {}: the exact sum", p.name, a.method)?;

@@ -94,6 +94,7 @@ pub mod scattering;
 pub mod scene;
 pub mod surface;
 pub mod transport;
+pub mod walk;
 
 pub use bake::{BakedObject, Summary, bake, bake_each};
 pub use error::{Error, InputError};

@@ -135,7 +135,9 @@ impl ObjectCost {
     /// This cost with the lighting and scattering work of `method` over
     /// texels of mean area `texel_area_mm2` under a profile reaching
     /// `d_max_mm`: at most `rays_per_texel` shadow rays each, and
-    /// `samples` probes each for the importance integrator.
+    /// `samples` probes each for the importance integrator, and
+    /// `walk_events_per_texel` ray casts each for the walk (walks ×
+    /// expected events, all channels).
     pub fn with_work(
         mut self,
         method: Option<Method>,
@@ -143,6 +145,7 @@ impl ObjectCost {
         d_max_mm: f64,
         rays_per_texel: f64,
         samples: u32,
+        walk_events_per_texel: f64,
     ) -> ObjectCost {
         let n = self.texels;
         self.rays = n * rays_per_texel;
@@ -150,6 +153,7 @@ impl ObjectCost {
             None => 0.0,
             Some(Method::Brute) => n * neighbours(texel_area_mm2, d_max_mm),
             Some(Method::Importance) => n * f64::from(samples),
+            Some(Method::Walk) => n * walk_events_per_texel,
             // Hierarchical and separable: their order, n log n, never
             // more than the exact sum; never the bake's bound in practice.
             Some(Method::Octree | Method::Texture | Method::Auto) => {

@@ -300,6 +300,8 @@ pub struct Integration {
     pub seconds: f64,
     /// Sources the 3-D methods gathered from (texels or Turk points).
     pub sources: usize,
+    /// The walk's noise and dropped weight, when the walk integrated.
+    pub walk: Option<crate::transport::walk::WalkNoise>,
 }
 
 impl Prepared {
@@ -515,6 +517,7 @@ impl Prepared {
             exitance: integrated.exitance,
             seconds: start.elapsed().as_secs_f64(),
             sources: integrated.sources,
+            walk: integrated.walk,
         })
     }
 }

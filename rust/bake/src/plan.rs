@@ -16,6 +16,7 @@ use crate::surface::topology::{TopologyReport, topology_report};
 use crate::transport::Method;
 use crate::transport::choice::{Choice, avoid_thin_parts, choose};
 use crate::transport::thin::crossing_share;
+use crate::walk::WalkMedium;
 use serde::Serialize;
 use std::fmt;
 use std::sync::Arc;
@@ -353,6 +354,20 @@ fn plan_object(
         _ => 0.0,
     };
     let method = integrator.as_ref().map(|i| i.method);
+    // The walk needs one homogeneous medium; say why before any work.
+    let walk_events = if method == Some(Method::Walk) {
+        let medium = WalkMedium::of_material(&scattering.material).map_err(|reason| {
+            Error::Input(InputError {
+                file: Some(scene.source.clone()),
+                object: Some(name.clone()),
+                field: Some("method".into()),
+                message: format!("`walk` cannot bake it: {reason}"),
+            })
+        })?;
+        request.integrators.walk.expected_events(&medium)
+    } else {
+        0.0
+    };
     // An oblique kernel splits the light of the scene's lights by incidence
     // (not an irradiance image's, which has no direction).
     let splits = scattering.oblique.is_some() && rays_per_texel > 0.0 && method.is_some();
@@ -363,6 +378,7 @@ fn plan_object(
             f64::from(scattering.kernel.d_max),
             rays_per_texel,
             request.integrators.importance.samples,
+            walk_events,
         )
         .with_incidence_split(splits, method, request.resolution);
     Ok(ObjectPlan {

@@ -126,6 +126,45 @@ impl RayScene {
         });
     }
 
+    /// The first triangle the segment from `origin` along unit `direction`
+    /// crosses between `t_min` and `t_max` (mm; `t_max` may be infinite),
+    /// or `None`. The triangle `skip` (scene index, or `u32::MAX`) is
+    /// never hit: a ray leaving a flat triangle cannot meet it again, and
+    /// skipping it keeps rounding from returning the start point.
+    pub fn closest_hit(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+        skip: u32,
+    ) -> Option<Hit> {
+        if self.triangles.is_empty() || t_max.is_nan() || t_max <= t_min {
+            return None;
+        }
+        let ray = Ray::new(Vec3A::from(origin), positive_zeros(direction), t_min, t_max);
+        let mut hit = obvhs::ray::RayHit::none();
+        let found = self.bvh.ray_traverse(ray, &mut hit, |ray, id| {
+            let scene_triangle = self.bvh.primitive_indices[id];
+            if scene_triangle == skip {
+                return f32::INFINITY;
+            }
+            self.triangles[scene_triangle as usize].intersect(ray)
+        });
+        if !found || !hit.t.is_finite() {
+            return None;
+        }
+        let scene_triangle = self.bvh.primitive_indices[hit.primitive_id as usize] as usize;
+        let triangle = &self.triangles[scene_triangle];
+        let (mesh, local) = self.owner[scene_triangle];
+        Some(Hit {
+            mesh,
+            triangle: local,
+            t: hit.t,
+            uv: barycentric_at(triangle, origin + direction * hit.t),
+        })
+    }
+
     /// The scene index of `triangle` of mesh `mesh`, for
     /// [`RayScene::occluded`]'s `skip`.
     pub fn scene_triangle(&self, mesh: u32, triangle: u32) -> u32 {

@@ -475,7 +475,7 @@ fn energy_allowance(method: Method) -> f64 {
     match method {
         Method::Brute | Method::Auto => 0.002,
         Method::Octree => 0.01,
-        Method::Texture | Method::Importance => 0.03,
+        Method::Texture | Method::Importance | Method::Walk => 0.03,
     }
 }
 

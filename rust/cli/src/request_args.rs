@@ -77,6 +77,9 @@ pub struct RequestArgs {
     /// Importance: probes per texel.
     #[arg(long, default_value_t = INTEGRATORS.importance.samples)]
     pub samples: u32,
+    /// Walk: walks per texel and channel (`--method walk`).
+    #[arg(long, default_value_t = INTEGRATORS.walk.samples)]
+    pub walk_samples: u32,
     /// Millimetres per scene unit, overriding the file's units.
     #[arg(long)]
     pub unit_scale: Option<f64>,
@@ -107,7 +110,7 @@ pub struct RequestArgs {
     /// above it (0.01 is 1%).
     #[arg(long, default_value_t = DEFAULTS.tolerance)]
     pub tolerance: f64,
-    /// Seed of the importance integrator's Monte Carlo.
+    /// Seed of the Monte Carlo of importance sampling and of the walk.
     #[arg(long, default_value_t = INTEGRATORS.importance.seed)]
     pub seed: u64,
     /// Memory a bake may hold (16G, 512M, binary units); the plan refuses
@@ -166,6 +169,7 @@ impl RequestArgs {
             octree_epsilon: Some(self.octree_epsilon),
             gaussians: Some(self.gaussians),
             samples: Some(self.samples),
+            walk_samples: Some(self.walk_samples),
             seed: Some(self.seed),
             unit_scale: self.unit_scale,
             irradiance: self.irradiance.clone(),

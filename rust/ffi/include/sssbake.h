@@ -13,7 +13,7 @@
 /**
  * The version of this ABI: hosts refuse a library of another version.
  */
-#define SSSBAKE_ABI_VERSION 7
+#define SSSBAKE_ABI_VERSION 8
 
 /**
  * [`sssbake_bake_to_folder`] flag: replace files already in the folder.
@@ -203,7 +203,7 @@ typedef struct SssbakeSettings {
    */
   uint32_t resolution;
   /**
-   * 0 auto, 1 brute, 2 octree, 3 texture, 4 importance.
+   * 0 auto, 1 brute, 2 octree, 3 texture, 4 importance, 5 walk.
    */
   uint32_t method;
   /**
@@ -252,6 +252,10 @@ typedef struct SssbakeSettings {
    * infinity lifts the limit.
    */
   double max_evaluations;
+  /**
+   * Walk: walks per texel and channel (method 5).
+   */
+  uint32_t walk_samples;
 } SssbakeSettings;
 
 /**

@@ -25,7 +25,7 @@ use std::time::Duration;
 pub struct SssbakeSettings {
     /// Texels per side, 1 to 16384.
     pub resolution: u32,
-    /// 0 auto, 1 brute, 2 octree, 3 texture, 4 importance.
+    /// 0 auto, 1 brute, 2 octree, 3 texture, 4 importance, 5 walk.
     pub method: u32,
     /// Texels filled beyond each chart's edge.
     pub margin: u32,
@@ -53,15 +53,18 @@ pub struct SssbakeSettings {
     /// plan refuses more, before any work. 0: the library's default;
     /// infinity lifts the limit.
     pub max_evaluations: f64,
+    /// Walk: walks per texel and channel (method 5).
+    pub walk_samples: u32,
 }
 
 /// The method of number `code` (the order of [`SssbakeSettings::method`]).
-pub(crate) const METHODS: [Method; 5] = [
+pub(crate) const METHODS: [Method; 6] = [
     Method::Auto,
     Method::Brute,
     Method::Octree,
     Method::Texture,
     Method::Importance,
+    Method::Walk,
 ];
 
 /// The library's defaults for a host bake.
@@ -89,6 +92,7 @@ pub unsafe extern "C" fn sssbake_settings_default(out: *mut SssbakeSettings) -> 
             tolerance: request.tolerance as f32,
             max_memory_bytes: request.limits.max_memory_bytes,
             max_evaluations: request.limits.max_evaluations,
+            walk_samples: integrators.walk.samples,
         };
         // SAFETY: the caller gives writable storage or null.
         let out = unsafe { out.as_mut() }.ok_or_else(|| Failure::argument("out is null"))?;
@@ -132,9 +136,13 @@ pub(crate) fn request_from_host(
     settings: &SssbakeSettings,
     keep_uvs: bool,
 ) -> Result<BakeRequest, Failure> {
-    let method = *METHODS
-        .get(settings.method as usize)
-        .ok_or_else(|| Failure::argument(format!("method {} is not 0 to 4", settings.method)))?;
+    let method = *METHODS.get(settings.method as usize).ok_or_else(|| {
+        Failure::argument(format!(
+            "method {} is not 0 to {}",
+            settings.method,
+            METHODS.len() - 1
+        ))
+    })?;
     if settings.outputs >> Output::ALL.len() != 0 {
         return Err(Failure::argument(format!(
             "outputs {:#x} names outputs beyond the {} there are",
@@ -146,6 +154,7 @@ pub(crate) fn request_from_host(
     integrators.octree.epsilon = settings.octree_epsilon;
     integrators.texture.gaussians = settings.gaussians as usize;
     integrators.importance.samples = settings.samples;
+    integrators.walk.samples = settings.walk_samples;
     integrators.seed(settings.seed);
     // 0 is the default; any other value is the library's to check.
     let defaults = Limits::default();

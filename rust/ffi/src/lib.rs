@@ -29,7 +29,7 @@ pub use scene::*;
 pub use unwrap::*;
 
 /// The version of this ABI: hosts refuse a library of another version.
-pub const SSSBAKE_ABI_VERSION: u32 = 7;
+pub const SSSBAKE_ABI_VERSION: u32 = 8;
 
 /// The version of this ABI ([`SSSBAKE_ABI_VERSION`]).
 #[unsafe(no_mangle)]

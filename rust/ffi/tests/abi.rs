@@ -269,7 +269,8 @@ fn a_cancel_flag_raised_at_any_stage_stops_the_bake_cleanly() {
     let object = CString::new("Ball").unwrap();
     let mut mid_bake = [false; 5];
     for at in [0.0, 0.5] {
-        // auto, brute, octree, texture, importance (SssbakeSettings::method).
+        // auto, brute, octree, texture, importance (SssbakeSettings::method;
+        // 5, the walk, is tested by the library: its walks are slow to cancel into).
         for method in 0..5 {
             let state = CancelAt {
                 at,

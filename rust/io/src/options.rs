@@ -18,7 +18,8 @@
 //! | `octree_epsilon` | sr | octree opening angle |
 //! | `gaussians` | count | Gaussians of the texture-space fit |
 //! | `samples` | count | importance probes per texel |
-//! | `seed` | integer | importance sampler's seed |
+//! | `walk_samples` | count | walks per texel and channel of `method = "walk"` |
+//! | `seed` | integer | the seed of importance sampling and of the walk |
 //! | `unit_scale` | mm per scene unit | overrides the file's unit |
 //! | `irradiance`, `environment`, `base_color` | image files | as `sssbake bake` |
 //! | `colour_split` | [0, 1] | α of the colour split |
@@ -74,7 +75,9 @@ pub struct BakeOptions {
     pub gaussians: Option<usize>,
     /// Importance: probes per texel.
     pub samples: Option<u32>,
-    /// Importance: the seed of its Monte Carlo.
+    /// Walk: walks per texel and channel.
+    pub walk_samples: Option<u32>,
+    /// Importance and walk: the seed of their Monte Carlo.
     pub seed: Option<u64>,
     /// Millimetres per scene unit, overriding the file's units.
     pub unit_scale: Option<f64>,
@@ -126,6 +129,7 @@ impl BakeOptions {
             octree_epsilon,
             gaussians,
             samples,
+            walk_samples,
             seed,
             unit_scale,
             irradiance,
@@ -258,6 +262,9 @@ impl BakeOptions {
         }
         if let Some(samples) = self.samples {
             integrators.importance.samples = samples;
+        }
+        if let Some(walks) = self.walk_samples {
+            integrators.walk.samples = walks;
         }
         if let Some(seed) = self.seed {
             integrators.seed(seed);

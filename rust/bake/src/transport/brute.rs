@@ -259,6 +259,7 @@ impl Integrator for BruteIntegrator {
         Ok(Integrated {
             exitance,
             sources: sources.len(),
+            walk: None,
         })
     }
 }

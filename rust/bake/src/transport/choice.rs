@@ -34,7 +34,8 @@ const FALLBACK_PAIRS: f64 = 10.0 * BRUTE_PAIRS;
 pub fn more_exact(method: Method, texels: usize, neighbours: f64) -> Option<Method> {
     let brute_affordable = texels as f64 * neighbours <= FALLBACK_PAIRS;
     match method {
-        Method::Brute | Method::Auto => None,
+        // The walk is not an integrator of the profile to be refined.
+        Method::Brute | Method::Auto | Method::Walk => None,
         Method::Texture | Method::Importance => Some(Method::Octree),
         Method::Octree if brute_affordable => Some(Method::Brute),
         Method::Octree => None,

@@ -423,6 +423,7 @@ impl Integrator for ImportanceIntegrator {
         Ok(Integrated {
             exitance,
             sources: 0,
+            walk: None,
         })
     }
 }

@@ -9,12 +9,14 @@
 //! | `octree` | `epsilon` (0.5 sr) |
 //! | `texture` | `gaussians` (6) |
 //! | `importance` | `samples` (64), `seed` (1) |
+//! | `walk` | `samples` (256), `seed` (1), `max_events` (1024) |
 
 use super::Method;
 use super::brute::BruteIntegrator;
 use super::importance::ImportanceIntegrator;
 use super::octree::OctreeIntegrator;
 use super::texture_space::TextureIntegrator;
+use super::walk::{WalkIntegrator, WalkNoise};
 use crate::control::Control;
 use crate::error::Error;
 use crate::pipeline::Prepared;
@@ -28,6 +30,8 @@ pub struct Integrated {
     pub exitance: Vec<[f32; 3]>,
     /// Sources the 3-D methods gathered from (texels or Turk points).
     pub sources: usize,
+    /// The walk's noise and dropped weight (the walk alone).
+    pub walk: Option<WalkNoise>,
 }
 
 /// M(x) = ∫ P(|x − x_i|) E_t(x_i) dA at every texel of a prepared object.
@@ -55,6 +59,8 @@ pub struct IntegratorSettings {
     pub texture: TextureIntegrator,
     /// Monte Carlo with probe rays.
     pub importance: ImportanceIntegrator,
+    /// The volumetric random walk.
+    pub walk: WalkIntegrator,
 }
 
 impl IntegratorSettings {
@@ -65,18 +71,21 @@ impl IntegratorSettings {
             Method::Octree => &self.octree,
             Method::Texture => &self.texture,
             Method::Importance => &self.importance,
+            Method::Walk => &self.walk,
         }
     }
 
     /// Sets the seed of every integrator that draws random numbers.
     pub fn seed(&mut self, seed: u64) {
         self.importance.seed = seed;
+        self.walk.seed = seed;
     }
 
     /// Refuses settings no integrator can run with, naming the field.
     pub fn validate(&self) -> Result<(), Error> {
         self.octree.validate()?;
         self.texture.validate()?;
-        self.importance.validate()
+        self.importance.validate()?;
+        self.walk.validate()
     }
 }

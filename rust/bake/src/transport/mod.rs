@@ -18,6 +18,7 @@ pub mod sources;
 pub mod texture_space;
 pub mod thin;
 pub mod verify;
+pub mod walk;
 
 /// An exitance (W/m²) as a map stores it: finite and non-negative (a sum
 /// that is neither, from a truncated series or noise, stores 0 or its
@@ -63,10 +64,16 @@ pub enum Method {
     Texture,
     /// Mertens-style Monte Carlo with probe rays.
     Importance,
+    /// A volumetric random walk inside the object's mesh: the light
+    /// transport the profile models, not the profile (never chosen by
+    /// `auto`).
+    Walk,
 }
 
 impl Method {
-    /// Every concrete method.
+    /// Every concrete method that integrates the material's profile (the
+    /// walk, which does not, is [`Method::Walk`] alone: comparing it with
+    /// the exact sum measures the model, not an integrator).
     pub const ALL: [Method; 4] = [
         Method::Brute,
         Method::Octree,
@@ -95,6 +102,8 @@ pub enum ExitanceKernel {
     /// image without directions) used its radially symmetric profile at
     /// normal incidence: the azimuthal mean at θ_i = 0.
     AzimuthalMean,
+    /// No kernel: a volumetric random walk in the object's mesh.
+    Volumetric,
 }
 
 impl ExitanceKernel {
@@ -102,6 +111,9 @@ impl ExitanceKernel {
     /// kernel or not (`oblique`) under light with directions or not
     /// (`directions`).
     pub fn of(method: Method, oblique: bool, directions: bool) -> Self {
+        if method == Method::Walk {
+            return ExitanceKernel::Volumetric;
+        }
         match (oblique, directions && Self::takes_oblique(method)) {
             (false, _) => ExitanceKernel::Radial,
             (true, true) => ExitanceKernel::Oblique,
@@ -122,6 +134,9 @@ impl ExitanceKernel {
             ExitanceKernel::Oblique => "the oblique kernel, each light at its own incidence",
             ExitanceKernel::AzimuthalMean => {
                 "the azimuthal mean at normal incidence (this method cannot take the oblique kernel)"
+            }
+            ExitanceKernel::Volumetric => {
+                "a volumetric random walk inside the mesh (the material's medium, not its profile)"
             }
         }
     }

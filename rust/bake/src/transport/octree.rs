@@ -342,6 +342,7 @@ impl Integrator for OctreeIntegrator {
         Ok(Integrated {
             exitance,
             sources: sources.len(),
+            walk: None,
         })
     }
 }

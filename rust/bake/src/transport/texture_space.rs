@@ -504,6 +504,10 @@ impl Integrator for TextureIntegrator {
             }
             sources = texels.len();
         }
-        Ok(Integrated { exitance, sources })
+        Ok(Integrated {
+            exitance,
+            sources,
+            walk: None,
+        })
     }
 }
