@@ -13,6 +13,7 @@ use crate::scene::Scene;
 use crate::transport::ExitanceKernel;
 use crate::transport::Method;
 use crate::transport::choice;
+use crate::transport::light_check::{LightCheck, NoCheck, check_against_light};
 use crate::transport::verify::{ErrorEstimate, estimate_error};
 use crate::transport::walk::WalkNoise;
 use serde::{Deserialize, Serialize};
@@ -92,6 +93,15 @@ pub struct Accuracy {
     /// walk's noise).
     #[serde(default)]
     pub walk: Option<WalkNoise>,
+    /// How far the exitance is from light itself: the volumetric walk at
+    /// random texels ([`crate::transport::light_check`]); `None` when the
+    /// check was off or the walk cannot follow the material
+    /// (`light_unchecked` says why).
+    #[serde(default)]
+    pub light: Option<LightCheck>,
+    /// Why there is no check against light, when there is none.
+    #[serde(default)]
+    pub light_unchecked: Option<String>,
 }
 
 /// A method `auto` ran and set aside.
@@ -183,6 +193,19 @@ fn scatter(
                 method = next;
             }
             None => {
+                let (light, light_unchecked) = match check_against_light(
+                    prepared,
+                    scattering,
+                    &integration.exitance,
+                    request.light_check,
+                    request.integrators.walk.seed,
+                    control,
+                )? {
+                    Ok(check) => (Some(check), None),
+                    Err(NoCheck::Off) => (None, Some("turned off".to_string())),
+                    Err(NoCheck::Material(reason)) => (None, Some(reason)),
+                };
+                seconds += light.map_or(0.0, |l| l.seconds);
                 return Ok(Scattered {
                     exitance: integration.exitance,
                     seconds,
@@ -197,6 +220,8 @@ fn scatter(
                         tolerance: chosen.then_some(request.tolerance),
                         set_aside,
                         walk: integration.walk,
+                        light,
+                        light_unchecked,
                     },
                 });
             }
@@ -464,6 +489,21 @@ impl fmt::Display for Summary {
                         a.texels_checked
                     )?;
                 }
+            }
+            if let Some(light) = o.accuracy.as_ref().and_then(|a| a.light) {
+                writeln!(
+                    f,
+                    "{}: against light: estimated error {:.1}% (relative RMSE {:.1}% against a volumetric random walk in the mesh at {} texels, {} walks each, whose own noise is {:.1}%; {:.2} s)",
+                    p.name,
+                    100.0 * light.estimated_error,
+                    100.0 * light.relative_rmse,
+                    light.texels,
+                    light.walks,
+                    100.0 * light.walk_noise,
+                    light.seconds
+                )?;
+            } else if let Some(why) = o.accuracy.as_ref().and_then(|a| a.light_unchecked.as_ref()) {
+                writeln!(f, "{}: against light: not checked ({why})", p.name)?;
             }
             if let Some(warning) = &p.uvs.warning {
                 writeln!(f, "warning: {}: {warning}", p.name)?;

@@ -116,6 +116,8 @@ pub struct ObjectCost {
     pub rays: f64,
     /// Kernel evaluations (or probes) of its scattering.
     pub evaluations: f64,
+    /// Walk events of its check against light (all channels).
+    pub light_check: f64,
 }
 
 impl ObjectCost {
@@ -208,7 +210,10 @@ impl Cost {
         let largest = objects.iter().map(|o| o.memory_bytes).fold(0.0, f64::max);
         Cost {
             memory_bytes: BASE_BYTES as f64 + layouts + largest,
-            evaluations: objects.iter().map(|o| o.rays + o.evaluations).sum(),
+            evaluations: objects
+                .iter()
+                .map(|o| o.rays + o.evaluations + o.light_check)
+                .sum(),
         }
     }
 

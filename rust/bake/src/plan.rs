@@ -15,6 +15,7 @@ use crate::scene::Scene;
 use crate::surface::topology::{TopologyReport, topology_report};
 use crate::transport::Method;
 use crate::transport::choice::{Choice, avoid_thin_parts, choose};
+use crate::transport::light_check;
 use crate::transport::thin::crossing_share;
 use crate::walk::WalkMedium;
 use serde::Serialize;
@@ -368,6 +369,14 @@ fn plan_object(
     } else {
         0.0
     };
+    // The check against light walks a few hundred texels, when the walk can
+    // follow the material.
+    let light_check = match (method, WalkMedium::of_material(&scattering.material)) {
+        (Some(_), Ok(medium)) if request.light_check > 0 => {
+            light_check::planned_events(&medium, (request.light_check as usize).min(texels))
+        }
+        _ => 0.0,
+    };
     // An oblique kernel splits the light of the scene's lights by incidence
     // (not an irradiance image's, which has no direction).
     let splits = scattering.oblique.is_some() && rays_per_texel > 0.0 && method.is_some();
@@ -381,6 +390,10 @@ fn plan_object(
             walk_events,
         )
         .with_incidence_split(splits, method, request.resolution);
+    let cost = ObjectCost {
+        light_check,
+        ..cost
+    };
     Ok(ObjectPlan {
         name,
         index,
@@ -703,8 +716,16 @@ impl ObjectPlan {
             self.lighting.reason
         )?;
         match &self.integrator {
-            Some(i) => writeln!(f, "  scattering: {}: {}", i.method, i.reason),
-            None => writeln!(f, "  scattering: no, {}", self.scattering.reason),
+            Some(i) => writeln!(f, "  scattering: {}: {}", i.method, i.reason)?,
+            None => writeln!(f, "  scattering: no, {}", self.scattering.reason)?,
         }
+        if self.cost.light_check > 0.0 {
+            writeln!(
+                f,
+                "  check against light: a volumetric random walk at a few hundred texels, about {:.1e} events",
+                self.cost.light_check
+            )?;
+        }
+        Ok(())
     }
 }

@@ -71,6 +71,9 @@ pub struct BakeRequest {
     /// Relative RMSE against the exact sum that `auto` holds each object
     /// to: it checks its estimate and moves to a more exact method above it.
     pub tolerance: f64,
+    /// Texels at which every bake is checked against light itself (a
+    /// volumetric random walk through the mesh); 0 turns the check off.
+    pub light_check: u32,
     /// Share of the reflectance left outside d_max, in (0, 1).
     pub d_max_epsilon: f64,
     /// Where the light comes from.
@@ -104,6 +107,7 @@ impl Default for BakeRequest {
             method: Method::Auto,
             integrators: IntegratorSettings::default(),
             tolerance: 0.01,
+            light_check: crate::transport::light_check::DEFAULT_TEXELS,
             d_max_epsilon: D_MAX_EPSILON,
             lighting: Lighting::SceneLights,
             light_samples: 16,
@@ -164,6 +168,13 @@ impl BakeRequest {
                     "{} must be a positive relative error (0.01 is 1%)",
                     self.tolerance
                 ),
+            ));
+        }
+        let most = crate::transport::light_check::MOST_TEXELS;
+        if self.light_check > most {
+            return Err(Error::field(
+                "light_check",
+                format!("{} texels is more than {most}", self.light_check),
             ));
         }
         if !(0.0..=1.0).contains(&self.colour_split) {

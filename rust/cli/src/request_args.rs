@@ -110,6 +110,11 @@ pub struct RequestArgs {
     /// above it (0.01 is 1%).
     #[arg(long, default_value_t = DEFAULTS.tolerance)]
     pub tolerance: f64,
+    /// Texels at which the bake is checked against light itself: a
+    /// volumetric random walk through the mesh, reported beside the error
+    /// against the exact sum (0 turns the check off).
+    #[arg(long, value_name = "TEXELS", default_value_t = DEFAULTS.light_check)]
+    pub light_check: u32,
     /// Seed of the Monte Carlo of importance sampling and of the walk.
     #[arg(long, default_value_t = INTEGRATORS.importance.seed)]
     pub seed: u64,
@@ -179,6 +184,7 @@ impl RequestArgs {
             light_samples: Some(self.light_samples),
             roughness: self.roughness,
             tolerance: Some(self.tolerance),
+            light_check: Some(self.light_check),
             max_memory: self.max_memory.clone(),
             max_evaluations: self.max_evaluations,
             half: None,

@@ -26,6 +26,7 @@
 //! | `light_samples` | count | samples per soft light, per texel |
 //! | `roughness` | RMS slope | a rough boundary [smooth] |
 //! | `tolerance` | relative RMSE | what `auto` holds each object to |
+//! | `light_check` | texels | texels walked to check the bake against light [256; 0 off] |
 //! | `max_memory` | size (`16G`, `512M`) | memory a bake may hold [16G] |
 //! | `max_evaluations` | count | shadow rays and kernel evaluations a bake may take [3e10] |
 //! | `half` | bool | 16-bit EXRs |
@@ -95,6 +96,9 @@ pub struct BakeOptions {
     pub roughness: Option<f64>,
     /// Relative RMSE against the exact sum that `auto` holds each object to.
     pub tolerance: Option<f64>,
+    /// Texels at which the bake is checked against a volumetric random
+    /// walk (0 turns the check off).
+    pub light_check: Option<u32>,
     /// Memory a bake may hold, such as `16G` or `512M` (binary units).
     pub max_memory: Option<String>,
     /// Shadow rays, kernel evaluations and probes a bake may take.
@@ -139,6 +143,7 @@ impl BakeOptions {
             light_samples,
             roughness,
             tolerance,
+            light_check,
             max_memory,
             max_evaluations,
             half,
@@ -295,6 +300,7 @@ impl BakeOptions {
             base_colour,
             colour_split: self.colour_split.unwrap_or(defaults.colour_split),
             tolerance: self.tolerance.unwrap_or(defaults.tolerance),
+            light_check: self.light_check.unwrap_or(defaults.light_check),
             limits,
             ..defaults
         };

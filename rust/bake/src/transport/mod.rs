@@ -11,6 +11,7 @@ mod exact_sum_tests;
 pub mod importance;
 pub mod integrator;
 pub mod kernel;
+pub mod light_check;
 pub mod oblique_sum;
 pub mod octree;
 mod source_table;

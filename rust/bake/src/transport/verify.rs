@@ -77,7 +77,7 @@ pub fn estimate_error(
 
 /// `count` distinct indices below `n`, drawn by a seeded Fisher–Yates
 /// prefix (all of them, in order, when `count ≥ n`).
-fn pick(n: usize, count: usize, seed: u64) -> Vec<usize> {
+pub(crate) fn pick(n: usize, count: usize, seed: u64) -> Vec<usize> {
     if count >= n {
         return (0..n).collect();
     }
