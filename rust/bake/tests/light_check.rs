@@ -54,11 +54,11 @@ fn measured_distance(prepared: &Prepared, scattering: &Scattering, baked: &[[f32
     )
     .unwrap();
     let (mut diff2, mut ref2, mut noise2) = (0.0f64, 0.0f64, 0.0f64);
-    for i in 0..baked.len() {
+    for (i, baked) in baked.iter().enumerate() {
         let walked = prepared.after_scattering(i, estimate.exitance[i]);
         let error = prepared.after_scattering(i, estimate.standard_error[i]);
         for c in 0..3 {
-            diff2 += f64::from(baked[i][c] - walked[c]).powi(2);
+            diff2 += f64::from(baked[c] - walked[c]).powi(2);
             ref2 += f64::from(walked[c]).powi(2);
             noise2 += f64::from(error[c]).powi(2);
         }
