@@ -14,9 +14,8 @@ use sssbake::pipeline::Prepared;
 use sssbake::scattering::Scattering;
 use sssbake::transport::brute::BruteIntegrator;
 use sssbake::transport::light_check::check_against_light;
-use sssbake::walk::{
-    Enclosure, ExitLight, StartDirection, WalkMedium, WalkSettings, WalkTargets, walk_exitance,
-};
+use sssbake::transport::walk::walk_surfels;
+use sssbake::walk::{StartDirection, WalkMedium, WalkSettings};
 use sssbake_profile::model::Model;
 
 /// `mesh` stretched by `scale` along each axis, its normals made anew.
@@ -31,28 +30,13 @@ fn stretched(mesh: Mesh, scale: Vec3, name: &str) -> Mesh {
 /// `prepared`, with the walks' own noise taken out, as the check does.
 fn measured_distance(prepared: &Prepared, scattering: &Scattering, baked: &[[f32; 3]]) -> f64 {
     let medium = WalkMedium::of_material(&scattering.material).unwrap();
-    let texture = prepared.entering_texture();
-    let estimate = walk_exitance(
-        &Enclosure::new(&prepared.mesh, &prepared.uvs),
-        &ExitLight {
-            irradiance: &texture,
-            resolution: prepared.surfels.resolution,
-        },
-        &medium,
-        &WalkTargets {
-            position: &prepared.surfels.position,
-            normal: &prepared.surfels.normal,
-            triangle: &prepared.surfels.triangle,
-        },
-        &WalkSettings {
-            walks: 2048,
-            max_events: 1024,
-            seed: 99,
-            start: StartDirection::Diffuse,
-        },
-        &Control::new(),
-    )
-    .unwrap();
+    let settings = WalkSettings {
+        walks: 2048,
+        max_events: 1024,
+        seed: 99,
+        start: StartDirection::Diffuse,
+    };
+    let estimate = walk_surfels(prepared, &medium, None, &settings, &Control::new()).unwrap();
     let (mut diff2, mut ref2, mut noise2) = (0.0f64, 0.0f64, 0.0f64);
     for (i, baked) in baked.iter().enumerate() {
         let walked = prepared.after_scattering(i, estimate.exitance[i]);

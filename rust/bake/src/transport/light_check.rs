@@ -17,9 +17,8 @@ use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
 use crate::transport::verify::pick;
 use crate::transport::walk::WalkIntegrator;
-use crate::walk::{
-    Enclosure, ExitLight, StartDirection, WalkMedium, WalkSettings, WalkTargets, walk_exitance,
-};
+use crate::transport::walk::walk_surfels;
+use crate::walk::{StartDirection, WalkMedium, WalkSettings};
 use serde::{Deserialize, Serialize};
 
 /// Texels walked by default (0 turns the check off).
@@ -112,37 +111,13 @@ pub fn check_against_light(
     let start = std::time::Instant::now();
     let picked = pick(prepared.surfels.len(), texels as usize, seed);
     let walks = walks_per_texel(&medium, picked.len());
-    let enclosure = Enclosure::new(&prepared.mesh, &prepared.uvs);
-    let texture = prepared.entering_texture();
-    let select = |values: &[glam::Vec3]| picked.iter().map(|&i| values[i]).collect::<Vec<_>>();
-    let (position, normal) = (
-        select(&prepared.surfels.position),
-        select(&prepared.surfels.normal),
-    );
-    let triangle: Vec<u32> = picked
-        .iter()
-        .map(|&i| prepared.surfels.triangle[i])
-        .collect();
-    let estimate = walk_exitance(
-        &enclosure,
-        &ExitLight {
-            irradiance: &texture,
-            resolution: prepared.surfels.resolution,
-        },
-        &medium,
-        &WalkTargets {
-            position: &position,
-            normal: &normal,
-            triangle: &triangle,
-        },
-        &WalkSettings {
-            walks,
-            max_events: MAX_EVENTS,
-            seed,
-            start: StartDirection::Diffuse,
-        },
-        control,
-    )?;
+    let settings = WalkSettings {
+        walks,
+        max_events: MAX_EVENTS,
+        seed,
+        start: StartDirection::Diffuse,
+    };
+    let estimate = walk_surfels(prepared, &medium, Some(&picked), &settings, control)?;
     let walked: Vec<[f32; 3]> = picked
         .iter()
         .zip(&estimate.exitance)

@@ -11,14 +11,17 @@
 
 use super::Method;
 use super::integrator::{Integrated, Integrator};
+use crate::control::Cancelled;
 use crate::control::Control;
 use crate::error::Error;
 use crate::pipeline::Prepared;
 use crate::scattering::Scattering;
 use crate::walk::path::ROULETTE_WEIGHT;
 use crate::walk::{
-    Enclosure, ExitLight, StartDirection, WalkMedium, WalkSettings, WalkTargets, walk_exitance,
+    Enclosure, ExitLight, StartDirection, WalkEstimate, WalkMedium, WalkSettings, WalkTargets,
+    walk_exitance,
 };
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// The most walks per texel a request may ask for.
@@ -106,6 +109,46 @@ impl WalkIntegrator {
     }
 }
 
+/// The walks' exitance (before the colour after scattering) at the
+/// surfels `picked` of `prepared` (every surfel when `None`), leaving into
+/// the light entering it.
+pub fn walk_surfels(
+    prepared: &Prepared,
+    medium: &WalkMedium,
+    picked: Option<&[usize]>,
+    settings: &WalkSettings,
+    control: &Control,
+) -> Result<WalkEstimate, Cancelled> {
+    let surfels = &prepared.surfels;
+    let all: Vec<usize>;
+    let picked = match picked {
+        Some(picked) => picked,
+        None => {
+            all = (0..surfels.len()).collect();
+            &all
+        }
+    };
+    let position: Vec<Vec3> = picked.iter().map(|&i| surfels.position[i]).collect();
+    let normal: Vec<Vec3> = picked.iter().map(|&i| surfels.normal[i]).collect();
+    let triangle: Vec<u32> = picked.iter().map(|&i| surfels.triangle[i]).collect();
+    let texture = prepared.entering_texture();
+    walk_exitance(
+        &Enclosure::new(&prepared.mesh, &prepared.uvs),
+        &ExitLight {
+            irradiance: &texture,
+            resolution: surfels.resolution,
+        },
+        medium,
+        &WalkTargets {
+            position: &position,
+            normal: &normal,
+            triangle: &triangle,
+        },
+        settings,
+        control,
+    )
+}
+
 impl Integrator for WalkIntegrator {
     fn method(&self) -> Method {
         Method::Walk
@@ -118,28 +161,13 @@ impl Integrator for WalkIntegrator {
         control: &Control,
     ) -> Result<Integrated, Error> {
         let medium = WalkMedium::of_material(&scattering.material).map_err(Error::input)?;
-        let enclosure = Enclosure::new(&prepared.mesh, &prepared.uvs);
-        let texture = prepared.entering_texture();
-        let estimate = walk_exitance(
-            &enclosure,
-            &ExitLight {
-                irradiance: &texture,
-                resolution: prepared.surfels.resolution,
-            },
-            &medium,
-            &WalkTargets {
-                position: &prepared.surfels.position,
-                normal: &prepared.surfels.normal,
-                triangle: &prepared.surfels.triangle,
-            },
-            &WalkSettings {
-                walks: self.samples,
-                max_events: self.max_events,
-                seed: self.seed,
-                start: StartDirection::Diffuse,
-            },
-            control,
-        )?;
+        let settings = WalkSettings {
+            walks: self.samples,
+            max_events: self.max_events,
+            seed: self.seed,
+            start: StartDirection::Diffuse,
+        };
+        let estimate = walk_surfels(prepared, &medium, None, &settings, control)?;
         let noise = WalkNoise {
             samples: self.samples,
             relative_standard_error: estimate.relative_standard_error(),
