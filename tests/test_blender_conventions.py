@@ -64,6 +64,10 @@ def test_the_report_says_how_each_object_was_baked_and_background_bakes_print_pr
     # The method, why auto chose it, its estimated error and each stage's seconds.
     assert re.search(r"Head; (octree|texture|importance|brute) \([^)]+\)", line), line
     assert re.search(r"estimated error [0-9.e+-]+%", line), line
+    # And its distance from light: a random walk through the mesh, its noise stated.
+    assert re.search(
+        r"against light [0-9.e+-]+% \(a random walk at \d+ texels, its noise [0-9.e+-]+%\)", line
+    ), line
     for stage in ("layout", "lighting", "scattering"):
         assert re.search(rf"{stage} [0-9.]+ s", line), line
     progress = re.findall(r"^sssbake: Head (\d+)%$", out, flags=re.MULTILINE)

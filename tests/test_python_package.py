@@ -46,6 +46,9 @@ def test_the_readmes_python_example_runs(tmp_path, monkeypatch):
     for block in blocks:
         exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102 - the README under test
     assert namespace["head"]["accuracy"]["method"]
+    # The Python result states the error against light, with the walk's noise.
+    light = namespace["head"]["accuracy"]["light"]
+    assert light["texels"] > 0 and 0 < light["walk_noise"] < 1 and light["estimated_error"] >= 0
     assert all(pathlib.Path(f).exists() for f in namespace["summary"]["files"])
 
 

@@ -1,5 +1,6 @@
 """What a bake tells the artist, read from the library's summary (docs/outputs.md, "The summary"):
-per object the method, why it was chosen, its estimated error and the seconds per stage;
+per object the method, why it was chosen, its estimated error against the exact sum and
+against light, and the seconds per stage;
 and progress as plain lines for a log when Blender runs in the background."""
 
 import sys
@@ -18,6 +19,14 @@ def object_line(planned):
         if accuracy.get("method") and integrator and accuracy["method"] != integrator["method"]:
             parts.append(f"the maps hold {accuracy['method']}")
         parts.append(f"estimated error {100 * accuracy['estimated_error']:.2g}%")
+        light = accuracy.get("light")
+        if light:
+            parts.append(
+                f"against light {100 * light['estimated_error']:.2g}%"
+                f" (a random walk at {light['texels']} texels, its noise {100 * light['walk_noise']:.2g}%)"
+            )
+        elif accuracy.get("light_unchecked"):
+            parts.append(f"against light: not checked ({accuracy['light_unchecked']})")
     seconds = planned.get("seconds") or {}
     if seconds:
         stages = ", ".join(f"{stage} {value:.2f} s" for stage, value in seconds.items())

@@ -210,7 +210,9 @@ def main(argv: list[str] | None = None) -> int:
     """`sssbake-farm MANIFEST --out DIR --scheduler ADDRESS` (or `python -m
     sssbake.farm …`): runs the batch on the cluster at ADDRESS and prints its
     report; the exit code is sssbake's."""
-    parser = argparse.ArgumentParser(prog="sssbake-farm", description="Run an sssbake batch on a Dask cluster.")
+    parser = argparse.ArgumentParser(
+        prog="sssbake-farm", description="Run an sssbake batch on a Dask cluster."
+    )
     parser.add_argument("manifest")
     parser.add_argument("--out", required=True, help="the batch's folder, on storage every worker shares")
     parser.add_argument("--scheduler", required=True, help="the Dask scheduler, such as tcp://host:8786")
