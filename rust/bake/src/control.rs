@@ -23,6 +23,9 @@ pub struct Control {
     cancel: AtomicBool,
     /// (stage index, stage count, label) of the current stage.
     stage: Mutex<(usize, usize, String)>,
+    /// The largest fraction reported so far (f64 bits): work planned late
+    /// in a stage (a check after the integration) does not move it back.
+    shown: AtomicU64,
 }
 
 impl Control {
@@ -31,8 +34,9 @@ impl Control {
         Self::default()
     }
 
-    /// Adds `units` of work to the plan (stages announce their work as
-    /// they start, so the fraction may step back when a stage begins).
+    /// Adds `units` of work to the plan (work announces itself as it
+    /// starts; the fraction reported holds still until it passes the
+    /// largest shown before).
     pub fn plan(&self, units: u64) {
         self.total.fetch_add(units, Ordering::Relaxed);
     }
@@ -70,6 +74,10 @@ impl Control {
         }
         self.total.store(0, Ordering::Relaxed);
         self.done.store(0, Ordering::Relaxed);
+        if index == 0 {
+            // A new run of stages (a control may serve several parts).
+            self.shown.store(0, Ordering::Relaxed);
+        }
     }
 
     /// The current stage's label (empty before any stage).
@@ -88,7 +96,10 @@ impl Control {
         };
         let (index, count) = self.stage.lock().map(|s| (s.0, s.1)).unwrap_or((0, 1));
         let count = count.max(1);
-        ((index as f64 + within) / count as f64).min(1.0)
+        let now = ((index as f64 + within) / count as f64).min(1.0);
+        let before = self.shown.fetch_max(now.to_bits(), Ordering::Relaxed);
+        // Non-negative f64s order as their bits do.
+        now.max(f64::from_bits(before))
     }
 }
 
@@ -134,4 +145,26 @@ pub fn watch_while<T>(
         done.store(true, Ordering::Release);
         result
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Control;
+
+    #[test]
+    fn work_planned_late_in_a_stage_does_not_move_the_fraction_back() {
+        let control = Control::new();
+        control.begin_stage(1, 2, "scattering");
+        control.plan(100);
+        control.advance(100).unwrap();
+        assert_eq!(control.fraction(), 1.0);
+        // A check after the integration plans more work in the same stage.
+        control.plan(300);
+        assert_eq!(control.fraction(), 1.0);
+        control.advance(300).unwrap();
+        assert_eq!(control.fraction(), 1.0);
+        // A new run of stages starts from zero again.
+        control.begin_stage(0, 2, "lighting");
+        assert_eq!(control.fraction(), 0.0);
+    }
 }
