@@ -179,7 +179,7 @@ fn the_name_tables_are_the_librarys() {
     let methods = names(SSSBAKE_NAMES_METHODS);
     assert_eq!(
         methods,
-        serde_json::json!(["auto", "brute", "octree", "texture", "importance"])
+        serde_json::json!(["auto", "brute", "octree", "texture", "importance", "walk"])
     );
     let method = default_settings().method as usize;
     assert_eq!(methods[method], BakeRequest::default().method.name());
