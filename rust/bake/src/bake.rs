@@ -13,7 +13,7 @@ use crate::scene::Scene;
 use crate::transport::ExitanceKernel;
 use crate::transport::Method;
 use crate::transport::choice;
-use crate::transport::light_check::{LightCheck, NoCheck, check_against_light};
+use crate::transport::light_check::{LightCheck, NoCheck, check_against_light, event_budget};
 use crate::transport::verify::{ErrorEstimate, estimate_error};
 use crate::transport::walk::WalkNoise;
 use serde::{Deserialize, Serialize};
@@ -198,6 +198,7 @@ fn scatter(
                     scattering,
                     &integration.exitance,
                     request.light_check,
+                    event_budget(texels),
                     request.integrators.walk.seed,
                     control,
                 )? {

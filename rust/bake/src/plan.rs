@@ -373,7 +373,8 @@ fn plan_object(
     // follow the material.
     let light_check = match (method, WalkMedium::of_material(&scattering.material)) {
         (Some(_), Ok(medium)) if request.light_check > 0 => {
-            light_check::planned_events(&medium, (request.light_check as usize).min(texels))
+            let checked = (request.light_check as usize).min(texels);
+            light_check::planned_events(&medium, checked, light_check::event_budget(texels))
         }
         _ => 0.0,
     };

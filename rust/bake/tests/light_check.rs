@@ -13,7 +13,7 @@ use sssbake::control::Control;
 use sssbake::pipeline::Prepared;
 use sssbake::scattering::Scattering;
 use sssbake::transport::brute::BruteIntegrator;
-use sssbake::transport::light_check::check_against_light;
+use sssbake::transport::light_check::{EVENT_BUDGET, check_against_light};
 use sssbake::transport::walk::walk_surfels;
 use sssbake::walk::{StartDirection, WalkMedium, WalkSettings};
 use sssbake_profile::model::Model;
@@ -73,9 +73,17 @@ fn the_estimate_against_light_is_within_one_and_a_half_times_the_measured_distan
             .integrate(&skin, &BruteIntegrator, &Control::new())
             .unwrap()
             .exitance;
-        let check = check_against_light(&prepared, &skin, &baked, 256, 1, &Control::new())
-            .unwrap()
-            .expect("skin1 is one medium the walk follows");
+        let check = check_against_light(
+            &prepared,
+            &skin,
+            &baked,
+            256,
+            EVENT_BUDGET,
+            1,
+            &Control::new(),
+        )
+        .unwrap()
+        .expect("skin1 is one medium the walk follows");
         let measured = measured_distance(&prepared, &skin, &baked);
         eprintln!(
             "{name}: estimated {:.4} (rmse {:.4}, walk noise {:.4}, {} walks), measured {measured:.4}",
@@ -107,10 +115,28 @@ fn a_check_turned_off_or_on_a_layered_material_says_why() {
     let skin = scattering_of("skin1", Model::Dipole);
     let prepared = prepared(&scene, "square", 16);
     let baked = vec![[0.0f32; 3]; prepared.surfels.len()];
-    let off = check_against_light(&prepared, &skin, &baked, 0, 1, &Control::new()).unwrap();
+    let off = check_against_light(
+        &prepared,
+        &skin,
+        &baked,
+        0,
+        EVENT_BUDGET,
+        1,
+        &Control::new(),
+    )
+    .unwrap();
     assert_eq!(off, Err(sssbake::transport::light_check::NoCheck::Off));
     let layered = scattering_of("skin3layer", Model::Layered);
-    let refused = check_against_light(&prepared, &layered, &baked, 16, 1, &Control::new()).unwrap();
+    let refused = check_against_light(
+        &prepared,
+        &layered,
+        &baked,
+        16,
+        EVENT_BUDGET,
+        1,
+        &Control::new(),
+    )
+    .unwrap();
     assert!(
         matches!(&refused, Err(sssbake::transport::light_check::NoCheck::Material(why)) if !why.is_empty()),
         "{refused:?}"

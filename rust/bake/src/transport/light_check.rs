@@ -29,10 +29,16 @@ pub const DEFAULT_TEXELS: u32 = 256;
 pub const MOST_WALKS: u32 = 1024;
 /// Fewest walks per texel and channel, however long the walks are.
 pub const FEWEST_WALKS: u32 = 64;
-/// Walk events the check may spend (about 1.5 s on two cores): where the
-/// medium's walks are long (a high albedo), fewer walks per texel, and
-/// more noise, which the check states.
+/// Walk events the check may spend on an object of many texels (about
+/// 1.5 s on two cores): where the medium's walks are long (a high albedo),
+/// fewer walks per texel, and more noise, which the check states.
 pub const EVENT_BUDGET: f64 = 1.5e7;
+/// Walk events per texel of the object the check may spend, so that it
+/// stays a small share of a small bake (within [`SMALLEST_BUDGET`] and
+/// [`EVENT_BUDGET`]).
+pub const EVENTS_PER_TEXEL: f64 = 16.0;
+/// The fewest walk events the check may spend.
+pub const SMALLEST_BUDGET: f64 = 1e6;
 /// The bound on events per walk, as the walk integrator's default.
 pub const MAX_EVENTS: u32 = 1024;
 /// Most texels a request may ask for.
@@ -58,17 +64,24 @@ pub struct LightCheck {
     pub seconds: f64,
 }
 
+/// The walk events a bake's check may spend on an object of
+/// `object_texels` texels.
+pub fn event_budget(object_texels: usize) -> f64 {
+    (object_texels as f64 * EVENTS_PER_TEXEL).clamp(SMALLEST_BUDGET, EVENT_BUDGET)
+}
+
 /// Walks per texel and channel for `texels` texels in `medium`: as many
-/// as [`EVENT_BUDGET`] affords, within [`FEWEST_WALKS`] and [`MOST_WALKS`].
-pub fn walks_per_texel(medium: &WalkMedium, texels: usize) -> u32 {
+/// as `budget` events afford, within [`FEWEST_WALKS`] and [`MOST_WALKS`].
+pub fn walks_per_texel(medium: &WalkMedium, texels: usize, budget: f64) -> u32 {
     let per_walk = one_walk().expected_events(medium).max(1.0);
-    let affordable = EVENT_BUDGET / (per_walk * texels.max(1) as f64);
+    let affordable = budget / (per_walk * texels.max(1) as f64);
     (affordable as u32).clamp(FEWEST_WALKS, MOST_WALKS)
 }
 
-/// The events of a check of `texels` texels in `medium`, all channels.
-pub fn planned_events(medium: &WalkMedium, texels: usize) -> f64 {
-    let walks = f64::from(walks_per_texel(medium, texels));
+/// The events of a check of `texels` texels in `medium` within `budget`,
+/// all channels.
+pub fn planned_events(medium: &WalkMedium, texels: usize, budget: f64) -> f64 {
+    let walks = f64::from(walks_per_texel(medium, texels, budget));
     texels as f64 * walks * one_walk().expected_events(medium)
 }
 
@@ -91,13 +104,15 @@ pub enum NoCheck {
 }
 
 /// Walks `texels` seeded random texels of `prepared` under `scattering`'s
-/// medium and compares the bake's `exitance` (after the colour split, as
+/// medium, within about `budget` walk events ([`event_budget`] in a
+/// bake), and compares the bake's `exitance` (after the colour split, as
 /// `Prepared::integrate` returns it) with them.
 pub fn check_against_light(
     prepared: &Prepared,
     scattering: &Scattering,
     exitance: &[[f32; 3]],
     texels: u32,
+    budget: f64,
     seed: u64,
     control: &Control,
 ) -> Result<Result<LightCheck, NoCheck>, Error> {
@@ -110,7 +125,7 @@ pub fn check_against_light(
     };
     let start = std::time::Instant::now();
     let picked = pick(prepared.surfels.len(), texels as usize, seed);
-    let walks = walks_per_texel(&medium, picked.len());
+    let walks = walks_per_texel(&medium, picked.len(), budget);
     let settings = WalkSettings {
         walks,
         max_events: MAX_EVENTS,
