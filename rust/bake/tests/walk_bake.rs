@@ -4,39 +4,10 @@
 
 mod lit_scenes;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use lit_scenes::*;
 use sssbake::control::Control;
-use sssbake::{BakeRequest, Mesh, Method, Output};
-
-/// A cube of side `side` mm centred at the origin, its six faces each in
-/// a cell of a 3 × 2 UV grid with a margin, facing out.
-fn cube(side: f32) -> Mesh {
-    let h = side / 2.0;
-    let faces = [
-        (Vec3::Z, Vec3::X, Vec3::Y),
-        (Vec3::NEG_Z, Vec3::Y, Vec3::X),
-        (Vec3::X, Vec3::Y, Vec3::Z),
-        (Vec3::NEG_X, Vec3::Z, Vec3::Y),
-        (Vec3::Y, Vec3::Z, Vec3::X),
-        (Vec3::NEG_Y, Vec3::X, Vec3::Z),
-    ];
-    let (mut positions, mut uvs, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
-    for (k, (n, u, v)) in faces.into_iter().enumerate() {
-        let cell = Vec2::new((k % 3) as f32 / 3.0, (k / 3) as f32 / 2.0);
-        let base = positions.len() as u32;
-        for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-            positions.push(h * (n + su * u + sv * v));
-            let t = Vec2::new((su + 1.0) / 2.0, (sv + 1.0) / 2.0);
-            uvs.push(cell + Vec2::new(0.03, 0.03) + t * Vec2::new(1.0 / 3.0 - 0.06, 0.5 - 0.06));
-        }
-        triangles.push([base, base + 1, base + 2]);
-        triangles.push([base, base + 2, base + 3]);
-    }
-    Mesh::new("cube", positions, None, Some(uvs), triangles)
-        .expect("a valid cube")
-        .0
-}
+use sssbake::{BakeRequest, Method, Output};
 
 #[test]
 fn a_walk_bake_matches_the_exact_sum_on_a_thick_lit_face() {
