@@ -40,7 +40,7 @@ pub(super) struct SourceTable {
     pub near2: Vec<f32>,
     /// True when every source's size lies inside the disk means' table.
     pub tabulated: bool,
-    /// The piece of the mesh of each source (empty: one piece).
+    /// The piece of the mesh of each source (empty: all on one piece).
     pub piece: Vec<u32>,
 }
 
@@ -99,7 +99,11 @@ impl SourceTable {
             edges,
             sub_slot,
             near2,
-            piece: if sources.piece.len() == sources.len() {
+            // Kept only where the sources lie on several pieces: a one-piece
+            // object's pairs then skip the lookup.
+            piece: if sources.piece.len() == sources.len()
+                && sources.piece.iter().any(|&p| p != sources.piece[0])
+            {
                 order.iter().map(|&i| sources.piece[i as usize]).collect()
             } else {
                 Vec::new()
