@@ -16,12 +16,15 @@ use crate::request::{BakeRequest, UvPolicy};
 use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
 use crate::surface::dilation::{SeamAwareDilation, seam_aware_dilation};
+use crate::surface::opposite::{Opposite, opposites};
 use crate::surface::texels::{TexelSurfels, rasterize, uv_jacobian};
 use crate::surface::turk::{place_points, relax};
 use crate::surface::uv_analysis::analyse_uvs;
+use crate::transport::Method;
 use crate::transport::integrator::Integrator;
 use crate::transport::sources::{OwnSource, Sources, Targets};
 use crate::transport::texture_space;
+use crate::walk::Enclosure;
 use glam::{Vec2, Vec3};
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
@@ -171,6 +174,8 @@ pub struct Prepared {
     pub colour: Vec<[f32; 3]>,
     colour_split: f32,
     dilation: OnceLock<SeamAwareDilation>,
+    /// The face behind each texel, found on first use.
+    opposites: OnceLock<Vec<Option<Opposite>>>,
     seconds: f64,
     /// The lights and scene kept for splitting the light by incidence,
     /// when the material has an oblique kernel and scene lights light it.
@@ -285,6 +290,7 @@ pub fn prepare(
         colour,
         colour_split: request.colour_split.clamp(0.0, 1.0),
         dilation: OnceLock::new(),
+        opposites: OnceLock::new(),
         seconds: start.elapsed().as_secs_f64(),
         lights,
         incidence: OnceLock::new(),
@@ -337,6 +343,21 @@ impl Prepared {
                 texture_space::MAX_REACH,
             )
         })
+    }
+
+    /// The face behind each surfel, where the object ends along its
+    /// inward normal (found on first use).
+    pub fn opposites(&self) -> &[Option<Opposite>] {
+        self.opposites
+            .get_or_init(|| opposites(&Enclosure::new(&self.mesh, &self.uvs), &self.surfels))
+    }
+
+    /// True when some texel has a face behind it nearer than `reach` mm.
+    pub fn has_thin_parts(&self, reach: f32) -> bool {
+        self.opposites()
+            .iter()
+            .flatten()
+            .any(|o| o.thickness <= reach)
     }
 
     /// The irradiance per surfel with the colour applied before scattering.
@@ -510,6 +531,16 @@ impl Prepared {
         }
         let start = Instant::now();
         let mut integrated = integrator.integrate(self, scattering, control)?;
+        // Every profile method bakes the corrected model; the walk is light.
+        let method = integrator.method();
+        if method != Method::Walk
+            && self.has_thin_parts(scattering.kernel.d_max)
+            && let Some(slab) = scattering.local_slab()
+        {
+            let summed_across = method != Method::Texture;
+            integrated.exitance =
+                slab.correct_all(self.opposites(), &integrated.exitance, summed_across);
+        }
         for (i, m) in integrated.exitance.iter_mut().enumerate() {
             *m = self.after_scattering(i, *m);
         }

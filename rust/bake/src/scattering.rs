@@ -5,6 +5,7 @@ use crate::empirical_cache::{empirical_oblique_kernel, empirical_profile};
 use crate::error::Error;
 use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::transport::kernel::Kernel;
+use crate::transport::local_slab::LocalSlab;
 use sssbake_profile::Material;
 use sssbake_profile::empirical::EmpiricalSettings;
 use sssbake_profile::empirical_kernel::ObliqueKernel;
@@ -12,6 +13,7 @@ use sssbake_profile::model::{Model, ModelError, build_profile};
 use sssbake_profile::monte_carlo_profile::ProfileSettings;
 use sssbake_profile::profile::Profile;
 use sssbake_profile::surface::Surface;
+use std::sync::OnceLock;
 
 /// Share of the reflectance left outside d_max when none is asked for.
 pub const D_MAX_EPSILON: f64 = 1e-3;
@@ -35,6 +37,9 @@ pub struct Scattering {
     /// incidence with it; the other integrators, and every model without
     /// one, use the radially symmetric `profile`.
     pub oblique: Option<ObliqueKernel>,
+    /// How a slab of each thickness shares out the light, simulated on
+    /// first use (only a bake with thin parts needs it).
+    local_slab: OnceLock<Option<LocalSlab>>,
 }
 
 impl std::fmt::Debug for Scattering {
@@ -132,7 +137,15 @@ impl Scattering {
             kernel,
             surface,
             oblique: None,
+            local_slab: OnceLock::new(),
         }
+    }
+
+    /// The slab shares of the material by thickness, for the bake's thin
+    /// parts; `None` where a slab of it is not defined (see
+    /// [`LocalSlab::of`]). Simulated once, on first use.
+    pub fn local_slab(&self) -> Option<&LocalSlab> {
+        self.local_slab.get_or_init(|| LocalSlab::of(self)).as_ref()
     }
 
     /// The material's index of refraction where light enters (inside over

@@ -10,6 +10,7 @@ use crate::error::Error;
 use crate::pipeline::Prepared;
 use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
+use crate::transport::local_slab::{LocalSlab, SlabShares};
 use sssbake_profile::rng::Rng;
 
 /// Most texels checked.
@@ -46,26 +47,61 @@ pub fn estimate_error(
     let affordable = (VISIT_BUDGET / neighbours.max(1.0)) as usize;
     let count = affordable.clamp(FEWEST_CHECKED, MOST_CHECKED).min(texels);
     let picked = pick(texels, count, seed);
-    let position: Vec<_> = picked
+    // The corrected model reads the sum behind a thin part too: those
+    // texels are gathered as well.
+    let slab = scattering.local_slab();
+    let behind: Vec<Option<(usize, SlabShares)>> = picked
+        .iter()
+        .map(|&i| {
+            let opposite = prepared.opposites()[i]?;
+            let shares = slab?.at(opposite.thickness)?;
+            Some((opposite.surfel as usize, shares))
+        })
+        .collect();
+    let gathered: Vec<usize> = picked
+        .iter()
+        .copied()
+        .chain(behind.iter().flatten().map(|&(surfel, _)| surfel))
+        .collect();
+    let position: Vec<_> = gathered
         .iter()
         .map(|&i| prepared.surfels.position[i])
         .collect();
-    let normal: Vec<_> = picked.iter().map(|&i| prepared.surfels.normal[i]).collect();
-    let piece: Vec<_> = picked.iter().map(|&i| prepared.surfels.piece[i]).collect();
+    let normal: Vec<_> = gathered
+        .iter()
+        .map(|&i| prepared.surfels.normal[i])
+        .collect();
+    let piece: Vec<_> = if prepared.surfels.piece.is_empty() {
+        Vec::new()
+    } else {
+        gathered
+            .iter()
+            .map(|&i| prepared.surfels.piece[i])
+            .collect()
+    };
     let targets = Targets {
         position: &position,
         normal: &normal,
-        own: OwnSource::Listed(&picked),
+        own: OwnSource::Listed(&gathered),
         piece: &piece,
     };
     let sources = prepared.texel_sources();
     // The oblique exact sum where the material has one: the estimate then
     // counts what an azimuthal-mean method misses of each light's direction.
-    let (exact, _) = brute::exact_sum(prepared, scattering, &sources, targets, control)?;
+    let (sums, _) = brute::exact_sum(prepared, scattering, &sources, targets, control)?;
+    let mut others = sums[picked.len()..].iter();
     let exact: Vec<[f32; 3]> = picked
         .iter()
-        .zip(exact)
-        .map(|(&i, m)| prepared.after_scattering(i, m))
+        .zip(&sums)
+        .zip(&behind)
+        .map(|((&i, &here), behind)| {
+            // The sums behind follow the picked ones, in the same order.
+            let corrected = match behind.map(|(_, shares)| (shares, others.next())) {
+                Some((shares, Some(&there))) => LocalSlab::corrected(&shares, here, there, true),
+                _ => here,
+            };
+            prepared.after_scattering(i, corrected)
+        })
         .collect();
     let got: Vec<[f32; 3]> = picked.iter().map(|&i| exitance[i]).collect();
     let (relative_rmse, _) = relative_errors(&got, &exact);

@@ -1,0 +1,76 @@
+//! Where the object ends behind each texel: the face a ray along the
+//! inward normal leaves the medium through, how far that is, and the texel
+//! that holds it. A thin part (an ear, a shell, a leaf) is then a pair of
+//! texels a small thickness apart, which the local slab
+//! ([`crate::transport::local_slab`]) couples.
+
+use crate::surface::texels::{EMPTY, TexelSurfels};
+use crate::walk::Enclosure;
+use glam::Vec2;
+use rayon::prelude::*;
+
+/// The face behind one texel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Opposite {
+    /// Distance along the inward normal to where the medium ends, mm.
+    pub thickness: f32,
+    /// The surfel of the texel covering that point.
+    pub surfel: u32,
+}
+
+/// For every surfel, the face behind it, when a ray along its inward
+/// normal leaves the medium (meets a triangle facing away from it) on the
+/// same piece, at a point some texel covers; `None` where the ray meets
+/// nothing, enters another body, or lands where no texel is (a mesh open
+/// below the texel is a half-space there).
+pub fn opposites(enclosure: &Enclosure, surfels: &TexelSurfels) -> Vec<Option<Opposite>> {
+    (0..surfels.len())
+        .into_par_iter()
+        .map(|s| opposite_of(enclosure, surfels, s))
+        .collect()
+}
+
+fn opposite_of(enclosure: &Enclosure, surfels: &TexelSurfels, s: usize) -> Option<Opposite> {
+    let inward = -surfels.normal[s].normalize_or_zero();
+    if inward == glam::Vec3::ZERO {
+        return None;
+    }
+    let hit = enclosure.first_hit(
+        surfels.position[s],
+        inward,
+        f32::INFINITY,
+        Some(surfels.triangle[s]),
+    )?;
+    // Leaving the medium: the face met looks the way the ray goes.
+    if enclosure.facet_normal(hit.triangle).dot(inward) <= 0.0 {
+        return None;
+    }
+    let surfel = surfel_under(surfels, enclosure.uv_at(hit.triangle, hit.uv))?;
+    let same_piece = surfels
+        .piece
+        .get(s)
+        .is_none_or(|&p| surfels.piece.get(surfel as usize) == Some(&p));
+    (same_piece && hit.t.is_finite()).then_some(Opposite {
+        thickness: hit.t,
+        surfel,
+    })
+}
+
+/// The surfel of the texel under `uv`, or of its nearest covered
+/// neighbour when that texel is empty (a point on a chart's very edge).
+fn surfel_under(surfels: &TexelSurfels, uv: Vec2) -> Option<u32> {
+    let n = surfels.resolution as i64;
+    if n == 0 || !uv.is_finite() {
+        return None;
+    }
+    let (x, y) = (
+        (uv.x * n as f32).floor() as i64,
+        (uv.y * n as f32).floor() as i64,
+    );
+    let ring = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)];
+    ring.iter()
+        .map(|(dx, dy)| (x + dx, y + dy))
+        .filter(|&(x, y)| (0..n).contains(&x) && (0..n).contains(&y))
+        .map(|(x, y)| surfels.index[(y * n + x) as usize])
+        .find(|&i| i != EMPTY)
+}

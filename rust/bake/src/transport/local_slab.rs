@@ -1,0 +1,186 @@
+//! Light through thin parts by the slab of the local thickness.
+//!
+//! A profile of a semi-infinite medium keeps on the lit face all the light
+//! a thin part sends through to its far face, and hands the far face only
+//! what the profile's tail reaches across the thickness t in 3-D:
+//! tail(t) = 2π ∫_t^d_max P(r) r dr of the light behind it, the share an
+//! infinite sheet's far face gets from a uniformly lit near face. A slab of
+//! thickness t (Donner & Jensen 2005's problem, its totals simulated by
+//! [`crate::transport::slab_totals`]) says instead that the near face
+//! returns R_t and the far face receives T_t.
+//!
+//! Each texel x with a face behind it t away ([`crate::surface::opposite`])
+//! is corrected with the integrator's own sums at x and at the texel y
+//! behind it, M_x and M_y. Those sums hold each face's own light blurred by
+//! the profile, A_x and A_y, plus, for a 3-D integrator, the share
+//! q = tail(t)/R of the other's: M_x = A_x + q·A_y, M_y = A_y + q·A_x.
+//! Solving the pair gives A_x, A_y, and the slab's totals relative to the
+//! half-space's, R_t/R_∞ and T_t/R_∞, rescale them:
+//!
+//! M'_x = (R_t/R_∞)·A_x + (T_t/R_∞)·A_y.
+//!
+//! The far face's light keeps the profile's blur of the lit face, so a
+//! shadow edge on one side shows softened on the other. A texture-space
+//! integrator carries nothing across (q = 0). Where the object is thicker
+//! than the profile reaches, nothing changes.
+
+use crate::scattering::Scattering;
+use crate::surface::opposite::Opposite;
+use crate::transport::slab_totals::slab_totals;
+use sssbake_profile::material::{Optics, TopLayer};
+use sssbake_profile::model::Model;
+
+/// Rungs of the thickness ladder, geometric from [`THINNEST`]·d_max to d_max.
+const RUNGS: usize = 32;
+/// The thinnest rung as a share of the reach; thinner parts take it.
+const THINNEST: f64 = 1e-3;
+/// The most of a face's light the 3-D sum may be taken to carry across:
+/// the pair of sums is solved only while the two faces stay told apart.
+const MOST_CROSSED: f64 = 0.9;
+
+/// How a slab of one thickness shares out the light, per channel.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SlabShares {
+    /// R_t/R_∞: the light the near face keeps, against a half-space's.
+    pub kept: [f64; 3],
+    /// T_t/R_∞: the light the far face receives, against the half-space's
+    /// reflectance.
+    pub sent: [f64; 3],
+    /// tail(t)/R: the share of a face's light the profile's 3-D sum hands
+    /// the other face.
+    pub summed_across: [f64; 3],
+}
+
+/// A material's slab shares on a ladder of thicknesses up to its reach.
+#[derive(Clone, Debug)]
+pub struct LocalSlab {
+    thickness: Vec<f64>,
+    shares: Vec<SlabShares>,
+}
+
+impl LocalSlab {
+    /// The ladder for `scattering`'s material, when it is one semi-infinite
+    /// layer with optical coefficients (a slab of it is then defined) and
+    /// the model is not Stam's top layer; `None` otherwise, and the bake
+    /// keeps the profile's half-space.
+    pub fn of(scattering: &Scattering) -> Option<Self> {
+        let material = &scattering.material;
+        let Optics::Layers(layers) = &material.optics else {
+            return None;
+        };
+        let [layer] = layers.as_slice() else {
+            return None;
+        };
+        let d_max = f64::from(scattering.kernel.d_max);
+        if layer.thickness_mm.is_some()
+            || material.top_layer == TopLayer::Stam
+            || scattering.model == Model::Stam
+            || !(d_max.is_finite() && d_max > 0.0)
+        {
+            return None;
+        }
+        let thickness: Vec<f64> = (0..RUNGS)
+            .map(|i| d_max * THINNEST.powf(1.0 - i as f64 / (RUNGS - 1) as f64))
+            .collect();
+        let totals = slab_totals(layer, &thickness);
+        let total = scattering.profile.total_reflectance();
+        let within_reach = scattering.profile.enclosed_reflectance(d_max);
+        let r_infinite = totals.semi_infinite;
+        let shares = thickness
+            .iter()
+            .enumerate()
+            .map(|(i, &t)| {
+                let enclosed = scattering.profile.enclosed_reflectance(t);
+                let mut shares = SlabShares::default();
+                for c in 0..3 {
+                    let ratio = |x: f64| {
+                        if r_infinite[c] > 0.0 && x.is_finite() {
+                            (x / r_infinite[c]).max(0.0)
+                        } else {
+                            0.0
+                        }
+                    };
+                    shares.kept[c] = ratio(totals.reflectance[i][c]).min(1.0);
+                    shares.sent[c] = ratio(totals.transmittance[i][c]);
+                    shares.summed_across[c] = if total[c] > 0.0 {
+                        ((within_reach[c] - enclosed[c]) / total[c]).clamp(0.0, MOST_CROSSED)
+                    } else {
+                        0.0
+                    };
+                }
+                shares
+            })
+            .collect();
+        Some(LocalSlab { thickness, shares })
+    }
+
+    /// The shares at thickness `t` mm (linear in ln t between rungs; the
+    /// thinnest rung below it), or `None` where the part is thicker than
+    /// the reach.
+    pub fn at(&self, t: f32) -> Option<SlabShares> {
+        let t = f64::from(t);
+        let last = *self.thickness.last()?;
+        // A NaN thickness is no thin part either.
+        if t.is_nan() || t > last {
+            return None;
+        }
+        let above = self.thickness.partition_point(|&rung| rung < t);
+        if above == 0 {
+            return self.shares.first().copied();
+        }
+        let (t0, t1) = (self.thickness[above - 1], self.thickness[above]);
+        let w = ((t / t0).ln() / (t1 / t0).ln()).clamp(0.0, 1.0);
+        let (a, b) = (self.shares[above - 1], self.shares[above]);
+        let mix = |x: [f64; 3], y: [f64; 3]| [0, 1, 2].map(|c| x[c] + w * (y[c] - x[c]));
+        Some(SlabShares {
+            kept: mix(a.kept, b.kept),
+            sent: mix(a.sent, b.sent),
+            summed_across: mix(a.summed_across, b.summed_across),
+        })
+    }
+
+    /// The exitance at a texel from its own sum `here`, the sum `behind` at
+    /// the texel behind it, and the slab between them; `summed_across`
+    /// false for an integrator that carries nothing between faces.
+    pub fn corrected(
+        shares: &SlabShares,
+        here: [f32; 3],
+        behind: [f32; 3],
+        summed_across: bool,
+    ) -> [f32; 3] {
+        [0, 1, 2].map(|c| {
+            let q = if summed_across {
+                shares.summed_across[c]
+            } else {
+                0.0
+            };
+            let (x, y) = (f64::from(here[c]), f64::from(behind[c]));
+            let own_here = ((x - q * y) / (1.0 - q * q)).max(0.0);
+            let own_behind = ((y - q * x) / (1.0 - q * q)).max(0.0);
+            let m = shares.kept[c] * own_here + shares.sent[c] * own_behind;
+            if m.is_finite() { m as f32 } else { here[c] }
+        })
+    }
+
+    /// `exitance` (the integrator's sums, one per surfel) corrected at
+    /// every surfel with a face behind it within the reach.
+    pub fn correct_all(
+        &self,
+        opposites: &[Option<Opposite>],
+        exitance: &[[f32; 3]],
+        summed_across: bool,
+    ) -> Vec<[f32; 3]> {
+        exitance
+            .iter()
+            .zip(opposites)
+            .map(|(&here, opposite)| {
+                let behind = opposite
+                    .and_then(|o| Some((self.at(o.thickness)?, *exitance.get(o.surfel as usize)?)));
+                match behind {
+                    Some((shares, behind)) => Self::corrected(&shares, here, behind, summed_across),
+                    None => here,
+                }
+            })
+            .collect()
+    }
+}
