@@ -87,16 +87,17 @@ def slab_scene():
     return slab, material
 
 
-def cycles_exitance(material):
-    """Cycles' diffuse pass (radiance of a Lambertian exit, W/(m²·sr)) × π: the exitance."""
+def cycles_exitance(material, resolution=RESOLUTION, samples=CYCLES_SAMPLES):
+    """Cycles' diffuse pass (radiance of a Lambertian exit, W/(m²·sr)) × π: the exitance, as a
+    `resolution`² image at `samples` samples per texel."""
     import bpy
 
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
-    scene.cycles.samples = CYCLES_SAMPLES
+    scene.cycles.samples = samples
     scene.cycles.seed = 1
-    image = bpy.data.images.new("cycles", RESOLUTION, RESOLUTION, float_buffer=True)
+    image = bpy.data.images.new("cycles", resolution, resolution, float_buffer=True)
     node = material.node_tree.nodes.new("ShaderNodeTexImage")
     node.image = image
     material.node_tree.nodes.active = node

@@ -102,6 +102,23 @@ pub struct Accuracy {
     /// Why there is no check against light, when there is none.
     #[serde(default)]
     pub light_unchecked: Option<String>,
+    /// What the corrected model changed of the profile's sums
+    /// ([`crate::transport::local_slab`]); `None` for the walk and for
+    /// materials it does not apply to (layered, measured, Stam).
+    #[serde(default)]
+    pub corrected: Option<Corrected>,
+}
+
+/// What the corrected model did to one object's profile sums.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Corrected {
+    /// R_∞/R per channel: the Monte Carlo's half-space total over the
+    /// profile's, by which every sum was scaled (1 where the profile is at
+    /// light's level already).
+    pub level: [f64; 3],
+    /// Texels with a face behind them nearer than the profile's reach,
+    /// whose light was re-shared by the slab of that thickness.
+    pub thin_texels: usize,
 }
 
 /// A method `auto` ran and set aside.
@@ -207,6 +224,18 @@ fn scatter(
                     Err(NoCheck::Material(reason)) => (None, Some(reason)),
                 };
                 seconds += light.map_or(0.0, |l| l.seconds);
+                let corrected = scattering
+                    .local_slab()
+                    .filter(|_| method != Method::Walk)
+                    .map(|slab| Corrected {
+                        level: slab.level(),
+                        thin_texels: prepared
+                            .opposites()
+                            .iter()
+                            .flatten()
+                            .filter(|o| slab.at(o.thickness).is_some())
+                            .count(),
+                    });
                 return Ok(Scattered {
                     exitance: integration.exitance,
                     seconds,
@@ -223,6 +252,7 @@ fn scatter(
                         walk: integration.walk,
                         light,
                         light_unchecked,
+                        corrected,
                     },
                 });
             }
@@ -490,6 +520,14 @@ impl fmt::Display for Summary {
                         a.texels_checked
                     )?;
                 }
+            }
+            if let Some(corrected) = o.accuracy.as_ref().and_then(|a| a.corrected) {
+                let [r, g, b] = corrected.level;
+                writeln!(
+                    f,
+                    "{}: corrected model: light's level ×{r:.3} / {g:.3} / {b:.3} (R/G/B, the Monte Carlo's total over the profile's); {} texels through thin parts by the slab of their thickness",
+                    p.name, corrected.thin_texels
+                )?;
             }
             if let Some(light) = o.accuracy.as_ref().and_then(|a| a.light) {
                 writeln!(

@@ -96,7 +96,7 @@ pub mod surface;
 pub mod transport;
 pub mod walk;
 
-pub use bake::{BakedObject, Summary, bake, bake_each};
+pub use bake::{BakedObject, Corrected, Summary, bake, bake_each};
 pub use error::{Error, InputError};
 pub use maps::Output;
 pub use mesh::{Mesh, MeshError, MeshWarnings};

@@ -534,7 +534,6 @@ impl Prepared {
         // Every profile method bakes the corrected model; the walk is light.
         let method = integrator.method();
         if method != Method::Walk
-            && self.has_thin_parts(scattering.kernel.d_max)
             && let Some(slab) = scattering.local_slab()
         {
             let summed_across = method != Method::Texture;

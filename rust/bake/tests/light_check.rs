@@ -34,7 +34,7 @@ fn measured_distance(prepared: &Prepared, scattering: &Scattering, baked: &[[f32
         walks: 2048,
         max_events: 1024,
         seed: 99,
-        start: StartDirection::Diffuse,
+        start: StartDirection::Pencil,
     };
     let estimate = walk_surfels(prepared, &medium, None, &settings, &Control::new()).unwrap();
     let (mut diff2, mut ref2, mut noise2) = (0.0f64, 0.0f64, 0.0f64);

@@ -109,17 +109,26 @@ pub fn prepared(scene: &Scene, object: &str, resolution: u32) -> Prepared {
     prepare_with(scene, object, &request(resolution), &Control::new()).unwrap()
 }
 
-/// The exitance of `prepared` by `method` with `settings`.
+/// The exitance of `prepared` by `method` with `settings`: the
+/// integrator's sums of the profile, with the colour after scattering but
+/// without the corrected model's level and thin parts
+/// (`Prepared::integrate` adds those), so an integrator is tested against
+/// the profile's own mathematics.
 pub fn exitance(
     prepared: &Prepared,
     scattering: &Scattering,
     method: Method,
     settings: &IntegratorSettings,
 ) -> Vec<[f32; 3]> {
-    prepared
-        .integrate(scattering, settings.get(method), &Control::new())
+    let sums = settings
+        .get(method)
+        .integrate(prepared, scattering, &Control::new())
         .unwrap()
-        .exitance
+        .exitance;
+    sums.iter()
+        .enumerate()
+        .map(|(i, &m)| prepared.after_scattering(i, m))
+        .collect()
 }
 
 /// Integrator settings with `samples` importance probes, `gaussians` and

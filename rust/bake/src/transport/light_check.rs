@@ -130,7 +130,7 @@ pub fn check_against_light(
         walks,
         max_events: MAX_EVENTS,
         seed,
-        start: StartDirection::Diffuse,
+        start: StartDirection::Pencil,
     };
     let estimate = walk_surfels(prepared, &medium, Some(&picked), &settings, control)?;
     let walked: Vec<[f32; 3]> = picked

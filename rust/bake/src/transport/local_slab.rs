@@ -1,28 +1,38 @@
-//! Light through thin parts by the slab of the local thickness.
+//! The corrected model: the profile's level set by light, and thin parts
+//! by the slab of the local thickness.
 //!
-//! A profile of a semi-infinite medium keeps on the lit face all the light
-//! a thin part sends through to its far face, and hands the far face only
-//! what the profile's tail reaches across the thickness t in 3-D:
-//! tail(t) = 2π ∫_t^d_max P(r) r dr of the light behind it, the share an
-//! infinite sheet's far face gets from a uniformly lit near face. A slab of
-//! thickness t (Donner & Jensen 2005's problem, its totals simulated by
-//! [`crate::transport::slab_totals`]) says instead that the near face
-//! returns R_t and the far face receives T_t.
+//! **The level.** Diffusion misstates how much light a medium returns
+//! where the albedo is low (skin1's blue: the dipole's 0.131 against the
+//! Monte Carlo's 0.115). Every profile's sums are scaled per channel by
+//! R_∞/R, the Monte Carlo's total of the half-space over the profile's
+//! own ([`crate::transport::slab_totals`]), so the bake returns what light
+//! returns. The Monte Carlo's faces are smooth: a rough material keeps the
+//! profile's level, as do the profiles made from Monte Carlo tallies
+//! (`monte_carlo`, `empirical`), whose level is light's already.
+//!
+//! **Thin parts.** A profile of a semi-infinite medium keeps on the lit
+//! face all the light a thin part sends through to its far face, and hands
+//! the far face only what the profile's tail reaches across the thickness
+//! t in 3-D: tail(t) = 2π ∫_t^d_max P(r) r dr of the light behind it, the
+//! share an infinite sheet's far face gets from a uniformly lit near face.
+//! A slab of thickness t (Donner & Jensen 2005's problem, its totals by
+//! the Monte Carlo) says instead that the near face returns R_t and the
+//! far face receives T_t.
 //!
 //! Each texel x with a face behind it t away ([`crate::surface::opposite`])
 //! is corrected with the integrator's own sums at x and at the texel y
 //! behind it, M_x and M_y. Those sums hold each face's own light blurred by
 //! the profile, A_x and A_y, plus, for a 3-D integrator, the share
 //! q = tail(t)/R of the other's: M_x = A_x + q·A_y, M_y = A_y + q·A_x.
-//! Solving the pair gives A_x, A_y, and the slab's totals relative to the
-//! half-space's, R_t/R_∞ and T_t/R_∞, rescale them:
+//! Solving the pair gives A_x, A_y, and the slab's totals over the
+//! profile's total rescale them:
 //!
-//! M'_x = (R_t/R_∞)·A_x + (T_t/R_∞)·A_y.
+//! M'_x = (R_t/R)·A_x + (T_t/R)·A_y.
 //!
 //! The far face's light keeps the profile's blur of the lit face, so a
 //! shadow edge on one side shows softened on the other. A texture-space
 //! integrator carries nothing across (q = 0). Where the object is thicker
-//! than the profile reaches, nothing changes.
+//! than the profile reaches, R_t = R_∞ and T_t = 0: only the level changes.
 
 use crate::scattering::Scattering;
 use crate::surface::opposite::Opposite;
@@ -41,10 +51,9 @@ const MOST_CROSSED: f64 = 0.9;
 /// How a slab of one thickness shares out the light, per channel.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SlabShares {
-    /// R_t/R_∞: the light the near face keeps, against a half-space's.
+    /// R_t/R: the light the near face keeps, over the profile's total.
     pub kept: [f64; 3],
-    /// T_t/R_∞: the light the far face receives, against the half-space's
-    /// reflectance.
+    /// T_t/R: the light the far face receives, over the profile's total.
     pub sent: [f64; 3],
     /// tail(t)/R: the share of a face's light the profile's 3-D sum hands
     /// the other face.
@@ -54,6 +63,8 @@ pub struct SlabShares {
 /// A material's slab shares on a ladder of thicknesses up to its reach.
 #[derive(Clone, Debug)]
 pub struct LocalSlab {
+    /// R_∞/R per channel: the shares of a part thicker than the reach.
+    level: [f64; 3],
     thickness: Vec<f64>,
     shares: Vec<SlabShares>,
 }
@@ -86,6 +97,20 @@ impl LocalSlab {
         let total = scattering.profile.total_reflectance();
         let within_reach = scattering.profile.enclosed_reflectance(d_max);
         let r_infinite = totals.semi_infinite;
+        // The slab's totals are over the Monte Carlo's half-space, then
+        // scaled to its level: R_∞/R for a diffusion profile with smooth
+        // faces; 1 for rough faces (the simulation's are smooth) and for
+        // the profiles made from Monte Carlo tallies already.
+        let levelled = material.roughness == 0.0
+            && !matches!(scattering.model, Model::MonteCarlo | Model::Empirical);
+        let level = [0, 1, 2].map(|c| {
+            let level = r_infinite[c] / total[c];
+            if levelled && level.is_finite() && level > 0.0 {
+                level
+            } else {
+                1.0
+            }
+        });
         let shares = thickness
             .iter()
             .enumerate()
@@ -100,8 +125,8 @@ impl LocalSlab {
                             0.0
                         }
                     };
-                    shares.kept[c] = ratio(totals.reflectance[i][c]).min(1.0);
-                    shares.sent[c] = ratio(totals.transmittance[i][c]);
+                    shares.kept[c] = level[c] * ratio(totals.reflectance[i][c]).min(1.0);
+                    shares.sent[c] = level[c] * ratio(totals.transmittance[i][c]);
                     shares.summed_across[c] = if total[c] > 0.0 {
                         ((within_reach[c] - enclosed[c]) / total[c]).clamp(0.0, MOST_CROSSED)
                     } else {
@@ -111,12 +136,30 @@ impl LocalSlab {
                 shares
             })
             .collect();
-        Some(LocalSlab { thickness, shares })
+        Some(LocalSlab {
+            level,
+            thickness,
+            shares,
+        })
+    }
+
+    /// R_∞/R per channel: how much the profile's level is changed.
+    pub fn level(&self) -> [f64; 3] {
+        self.level
+    }
+
+    /// The shares of a part thicker than the reach: its level, nothing
+    /// across.
+    pub fn thick(&self) -> SlabShares {
+        SlabShares {
+            kept: self.level,
+            ..SlabShares::default()
+        }
     }
 
     /// The shares at thickness `t` mm (linear in ln t between rungs; the
     /// thinnest rung below it), or `None` where the part is thicker than
-    /// the reach.
+    /// the reach ([`Self::thick`]).
     pub fn at(&self, t: f32) -> Option<SlabShares> {
         let t = f64::from(t);
         let last = *self.thickness.last()?;
@@ -163,7 +206,8 @@ impl LocalSlab {
     }
 
     /// `exitance` (the integrator's sums, one per surfel) corrected at
-    /// every surfel with a face behind it within the reach.
+    /// every surfel: brought to the level, and re-shared with the texel
+    /// behind where a face lies within the reach.
     pub fn correct_all(
         &self,
         opposites: &[Option<Opposite>],
@@ -178,7 +222,7 @@ impl LocalSlab {
                     .and_then(|o| Some((self.at(o.thickness)?, *exitance.get(o.surfel as usize)?)));
                 match behind {
                     Some((shares, behind)) => Self::corrected(&shares, here, behind, summed_across),
-                    None => here,
+                    None => Self::corrected(&self.thick(), here, here, summed_across),
                 }
             })
             .collect()

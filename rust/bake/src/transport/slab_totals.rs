@@ -5,32 +5,29 @@
 //! Totals by the Monte Carlo, not by diffusion: through a few mean free
 //! paths at low albedo, diffusion's decay σtr is too steep and sends too
 //! little light across (skin1's blue through 3 mm: half of it). Light
-//! enters diffusely, as irradiance: a cosine-weighted spread of directions
-//! inside, each weighted by the share the boundary lets in, μ(1 − F(μ))
-//! normalised. That is how Cycles' random walk lights the point a walk
-//! leaves through (a diffuse closure there) and how the walk of this crate
-//! scores it.
+//! enters as the profiles have it, a pencil beam at normal incidence, per
+//! unit flux entering: by reciprocity the same as light entering as
+//! irradiance and leaving along the normal, which is what Cycles' DIFFUSE
+//! bake of a Random Walk material sees and what the walk of this crate
+//! scores.
 
 use crate::monte_carlo_cache::{cache_dir, cached};
-use crate::walk::Boundary;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sssbake_profile::material::Layer;
-use sssbake_profile::monte_carlo::{Settings, simulate_oblique};
-use sssbake_profile::quadrature::gauss_legendre;
+use sssbake_profile::monte_carlo::{Settings, simulate};
 
-/// Photons per thickness, entry angle and channel: totals to about 1%
-/// where light crosses.
-const PHOTONS: u64 = 4096;
-/// Entry angles (Gauss–Legendre in the cosine, within the critical cone).
-const ENTRY_ANGLES: usize = 4;
+/// Photons per thickness and channel: totals to about 1% where light
+/// crosses.
+const PHOTONS: u64 = 16_384;
 /// One seed for every thickness, so the ladder's noise is smooth in t.
 const SEED: u64 = 0x736c_6162;
 /// Changes whenever the totals change meaning without the crate's version
 /// changing.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
 
-/// A layer's totals for diffuse light entering one face, per channel.
+/// A layer's totals for a pencil beam entering one face at normal
+/// incidence, per unit flux entering, per channel.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SlabTotals {
     /// The layer made semi-infinite: the light it returns, R_∞.
@@ -60,7 +57,7 @@ impl SlabTotals {
 /// simulated before.
 pub fn slab_totals(layer: &Layer, thickness: &[f64]) -> SlabTotals {
     let key = format!(
-        "sssbake {} slab totals format {FORMAT}\nlayer {:?}\nphotons {PHOTONS} angles {ENTRY_ANGLES} seed {SEED}\nthickness {thickness:?}",
+        "sssbake {} slab totals format {FORMAT}\nlayer {:?}\nphotons {PHOTONS} seed {SEED}\nthickness {thickness:?}",
         env!("CARGO_PKG_VERSION"),
         Layer {
             thickness_mm: None,
@@ -77,27 +74,20 @@ pub fn slab_totals(layer: &Layer, thickness: &[f64]) -> SlabTotals {
 }
 
 fn simulate_totals(layer: &Layer, thickness: &[f64]) -> SlabTotals {
-    let angles = diffuse_entry(layer.ior);
     let simulated = |thickness_mm: Option<f64>| {
         let slab = Layer {
             thickness_mm,
             ..layer.clone()
         };
-        let mut totals = ([0.0; 3], [0.0; 3]);
-        for &(mu, weight) in &angles {
-            let tallies = simulate_oblique(
-                std::slice::from_ref(&slab),
-                &Settings::new(PHOTONS, SEED, vec![0.0, f64::MAX]),
-                mu,
-            );
-            for c in 0..3 {
-                totals.0[c] +=
-                    weight * (tallies.total_reflectance[c] + tallies.unscattered_reflectance[c]);
-                totals.1[c] += weight
-                    * (tallies.total_transmittance[c] + tallies.unscattered_transmittance[c]);
-            }
-        }
-        totals
+        let tallies = simulate(
+            std::slice::from_ref(&slab),
+            &Settings::new(PHOTONS, SEED, vec![0.0, f64::MAX]),
+        );
+        let reflectance =
+            [0, 1, 2].map(|c| tallies.total_reflectance[c] + tallies.unscattered_reflectance[c]);
+        let transmittance = [0, 1, 2]
+            .map(|c| tallies.total_transmittance[c] + tallies.unscattered_transmittance[c]);
+        (reflectance, transmittance)
     };
     let semi_infinite = simulated(None).0;
     let (reflectance, transmittance) = thickness.par_iter().map(|&t| simulated(Some(t))).unzip();
@@ -109,49 +99,9 @@ fn simulate_totals(layer: &Layer, thickness: &[f64]) -> SlabTotals {
     }
 }
 
-/// Cosines inside and their weights (summing to 1) for light entering
-/// diffusely through a boundary of relative index `eta`: inside a denser
-/// medium it fills the cone within the critical angle, each direction
-/// weighted by μ(1 − F(μ)).
-fn diffuse_entry(eta: f64) -> Vec<(f64, f64)> {
-    let boundary = Boundary::of_index(eta);
-    let critical = if eta > 1.0 {
-        (1.0 - 1.0 / (eta * eta)).sqrt()
-    } else {
-        0.0
-    };
-    let mut angles: Vec<(f64, f64)> = gauss_legendre(ENTRY_ANGLES)
-        .into_iter()
-        .map(|(x, w)| {
-            let mu = critical + 0.5 * (x + 1.0) * (1.0 - critical);
-            (mu, w * mu * (1.0 - boundary.reflectance(mu)))
-        })
-        .collect();
-    let spread: f64 = angles.iter().map(|&(_, w)| w).sum();
-    for angle in &mut angles {
-        angle.1 /= spread.max(1e-300);
-    }
-    angles
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn diffuse_entry_weights_sum_to_one_within_the_critical_cone() {
-        for eta in [1.0, 1.3, 1.5] {
-            let angles = diffuse_entry(eta);
-            let sum: f64 = angles.iter().map(|a| a.1).sum();
-            assert!((sum - 1.0).abs() < 1e-12);
-            let critical = (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt();
-            assert!(
-                angles
-                    .iter()
-                    .all(|&(mu, w)| mu > critical && mu <= 1.0 && w > 0.0)
-            );
-        }
-    }
 
     #[test]
     fn a_thicker_slab_returns_more_and_sends_less() {

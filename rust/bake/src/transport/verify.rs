@@ -96,8 +96,11 @@ pub fn estimate_error(
         .zip(&behind)
         .map(|((&i, &here), behind)| {
             // The sums behind follow the picked ones, in the same order.
-            let corrected = match behind.map(|(_, shares)| (shares, others.next())) {
-                Some((shares, Some(&there))) => LocalSlab::corrected(&shares, here, there, true),
+            let corrected = match (behind.map(|(_, shares)| (shares, others.next())), slab) {
+                (Some((shares, Some(&there))), _) => {
+                    LocalSlab::corrected(&shares, here, there, true)
+                }
+                (_, Some(slab)) => LocalSlab::corrected(&slab.thick(), here, here, true),
                 _ => here,
             };
             prepared.after_scattering(i, corrected)

@@ -165,7 +165,7 @@ impl Integrator for WalkIntegrator {
             walks: self.samples,
             max_events: self.max_events,
             seed: self.seed,
-            start: StartDirection::Diffuse,
+            start: StartDirection::Pencil,
         };
         let estimate = walk_surfels(prepared, &medium, None, &settings, control)?;
         let noise = WalkNoise {

@@ -47,10 +47,14 @@ use sssbake_profile::rng::Rng;
 #[serde(rename_all = "lowercase")]
 pub enum StartDirection {
     /// Cosine-distributed about −n, weighted by the boundary's
-    /// transmittance: the exitance under diffusely entering light.
-    #[default]
+    /// transmittance: the exitance as a Lambertian view of it would have it.
     Diffuse,
-    /// Straight along −n: a normal-incidence pencil beam.
+    /// Straight along −n: by reciprocity, the light leaving along the
+    /// normal for a pencil beam entering there, the convention of the
+    /// profiles (R(r) for normal incidence) and of Cycles' DIFFUSE bake of
+    /// a Random Walk material (its walk enters along the refracted view,
+    /// and a bake views along the normal).
+    #[default]
     Pencil,
 }
 
