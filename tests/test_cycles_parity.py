@@ -97,7 +97,9 @@ def cycles_exitance(material, resolution=RESOLUTION, samples=CYCLES_SAMPLES):
     scene.cycles.device = "CPU"
     scene.cycles.samples = samples
     scene.cycles.seed = 1
-    image = bpy.data.images.new("cycles", resolution, resolution, float_buffer=True)
+    image = bpy.data.images.new("cycles", resolution, resolution, alpha=True, float_buffer=True)
+    # Transparent until baked: the bake's alpha then marks the texels it wrote.
+    image.generated_color = (0.0, 0.0, 0.0, 0.0)
     node = material.node_tree.nodes.new("ShaderNodeTexImage")
     node.image = image
     material.node_tree.nodes.active = node
