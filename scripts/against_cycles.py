@@ -9,7 +9,8 @@ the share of our light on texels where Cycles has under a hundredth of its brigh
     PATH=$PWD/.venv/bin:$PATH .venv/bin/python -m pip install --no-build-isolation .
     .venv/bin/python scripts/against_cycles.py [--resolution 256] [--samples 256] [METHOD ...]
 
-METHOD is a method of the add-on (AUTO, BRUTE, WALK, ...; AUTO when none)."""
+METHOD is a method of the add-on (AUTO, BRUTE, WALK, ...; AUTO when none). `--ior`,
+`--roughness`, `--sun-only` and `--scale` change the scene to tell causes apart."""
 
 import argparse
 import pathlib
@@ -22,9 +23,10 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCALES = (0.002, 0.05)
 
 
-def head_scene(bpy, scale):
-    """Suzanne (subdivided twice, 20 cm) in skin at Subsurface Scale `scale`, a sun and a point
-    light, a black world; the head selected, its UVs made by Smart UV Project."""
+def head_scene(bpy, scale, ior=1.4, roughness=0.5, point_light=True):
+    """Suzanne (subdivided twice, 20 cm) in skin at Subsurface Scale `scale` (IOR `ior`,
+    Roughness `roughness`), a sun and (with `point_light`) a point light, a black world; the
+    head selected, its UVs made by Smart UV Project."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.mesh.primitive_monkey_add(size=0.2)
     head = bpy.context.active_object
@@ -44,15 +46,17 @@ def head_scene(bpy, scale):
     bsdf.inputs["Subsurface Weight"].default_value = 1.0
     bsdf.inputs["Subsurface Radius"].default_value = (1.0, 0.35, 0.2)
     bsdf.inputs["Subsurface Scale"].default_value = scale
-    bsdf.inputs["IOR"].default_value = 1.4
+    bsdf.inputs["IOR"].default_value = ior
+    bsdf.inputs["Roughness"].default_value = roughness
     bsdf.subsurface_method = "RANDOM_WALK"
     head.data.materials.append(material)
     bpy.ops.object.light_add(type="SUN", rotation=(1.1, 0.0, 0.9))
     bpy.context.active_object.data.energy = 1.2
     bpy.context.active_object.data.angle = 0.0
-    bpy.ops.object.light_add(type="POINT", location=(-0.25, -0.3, 0.1))
-    bpy.context.active_object.data.energy = 6.0
-    bpy.context.active_object.data.shadow_soft_size = 0.0
+    if point_light:
+        bpy.ops.object.light_add(type="POINT", location=(-0.25, -0.3, 0.1))
+        bpy.context.active_object.data.energy = 6.0
+        bpy.context.active_object.data.shadow_soft_size = 0.0
     bpy.context.scene.world = None
     bpy.ops.object.select_all(action="DESELECT")
     head.select_set(True)
@@ -99,6 +103,10 @@ def main():
     parser.add_argument("methods", nargs="*", default=["AUTO"])
     parser.add_argument("--resolution", type=int, default=256)
     parser.add_argument("--samples", type=int, default=256)
+    parser.add_argument("--scale", type=float, action="append", help="Subsurface Scale (repeatable)")
+    parser.add_argument("--ior", type=float, default=1.4)
+    parser.add_argument("--roughness", type=float, default=0.5)
+    parser.add_argument("--sun-only", action="store_true", help="leave the point light out")
     args = parser.parse_args()
     sys.path.insert(0, str(ROOT / "tests"))
     import bpy
@@ -106,8 +114,8 @@ def main():
     from test_blender_addon import pixels
     from test_cycles_parity import cycles_exitance
 
-    for scale in SCALES:
-        material = head_scene(bpy, scale)
+    for scale in args.scale or SCALES:
+        material = head_scene(bpy, scale, args.ior, args.roughness, not args.sun_only)
         start = time.monotonic()
         cycles = cycles_exitance(material, args.resolution, args.samples)
         print(
