@@ -17,17 +17,22 @@
 //! step's exit factor applies to the walk's map as to the profile's.
 //!
 //! Two starts:
-//! - [`StartDirection::Diffuse`] (the default, and Cycles'): light entering
-//!   at x_i is taken as diffuse, refracted through the boundary. By
-//!   reciprocity the walk starts with that same distribution at x_o: a
-//!   cosine-distributed direction about −n (Cycles'
-//!   `sample_cos_hemisphere(-N)`) weighted by (1 − F(θ))/(1 − F_dr), which
-//!   is 1 when index-matched. A start that points out of its own facet
-//!   (a shading normal tilted against it) is mirrored into the medium.
-//! - [`StartDirection::Pencil`]: straight along −n with weight 1, a unit
-//!   flux entering at normal incidence, as MCML's pencil beam: under
-//!   uniform E_t on a flat face it estimates E_t times the slab's total R
-//!   (scattered or not) at normal incidence.
+//! - [`StartDirection::Pencil`] (the default): straight along −n with
+//!   weight 1, a unit flux entering at normal incidence, as MCML's pencil
+//!   beam: under uniform E_t on a flat face it estimates E_t times the
+//!   slab's total R (scattered or not) at normal incidence. It is Cycles'
+//!   DIFFUSE bake of a Random Walk material: Cycles enters along the
+//!   refracted view (`subsurface_entry_bounce`; a bake views along the
+//!   normal) and lights the point its walk leaves through with a diffuse
+//!   closure, that is by the irradiance there (within 0.4% of Cycles on a
+//!   backlit slab, `tests/test_cycles_light.py`).
+//! - [`StartDirection::Diffuse`]: light entering at x_i taken as diffuse,
+//!   refracted through the boundary. By reciprocity the walk starts with
+//!   that same distribution at x_o: a cosine-distributed direction about
+//!   −n weighted by (1 − F(θ))/(1 − F_dr), which is 1 when index-matched
+//!   (Cycles' Random Walk (Skin) starts so half the time). A start that
+//!   points out of its own facet (a shading normal tilted against it) is
+//!   mirrored into the medium.
 //!
 //! Each channel walks on its own (`walks` walks per channel per texel),
 //! from the texel's own random stream, so any thread count gives the same

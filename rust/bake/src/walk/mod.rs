@@ -11,7 +11,7 @@
 //! - [`medium`]: the coefficients and the boundary (index-matched or a
 //!   smooth dielectric), from a material.
 //! - [`enclosure`]: the mesh and its BVH, closest hits against it alone.
-//! - [`phase`]: Henyey–Greenstein turns and cosine-distributed starts.
+//! - [`phase`]: Henyey–Greenstein turns and cosine-distributed directions.
 //! - [`path`]: one walk.
 //! - [`estimator`]: the exitance at texels by walks started there.
 

@@ -1,5 +1,5 @@
 //! Directions a walk takes: Henyey–Greenstein scattering, and the
-//! cosine-distributed start into the medium.
+//! cosine-distributed start into the medium (`StartDirection::Diffuse`).
 
 use glam::Vec3;
 use sssbake_profile::rng::Rng;
