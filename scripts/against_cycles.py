@@ -27,6 +27,8 @@ def head_scene(bpy, scale, ior=1.4, roughness=0.5, point_light=True):
     """Suzanne (subdivided twice, 20 cm) in skin at Subsurface Scale `scale` (IOR `ior`,
     Roughness `roughness`), a sun and (with `point_light`) a point light, a black world; the
     head selected, its UVs made by Smart UV Project."""
+    from skin_material import principled_skin  # tests/, on the path main() sets
+
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.mesh.primitive_monkey_add(size=0.2)
     head = bpy.context.active_object
@@ -38,17 +40,7 @@ def head_scene(bpy, scale, ior=1.4, roughness=0.5, point_light=True):
     bpy.ops.mesh.select_all(action="SELECT")
     bpy.ops.uv.smart_project(island_margin=0.01)
     bpy.ops.object.mode_set(mode="OBJECT")
-    material = bpy.data.materials.new("Skin")
-    if material.node_tree is None:
-        material.use_nodes = True
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (0.8, 0.55, 0.45, 1.0)
-    bsdf.inputs["Subsurface Weight"].default_value = 1.0
-    bsdf.inputs["Subsurface Radius"].default_value = (1.0, 0.35, 0.2)
-    bsdf.inputs["Subsurface Scale"].default_value = scale
-    bsdf.inputs["IOR"].default_value = ior
-    bsdf.inputs["Roughness"].default_value = roughness
-    bsdf.subsurface_method = "RANDOM_WALK"
+    material = principled_skin(scale, ior, roughness, "RANDOM_WALK")
     head.data.materials.append(material)
     bpy.ops.object.light_add(type="SUN", rotation=(1.1, 0.0, 0.9))
     bpy.context.active_object.data.energy = 1.2

@@ -18,21 +18,15 @@ SIZE = 320
 
 def head_scene(bpy):
     """Suzanne as a 20 cm head in skin (mean free path about 1 mm in red), lit from the side."""
+    from skin_material import principled_skin  # tests/, on the path main() sets
+
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.mesh.primitive_monkey_add(size=0.2, rotation=(0.0, 0.0, 0.0))
     head = bpy.context.active_object
     head.name = "Head"
     head.modifiers.new("smooth", "SUBSURF").levels = 2
     bpy.ops.object.shade_smooth()
-    material = bpy.data.materials.new("Skin")
-    if material.node_tree is None:
-        material.use_nodes = True
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (0.8, 0.55, 0.45, 1.0)
-    bsdf.inputs["Subsurface Weight"].default_value = 1.0
-    bsdf.inputs["Subsurface Radius"].default_value = (1.0, 0.35, 0.2)
-    bsdf.inputs["Subsurface Scale"].default_value = 0.004
-    bsdf.inputs["Roughness"].default_value = 0.6
+    material = principled_skin(0.004, roughness=0.6)
     head.data.materials.append(material)
     bpy.ops.object.light_add(type="SUN", rotation=(1.1, 0.0, 0.9))
     bpy.context.active_object.data.energy = 1.2

@@ -15,6 +15,7 @@ import numpy as np
 import OpenEXR
 import pytest
 from conftest import ROOT, run
+from skin_material import principled_skin
 
 
 def suzanne_scene():
@@ -26,15 +27,7 @@ def suzanne_scene():
     head.name = "Head"
     head.modifiers.new("smooth", "SUBSURF").levels = 1
     bpy.ops.object.shade_smooth()
-    material = bpy.data.materials.new("Skin")
-    if material.node_tree is None:  # Blender before 5 makes node trees on request
-        material.use_nodes = True
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (0.8, 0.55, 0.45, 1.0)
-    bsdf.inputs["Subsurface Weight"].default_value = 1.0
-    bsdf.inputs["Subsurface Radius"].default_value = (1.0, 0.35, 0.2)
-    bsdf.inputs["Subsurface Scale"].default_value = 0.002
-    head.data.materials.append(material)
+    head.data.materials.append(principled_skin(0.002))
     bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.0, 0.0, -0.12))
     bpy.context.active_object.name = "Floor"
     bpy.ops.object.light_add(type="SUN", rotation=(0.6, 0.3, 0.0))

@@ -19,6 +19,7 @@ is averaged over the compared region."""
 
 import numpy as np
 import pytest
+from skin_material import principled_skin
 from test_blender_addon import pixels
 from test_cycles_parity import cycles_exitance
 
@@ -55,16 +56,7 @@ def backlit_slab():
                 uv.data[loop].uv = (0.25 * side + 0.02 + 0.2 * along, 0.02 + 0.05 * (co.z / t))
     slab = bpy.data.objects.new("Slab", mesh)
     bpy.context.scene.collection.objects.link(slab)
-    material = bpy.data.materials.new("Skin")
-    if material.node_tree is None:
-        material.use_nodes = True
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (0.8, 0.55, 0.45, 1.0)
-    bsdf.inputs["Subsurface Weight"].default_value = 1.0
-    bsdf.inputs["Subsurface Radius"].default_value = (1.0, 0.35, 0.2)
-    bsdf.inputs["Subsurface Scale"].default_value = 0.05
-    bsdf.inputs["IOR"].default_value = 1.4
-    bsdf.subsurface_method = "RANDOM_WALK"
+    material = principled_skin(0.05, ior=1.4, method="RANDOM_WALK")
     slab.data.materials.append(material)
 
     sun = bpy.data.lights.new("Sun", "SUN")

@@ -10,6 +10,7 @@ in sssbake, scatters its light: the square reaches 3 mm past the rows measured, 
 the red light travels). Cycles' noise is averaged along the edge."""
 
 import numpy as np
+from skin_material import principled_skin
 from test_blender_addon import pixels
 
 MM = 0.001
@@ -52,16 +53,7 @@ def slab_scene():
                 uv.data[loop].uv = (1.5 + 0.01 * polygon.index, 1.5)
     slab = bpy.data.objects.new("Slab", mesh)
     bpy.context.scene.collection.objects.link(slab)
-    material = bpy.data.materials.new("Skin")
-    if material.node_tree is None:
-        material.use_nodes = True
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (0.8, 0.55, 0.45, 1.0)
-    bsdf.inputs["Subsurface Weight"].default_value = 1.0
-    bsdf.inputs["Subsurface Radius"].default_value = (1.0, 0.35, 0.2)
-    bsdf.inputs["Subsurface Scale"].default_value = 2 * MM
-    bsdf.inputs["IOR"].default_value = 1.4
-    bsdf.subsurface_method = "RANDOM_WALK"
+    material = principled_skin(2 * MM, ior=1.4, method="RANDOM_WALK")
     slab.data.materials.append(material)
 
     corners = [
