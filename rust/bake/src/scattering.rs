@@ -120,8 +120,8 @@ impl Scattering {
     }
 
     /// A profile built elsewhere (a measured or test profile), with its
-    /// kernel, under the boundary of the material's index and roughness
-    /// (such a profile carries no Stam top layer).
+    /// kernel, under the material's face ([`Surface::face`]: such a profile
+    /// carries no Stam top layer).
     pub fn from_profile(
         material: Material,
         model: Model,
@@ -129,7 +129,7 @@ impl Scattering {
         d_max_epsilon: f64,
     ) -> Self {
         let kernel = Kernel::new(profile.as_ref(), d_max_epsilon);
-        let surface = Surface::boundary(material.entry_index(), material.roughness);
+        let surface = Surface::face(&material);
         Scattering {
             material,
             model,

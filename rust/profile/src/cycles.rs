@@ -11,7 +11,11 @@
 //! - The random walk leaves the surface at the first crossing without a
 //!   Fresnel test: its diffusion boundary is index-matched. The main IOR
 //!   (with Specular IOR Level) only shapes the dielectric specular layer on
-//!   top, which takes its share of the light before any of it enters.
+//!   top, which takes its share once, where the surface is viewed (the
+//!   closure's weight); the light reaching the point the walk leaves is
+//!   taken through a plain diffuse closure, with no Fresnel
+//!   (`kernel/integrator/subsurface.h`). The material says so
+//!   ([`crate::material::TopLayer::PrincipledSpecular`]).
 //! - The colour becomes a single-scattering albedo by a fit to path-traced
 //!   slabs (Chiang et al. 2016 for g = 0, extended in g by Wrenninge,
 //!   Villemin & Hery 2017), not by inverting a diffusion formula.
@@ -111,7 +115,7 @@ impl PrincipledSubsurface {
     }
 
     /// One semi-infinite, index-matched layer carrying Cycles' medium, under
-    /// a coat of [`Self::entry_index`].
+    /// Cycles' specular layer of [`Self::entry_index`].
     pub fn to_material(&self) -> Result<Material, InversionError> {
         for c in 0..3 {
             let value = self.colour[c];
@@ -162,7 +166,7 @@ impl PrincipledSubsurface {
             name: self.name.clone(),
             optics: Optics::Layers(vec![layer]),
             coat_ior: Some(entry),
-            top_layer: crate::material::TopLayer::Diffusion,
+            top_layer: crate::material::TopLayer::PrincipledSpecular,
             roughness: crate::material::DEFAULT_ROUGHNESS,
         })
     }
@@ -396,6 +400,35 @@ mod tests {
         for c in 0..3 {
             assert!((total[c] - s.colour[c]).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn the_specular_layer_weighs_only_the_view() {
+        // Cycles lights the walk's exit through a plain diffuse closure: light
+        // enters whole at every angle, and the layer takes 1 − F(0) once, from
+        // the light leaving towards the normal. A material file's coat of the
+        // same index takes 1 − F(θ) from every light instead.
+        use crate::fresnel::dielectric_reflectance;
+        use crate::model::Model;
+        use crate::surface::Surface;
+        let material = skin(SubsurfaceMethod::RandomWalk, AlbedoMapping::Cycles)
+            .to_material()
+            .unwrap();
+        let surface = Surface::of(&material, Model::Dipole).unwrap();
+        for cos in [0.0, 0.2, 0.7, 1.0] {
+            assert_eq!(surface.entry(cos), [1.0; 3], "cos {cos}");
+        }
+        let exit = 1.0 - dielectric_reflectance(1.0, 1.0, 1.4);
+        for t in surface.exit_at_normal() {
+            assert!((t - exit).abs() < 1e-6, "{t} against {exit}");
+        }
+        let coated = Material {
+            top_layer: crate::material::TopLayer::Diffusion,
+            ..material
+        };
+        let boundary = Surface::of(&coated, Model::Dipole).unwrap();
+        assert!(boundary.entry(0.2)[0] < 0.9 * boundary.entry(1.0)[0]);
+        assert_eq!(boundary.exit_at_normal(), surface.exit_at_normal());
     }
 
     #[test]

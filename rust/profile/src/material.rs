@@ -64,6 +64,14 @@ pub enum TopLayer {
     /// ([`crate::stam_topped`]). TOML: `model = "stam"` in the first
     /// `[[layers]]` table.
     Stam,
+    /// By diffusion, under Blender's Principled specular layer (the coat,
+    /// [`Material::coat_ior`]) as Cycles weighs it: once, where the surface
+    /// is viewed (a bake views along the normal), and not where light
+    /// enters, since Cycles lights the point a subsurface walk leaves
+    /// through a plain diffuse closure (`subsurface_shader_data_setup` in
+    /// `kernel/integrator/subsurface.h`). Set by
+    /// [`crate::cycles::PrincipledSubsurface::to_material`].
+    PrincipledSpecular,
 }
 
 /// What a material is made of.

@@ -2,11 +2,14 @@
 //! light from each incidence angle that reaches the layers beneath, and
 //! the radiance leaving towards the normal per unit of exitance.
 //!
-//! Two kinds: a dielectric boundary (smooth Fresnel ρt = 1 − F(θ), or the
-//! rough boundary's ρdt(θ) of Donner & Jensen 2005 eq. 25–26), and a Stam
-//! top layer ([`crate::stam::epidermis`]), whose angular transmittance
-//! T(θi) replaces the boundary's when the material declares one and the
-//! `stam` model describes it.
+//! Three kinds: a dielectric boundary (smooth Fresnel ρt = 1 − F(θ), or the
+//! rough boundary's ρdt(θ) of Donner & Jensen 2005 eq. 25–26), crossed by
+//! light both ways; Blender's Principled specular layer, which Cycles lets
+//! take its share only where the surface is viewed (so light enters whole
+//! and leaves towards the normal through ρdt(0)); and a Stam top layer
+//! ([`crate::stam::epidermis`]), whose angular transmittance T(θi) replaces
+//! the boundary's when the material declares one and the `stam` model
+//! describes it.
 
 use crate::Rgb;
 use crate::material::{Material, TopLayer};
@@ -25,20 +28,43 @@ pub enum Surface {
         /// RMS facet slope m in [0, 1].
         roughness: f64,
     },
+    /// Blender's Principled specular layer over an index-matched medium, as
+    /// Cycles weighs it ([`TopLayer::PrincipledSpecular`]): nothing taken
+    /// from the light entering, ρdt(0) of a boundary of `eta` and
+    /// `roughness` from the light leaving towards the normal.
+    ViewedBoundary {
+        /// Relative index of the specular layer, > 0.
+        eta: f64,
+        /// RMS facet slope m in [0, 1].
+        roughness: f64,
+    },
     /// A Stam top layer, solved.
     Stam(Box<Epidermis>),
 }
 
 impl Surface {
     /// The surface of `material` as `model` describes it: its Stam top
-    /// layer under the `stam` model when it declares one, else the
-    /// boundary of its entry index (a coat's, or the top layer's) and
-    /// roughness.
+    /// layer under the `stam` model when it declares one, else
+    /// [`Self::face`].
     pub fn of(material: &Material, model: Model) -> Result<Self, String> {
         if model == Model::Stam && material.top_layer == TopLayer::Stam {
             return Ok(Surface::Stam(Box::new(Epidermis::solve(material)?)));
         }
-        Ok(Self::boundary(material.entry_index(), material.roughness))
+        Ok(Self::face(material))
+    }
+
+    /// The face of `material` without a Stam top layer: the boundary of its
+    /// entry index (a coat's, or the top layer's) and roughness, weighed
+    /// only where viewed under a Principled specular layer.
+    pub fn face(material: &Material) -> Self {
+        match Self::boundary(material.entry_index(), material.roughness) {
+            Surface::Boundary { eta, roughness }
+                if material.top_layer == TopLayer::PrincipledSpecular =>
+            {
+                Surface::ViewedBoundary { eta, roughness }
+            }
+            boundary => boundary,
+        }
     }
 
     /// A dielectric boundary; a non-finite or non-positive index is taken
@@ -54,19 +80,22 @@ impl Surface {
 
     /// The share (dimensionless, in [0, 1], per channel) of the irradiance
     /// from incidence cosine `cos` that reaches the layers beneath the
-    /// surface: ρt or ρdt(θ) of a boundary, T(θi) of a Stam layer.
+    /// surface: ρt or ρdt(θ) of a boundary, 1 under a Principled specular
+    /// layer, T(θi) of a Stam layer.
     pub fn entry(&self, cos: f64) -> Rgb {
         match self {
             Surface::Boundary { eta, roughness } => {
                 [diffuse_transmittance(cos.clamp(0.0, 1.0), *eta, *roughness); 3]
             }
+            Surface::ViewedBoundary { .. } => [1.0; 3],
             Surface::Stam(epidermis) => epidermis.transmittance(cos),
         }
     }
 
     /// π times the radiance leaving towards the normal per unit exitance
     /// (dimensionless, per channel), the factor the `diffuse` map applies:
-    /// ρdt(0°) of a boundary (Donner & Jensen 2005 eq. 25, the
+    /// ρdt(0°) of a boundary or a Principled specular layer (Donner &
+    /// Jensen 2005 eq. 25, the
     /// diffusion profile's exitance taken before the exit term), or for a
     /// Stam top layer, whose profile's exitance is what already left into
     /// air, the share of it leaving at the normal
@@ -74,6 +103,9 @@ impl Surface {
     pub fn exit_at_normal(&self) -> Rgb {
         match self {
             Surface::Boundary { .. } => self.entry(1.0),
+            Surface::ViewedBoundary { eta, roughness } => {
+                [diffuse_transmittance(1.0, *eta, *roughness); 3]
+            }
             Surface::Stam(epidermis) => epidermis.exit_at_normal(),
         }
     }

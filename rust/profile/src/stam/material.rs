@@ -20,7 +20,8 @@ pub fn layers_for(material: &Material) -> Result<[StamLayer; 3], String> {
         Optics::Layers(layers) => layers,
     };
     let top = match (material.top_layer, layers.as_slice()) {
-        (TopLayer::Stam, [top, ..]) | (TopLayer::Diffusion, [top]) => top,
+        (TopLayer::Stam, [top, ..])
+        | (TopLayer::Diffusion | TopLayer::PrincipledSpecular, [top]) => top,
         _ => {
             return Err(format!(
                 "stam solves one layer between air above and below; this material has {} layers \
