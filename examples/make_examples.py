@@ -38,6 +38,15 @@ def reset():
 
 SUBSURFACE = {}
 
+# Blender's default Subsurface Scale, with the default skin's Radius: the reach of real skin
+# (mean free path 4 mm in red, 1.4 mm in green, 0.8 mm in blue under Cycles' Random Walk).
+SKIN_SCALE = 0.05
+# Jensen et al. 2001's marble (σs' = 2.19, 2.62, 3.00 /mm, σa = 0.0021, 0.0041, 0.0071 /mm,
+# η 1.5): its mean free path 1/σt' × 4π as Radius × Scale, Radius normalised to red's.
+MARBLE_MEAN_FREE_PATH_MM = [1.0 / (s + a) for s, a in ((2.19, 0.0021), (2.62, 0.0041), (3.00, 0.0071))]
+MARBLE_SCALE = 4 * math.pi * MARBLE_MEAN_FREE_PATH_MM[0] / 1000
+MARBLE_RADIUS = tuple(round(m / MARBLE_MEAN_FREE_PATH_MM[0], 4) for m in MARBLE_MEAN_FREE_PATH_MM)
+
 
 def translucent_material(name, colour, radius, scale, ior=1.4):
     """A Principled BSDF with Random Walk subsurface scattering (Blender's own parameters)."""
@@ -155,7 +164,7 @@ def head():
     obj.name = "Head"
     obj.rotation_euler = (math.radians(90), 0, 0)
     obj.modifiers.new("smooth", "SUBSURF").levels = 2
-    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), 0.002))
+    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), SKIN_SCALE))
     sun("Key", (math.radians(50), 0, math.radians(30)), 1.0)
     point("Rim", (0.05, 0.4, 0.1), 40.0, 0.05)
     export("head")
@@ -167,7 +176,7 @@ def marble():
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.05, segments=96, ring_count=48)
     obj = bpy.context.active_object
     obj.name = "Ball"
-    finish(obj, translucent_material("Marble", (0.83, 0.79, 0.75), (0.9, 0.8, 0.7), 0.001))
+    finish(obj, translucent_material("Marble", (0.83, 0.79, 0.75), MARBLE_RADIUS, MARBLE_SCALE, ior=1.5))
     sun("Sun", (math.radians(60), 0, math.radians(-20)), 3.0)
     export("marble")
 
@@ -188,7 +197,7 @@ def ear():
     bend.deform_axis = "Y"
     bend.angle = math.radians(70)
     obj.modifiers.new("thickness", "SOLIDIFY").thickness = 0.003
-    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), 0.002))
+    finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), SKIN_SCALE))
     # Solidify repeats the UVs on both faces: give the shell its own layout.
     bpy.ops.object.mode_set(mode="EDIT")
     bpy.ops.mesh.select_all(action="SELECT")

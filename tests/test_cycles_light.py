@@ -10,8 +10,9 @@ sees only the light that crossed the 3 mm) are compared with Cycles':
   3% in every channel, on both faces;
 - the default bake within 5% in green and blue. Red's diffusion length 1/σtr at this reach
   (25 mm, for a mean free path of 4 mm) is most of the slab's 30 mm side: the profile's light
-  beyond the slab's rim, which in the slab comes out of its faces, is lost to the bake, and
-  red is within 25% (measured: 0.82 on both faces).
+  beyond the slab's rim, which in the slab comes out of its faces, is brought back by raising
+  the light where the surface ends within reach (measured: 0.95 and 0.96, 0.82 before), and
+  red is within 8%.
 
 The top face is mapped onto the left half of the image, the bottom face onto the right
 half; the rim onto a strip along the bottom edge, outside what is compared. Cycles' noise
@@ -95,7 +96,7 @@ def test_a_backlit_skin_slab_sends_cycles_light_through(addon, method):
     assert bpy.ops.sssbake.bake(resolution=RESOLUTION, uv_map="UVMap", outputs={"DIFFUSE"}) == {"FINISHED"}
     ours = middles(baked_exitance("Slab"))
     cycles = middles(cycles_exitance(material, RESOLUTION, SAMPLES))
-    tolerance = np.array([0.03] * 3) if method == "WALK" else np.array([0.25, 0.05, 0.05])
+    tolerance = np.array([0.03] * 3) if method == "WALK" else np.array([0.08, 0.05, 0.05])
     rows, wrong = [], []
     for face, name in enumerate(("far face (top)", "lit face (bottom)")):
         ratio = ours[face] / cycles[face]

@@ -119,6 +119,12 @@ pub struct Corrected {
     /// Texels with a face behind them nearer than the profile's reach,
     /// whose light was re-shared by the slab of that thickness.
     pub thin_texels: usize,
+    /// Texels raised by more than 1% towards a plane's or a slab's light,
+    /// where the surface the profile reaches ends (a rim, a small part).
+    pub raised_texels: usize,
+    /// Per channel, the share of the map kept where the raised light would
+    /// have left more power than entered; `None` where all of it was.
+    pub kept: Option<[f32; 3]>,
 }
 
 /// A method `auto` ran and set aside.
@@ -179,6 +185,7 @@ fn scatter(
                 prepared,
                 scattering,
                 &integration.exitance,
+                integration.kept,
                 neighbours,
                 request.integrators.importance.seed,
                 control,
@@ -235,6 +242,8 @@ fn scatter(
                             .flatten()
                             .filter(|o| slab.at(o.thickness).is_some())
                             .count(),
+                        raised_texels: integration.raised,
+                        kept: integration.kept,
                     });
                 return Ok(Scattered {
                     exitance: integration.exitance,
@@ -525,9 +534,16 @@ impl fmt::Display for Summary {
                 let [r, g, b] = corrected.level;
                 writeln!(
                     f,
-                    "{}: corrected model: light's level ×{r:.3} / {g:.3} / {b:.3} (R/G/B, the Monte Carlo's total over the profile's); {} texels through thin parts by the slab of their thickness",
-                    p.name, corrected.thin_texels
+                    "{}: corrected model: light's level ×{r:.3} / {g:.3} / {b:.3} (R/G/B, the Monte Carlo's total over the profile's); {} texels through thin parts by the slab of their thickness; {} raised where the surface within reach ends",
+                    p.name, corrected.thin_texels, corrected.raised_texels
                 )?;
+                if let Some([r, g, b]) = corrected.kept {
+                    writeln!(
+                        f,
+                        "{}: corrected model: kept ×{r:.3} / {g:.3} / {b:.3} of the raised light, which would have left more power than entered",
+                        p.name
+                    )?;
+                }
             }
             if let Some(light) = o.accuracy.as_ref().and_then(|a| a.light) {
                 writeln!(

@@ -103,6 +103,10 @@ impl Default for Limits {
     }
 }
 
+/// The second, uniform integration's copy of a texel's light and colour
+/// (12 bytes each), the face behind it (12) and its sums (12).
+const UNIFORM_PASS_BYTES_PER_TEXEL: usize = 48;
+
 /// One object's share of a bake, as the plan estimates it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct ObjectCost {
@@ -167,6 +171,18 @@ impl ObjectCost {
 }
 
 impl ObjectCost {
+    /// This cost when the corrected model raises the sums where the
+    /// surface within reach ends (`raises`, for a profile method): the
+    /// integrator runs a second time under a unit light, on a copy of the
+    /// light, colour and faces behind, and holds its sums.
+    pub fn with_uniform_pass(mut self, raises: bool, method: Option<Method>) -> ObjectCost {
+        if raises && method.is_some_and(|m| m != Method::Walk) {
+            self.evaluations *= 2.0;
+            self.memory_bytes += self.texels * UNIFORM_PASS_BYTES_PER_TEXEL as f64;
+        }
+        self
+    }
+
     /// This cost when an oblique kernel reads the light split by incidence
     /// (`split`): its light samples are traced a second time, the split is
     /// held per texel, and each pair of the exact sum or probe of

@@ -22,6 +22,7 @@ use crate::surface::turk::{place_points, relax};
 use crate::surface::uv_analysis::analyse_uvs;
 use crate::transport::Method;
 use crate::transport::integrator::Integrator;
+use crate::transport::local_slab::LocalSlab;
 use crate::transport::sources::{OwnSource, Sources, Targets};
 use crate::transport::texture_space;
 use crate::walk::Enclosure;
@@ -182,6 +183,31 @@ pub struct Prepared {
     lights: Option<SceneLighting>,
     /// The light split by incidence, made on first use.
     incidence: OnceLock<Vec<IncidentHarmonics>>,
+    /// The light entering raised where the surface within reach ends,
+    /// found by the first profile method that integrates.
+    raised: OnceLock<Raised>,
+}
+
+/// How much the light at each surfel is raised where the surface within
+/// the profile's reach ends ([`crate::transport::local_slab`]): by the
+/// square root of the gain where it enters and again where it leaves, so
+/// the pair weight stays symmetric (light's reciprocity) and under uniform
+/// light a texel returns what the plane or the slab returns.
+#[derive(Clone, Debug)]
+pub struct Raised {
+    /// Per surfel and channel, √gain, in [1, 2].
+    pub halves: Vec<[f32; 3]>,
+    /// Surfels raised by more than 1% in some channel.
+    pub count: usize,
+}
+
+impl Raised {
+    /// The sums `exitance` (one per surfel) raised where the light leaves.
+    pub fn leaving(&self, exitance: &mut [[f32; 3]]) {
+        for (m, h) in exitance.iter_mut().zip(&self.halves) {
+            *m = [0, 1, 2].map(|c| m[c] * h[c]);
+        }
+    }
 }
 
 /// What the irradiance was gathered from, kept for
@@ -294,6 +320,7 @@ pub fn prepare(
         seconds: start.elapsed().as_secs_f64(),
         lights,
         incidence: OnceLock::new(),
+        raised: OnceLock::new(),
     })
 }
 
@@ -308,6 +335,13 @@ pub struct Integration {
     pub sources: usize,
     /// The walk's noise and dropped weight, when the walk integrated.
     pub walk: Option<crate::transport::walk::WalkNoise>,
+    /// Surfels whose light entering was raised by more than 1% in some
+    /// channel, where the surface within the profile's reach ends
+    /// ([`crate::transport::local_slab`]).
+    pub raised: usize,
+    /// Per channel, the share of the raised light kept where it would have
+    /// left more power than entered; `None` where all of it was.
+    pub kept: Option<[f32; 3]>,
 }
 
 impl Prepared {
@@ -358,6 +392,104 @@ impl Prepared {
             .iter()
             .flatten()
             .any(|o| o.thickness <= reach)
+    }
+
+    /// Scales `exitance` down per channel where it leaves more power than
+    /// enters, and says by how much: raising the light where the surface
+    /// ends holds a plane's total under uniform light, but under light far
+    /// from uniform on a part much smaller than the reach it may not.
+    fn make_no_energy(&self, exitance: &mut [[f32; 3]]) -> Option<[f32; 3]> {
+        let area = &self.surfels.area;
+        let power = |values: &[[f32; 3]], c: usize| -> f64 {
+            values
+                .iter()
+                .zip(area)
+                .map(|(v, &a)| f64::from(v[c]) * f64::from(a))
+                .sum()
+        };
+        let entering = self.entering();
+        let kept = [0, 1, 2].map(|c| {
+            let (out, into) = (power(exitance, c), power(&entering, c));
+            if out > into && out > 0.0 {
+                (into / out) as f32
+            } else {
+                1.0
+            }
+        });
+        if kept == [1.0; 3] {
+            return None;
+        }
+        for m in exitance.iter_mut() {
+            *m = [0, 1, 2].map(|c| m[c] * kept[c]);
+        }
+        Some(kept)
+    }
+
+    /// How much the light entering each surfel is raised where the surface
+    /// within the profile's reach ends ([`LocalSlab::gains`]): found once
+    /// per object, by the first integrator that runs under a unit light,
+    /// so every later one and the exact sum of the error estimate raise
+    /// the same light.
+    fn raise(
+        &self,
+        slab: &LocalSlab,
+        integrator: &dyn Integrator,
+        scattering: &Scattering,
+        control: &Control,
+    ) -> Result<&Raised, Error> {
+        if let Some(raised) = self.raised.get() {
+            return Ok(raised);
+        }
+        let uniform = integrator.integrate(&self.uniformly_lit(), scattering, control)?;
+        let summed_across = integrator.method() != Method::Texture;
+        let (gains, count) = slab.gains(self.opposites(), &uniform.exitance, summed_across);
+        let halves = gains.iter().map(|g| g.map(f32::sqrt)).collect();
+        Ok(self.raised.get_or_init(|| Raised { halves, count }))
+    }
+
+    /// The light entering's gains where the bake raised it (see
+    /// [`crate::transport::local_slab`]); `None` before a profile method
+    /// integrated, or where nothing is raised.
+    pub fn raised(&self) -> Option<&Raised> {
+        self.raised.get()
+    }
+
+    /// The same object with the light entering each surfel scaled by
+    /// `gains` (one per surfel), and no lights to split by incidence.
+    pub fn raised_by(&self, gains: &[[f32; 3]]) -> Prepared {
+        let irradiance = self
+            .irradiance
+            .iter()
+            .zip(gains)
+            .map(|(e, g)| [0, 1, 2].map(|c| e[c] * g[c]))
+            .collect();
+        Prepared {
+            irradiance,
+            colour: self.colour.clone(),
+            ..self.uniformly_lit()
+        }
+    }
+
+    /// The same object under a unit irradiance everywhere, colour 1 and no
+    /// lights to split by incidence: integrated, it gives each texel its
+    /// sum of the kernel's weights over the surface, which the corrected
+    /// model sets beside a plane's ([`crate::transport::local_slab`]).
+    pub fn uniformly_lit(&self) -> Prepared {
+        let n = self.surfels.len();
+        let opposites = OnceLock::new();
+        let _ = opposites.set(self.opposites().to_vec());
+        Prepared {
+            layout: Arc::clone(&self.layout),
+            irradiance: vec![[1.0; 3]; n],
+            colour: vec![[1.0; 3]; n],
+            colour_split: self.colour_split,
+            dilation: self.dilation.clone(),
+            opposites,
+            seconds: 0.0,
+            lights: None,
+            incidence: OnceLock::new(),
+            raised: OnceLock::new(),
+        }
     }
 
     /// The irradiance per surfel with the colour applied before scattering.
@@ -530,15 +662,31 @@ impl Prepared {
             ));
         }
         let start = Instant::now();
-        let mut integrated = integrator.integrate(self, scattering, control)?;
         // Every profile method bakes the corrected model; the walk is light.
         let method = integrator.method();
-        if method != Method::Walk
-            && let Some(slab) = scattering.local_slab()
-        {
-            let summed_across = method != Method::Texture;
+        let slab = scattering.local_slab().filter(|_| method != Method::Walk);
+        let summed_across = method != Method::Texture;
+        // The light entering is raised where the surface within reach ends
+        // (not for an oblique kernel, which reads the light split by
+        // incidence).
+        let raised = match slab.filter(|_| scattering.oblique.is_none()) {
+            Some(slab) => Some(self.raise(slab, integrator, scattering, control)?),
+            None => None,
+        };
+        let mut integrated = match raised {
+            Some(raised) => {
+                integrator.integrate(&self.raised_by(&raised.halves), scattering, control)?
+            }
+            None => integrator.integrate(self, scattering, control)?,
+        };
+        if let Some(slab) = slab {
             integrated.exitance =
                 slab.correct_all(self.opposites(), &integrated.exitance, summed_across);
+        }
+        let mut kept = None;
+        if let Some(raised) = raised {
+            raised.leaving(&mut integrated.exitance);
+            kept = self.make_no_energy(&mut integrated.exitance);
         }
         for (i, m) in integrated.exitance.iter_mut().enumerate() {
             *m = self.after_scattering(i, *m);
@@ -548,6 +696,8 @@ impl Prepared {
             seconds: start.elapsed().as_secs_f64(),
             sources: integrated.sources,
             walk: integrated.walk,
+            raised: raised.map_or(0, |r| r.count),
+            kept,
         })
     }
 }

@@ -16,6 +16,7 @@ use crate::surface::topology::{TopologyReport, topology_report};
 use crate::transport::Method;
 use crate::transport::choice::{Choice, avoid_thin_parts, choose};
 use crate::transport::light_check;
+use crate::transport::local_slab::LocalSlab;
 use crate::transport::thin::crossing_share;
 use crate::walk::WalkMedium;
 use serde::Serialize;
@@ -390,7 +391,8 @@ fn plan_object(
             request.integrators.importance.samples,
             walk_events,
         )
-        .with_incidence_split(splits, method, request.resolution);
+        .with_incidence_split(splits, method, request.resolution)
+        .with_uniform_pass(LocalSlab::applies(&scattering), method);
     let cost = ObjectCost {
         light_check,
         ..cost

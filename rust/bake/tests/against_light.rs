@@ -169,19 +169,32 @@ fn the_error_estimate_holds_an_integrator_to_the_corrected_exact_sum() {
     let control = Control::new();
     let exact = prepared
         .integrate(&skin, &BruteIntegrator, &control)
-        .unwrap()
-        .exitance;
-    let own = estimate_error(&prepared, &skin, &exact, 1.0, 3, &control).unwrap();
+        .unwrap();
+    let own = estimate_error(
+        &prepared,
+        &skin,
+        &exact.exitance,
+        exact.kept,
+        1.0,
+        3,
+        &control,
+    )
+    .unwrap();
     assert!(own.relative_rmse < 1e-5, "{own:?}");
     let octree = OctreeIntegrator { epsilon: 2.0 };
-    let coarse = prepared
-        .integrate(&skin, &octree, &control)
-        .unwrap()
-        .exitance;
-    let (measured, _) = relative_errors(&coarse, &exact);
-    let estimated = estimate_error(&prepared, &skin, &coarse, 1.0, 3, &control)
-        .unwrap()
-        .relative_rmse;
+    let coarse = prepared.integrate(&skin, &octree, &control).unwrap();
+    let (measured, _) = relative_errors(&coarse.exitance, &exact.exitance);
+    let estimated = estimate_error(
+        &prepared,
+        &skin,
+        &coarse.exitance,
+        coarse.kept,
+        1.0,
+        3,
+        &control,
+    )
+    .unwrap()
+    .relative_rmse;
     eprintln!("octree at ε 2: measured {measured:.5}, estimated {estimated:.5}");
     assert!(measured > 1e-4, "the test needs an octree with an error");
     assert!(
@@ -191,17 +204,22 @@ fn the_error_estimate_holds_an_integrator_to_the_corrected_exact_sum() {
 }
 
 /// Where the object is thicker than the profile reaches, the local slab
-/// changes only the level: a 40 mm block's bake is the plain exact sum
-/// times R_∞/R, the Monte Carlo's total over the dipole's (skin1's blue:
-/// about 0.115/0.131).
+/// changes only the level: on a 100 mm block, farther from its edges than
+/// the reach, the bake is the plain exact sum times R_∞/R, the Monte
+/// Carlo's total over the dipole's (skin1's blue: about 0.115/0.131),
+/// within the discrete sum's own error. Nearer an edge, where the surface
+/// the profile reaches ends, the light entering may be raised, never
+/// lowered.
 #[test]
 fn a_thick_body_keeps_the_half_space_at_the_level_of_light() {
     let skin = scattering_of("skin1", Model::Dipole);
-    let block = stretched(cube(1.0), Vec3::splat(40.0), "block");
-    assert!(40.0 > skin.kernel.d_max);
+    let reach = skin.kernel.d_max;
+    const SIDE: f32 = 100.0;
+    let block = stretched(cube(1.0), Vec3::splat(SIDE), "block");
+    assert!(SIDE > 2.5 * reach, "reach {reach} mm");
     let scene = scene(vec![block], vec![sun_from(Vec3::new(-0.3, 0.2, -1.0))]);
-    let prepared = prepared(&scene, "block", 32);
-    assert!(!prepared.has_thin_parts(skin.kernel.d_max));
+    let prepared = prepared(&scene, "block", 64);
+    assert!(!prepared.has_thin_parts(reach));
     let control = Control::new();
     let baked = prepared
         .integrate(&skin, &BruteIntegrator, &control)
@@ -213,12 +231,81 @@ fn a_thick_body_keeps_the_half_space_at_the_level_of_light() {
     let level = skin.local_slab().unwrap().level();
     eprintln!("skin1's level against the dipole's: {level:?}");
     assert!((0.8..0.95).contains(&level[2]), "{level:?}");
+    let (mut inside, mut worst_inside) = (0, 0.0f32);
     for (i, m) in baked.iter().enumerate() {
         let sum = plain.exitance[i];
         let levelled = [0, 1, 2].map(|c| (f64::from(sum[c]) * level[c]) as f32);
         let expected = prepared.after_scattering(i, levelled);
+        let (p, n) = (
+            prepared.surfels.position[i],
+            prepared.surfels.normal[i].abs(),
+        );
+        let axis = if n.x >= n.y && n.x >= n.z {
+            0
+        } else if n.y >= n.z {
+            1
+        } else {
+            2
+        };
+        let from_edge = (0..3)
+            .filter(|&k| k != axis)
+            .map(|k| SIDE / 2.0 - p[k].abs())
+            .fold(f32::INFINITY, f32::min);
         for c in 0..3 {
-            assert!((m[c] - expected[c]).abs() <= 1e-6 * expected[c].abs().max(1e-12));
+            let ratio = m[c] / expected[c];
+            if expected[c] <= 1e-12 {
+                continue;
+            }
+            assert!(
+                ratio >= 1.0 - 1e-6,
+                "texel {i} channel {c}: lowered to {ratio}"
+            );
+            if from_edge > reach {
+                inside += 1;
+                worst_inside = worst_inside.max((ratio - 1.0).abs());
+            }
+        }
+    }
+    eprintln!("{inside} values away from the edges within {worst_inside:.5}");
+    assert!(
+        inside > 100 && worst_inside < 0.01,
+        "{inside} {worst_inside}"
+    );
+}
+
+/// A small thin part, a 12 mm square 3 mm thick in skin1: red reaches
+/// past its rim, and a half-space's profile hands each texel the light of
+/// surface beyond the rim that is not there. Raised to the slab's sum of
+/// weights, the bake returns what the walk returns: red within 3% on both
+/// faces (it was 7% dark, p90 of |ln ratio| 0.29 and 0.35). Green and blue
+/// are nearly half-spaces here; their spread is at the square's edges,
+/// where the medium beyond the edge is missing and light that a
+/// half-space absorbs comes out (not modelled: their medians are 4–5%
+/// low).
+#[test]
+fn a_small_thin_part_returns_the_light_of_the_walk() {
+    let skin = scattering_of("skin1", Model::Dipole);
+    let tile = stretched(cube(1.0), Vec3::new(12.0, 12.0, 3.0), "tile");
+    let scene = scene(vec![tile], vec![sun_from(Vec3::new(-0.3, 0.2, -1.0))]);
+    let (prepared, baked, walked, noise) = bake_and_walk(&scene, "tile", 64, &skin);
+    let face = |up: bool| -> Vec<usize> {
+        (0..baked.len())
+            .filter(|&i| prepared.surfels.normal[i].z.abs() > 0.5)
+            .filter(|&i| (prepared.surfels.normal[i].z > 0.5) == up)
+            .collect()
+    };
+    for (name, texels) in [("near", face(true)), ("far", face(false))] {
+        let agrees = agreement(&baked, &walked, &noise, |i| texels.contains(&i));
+        eprintln!("{name} face: {agrees:?}");
+        assert!(
+            (agrees.median_ratio[0] - 1.0).abs() < 0.05 && agrees.p90_log[0] < 0.2,
+            "{name} face, red: {agrees:?}"
+        );
+        for c in 1..3 {
+            assert!(
+                (agrees.median_ratio[c] - 1.0).abs() < 0.07,
+                "{name} face, channel {c}: {agrees:?}"
+            );
         }
     }
 }

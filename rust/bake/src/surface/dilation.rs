@@ -71,6 +71,7 @@ pub fn seam_aware_offsets(
 
 /// [`seam_aware_offsets`], with which of its empty texels lie beyond an
 /// open edge of the mesh.
+#[derive(Clone)]
 pub struct SeamAwareDilation {
     /// (empty texel, covered texel it copies), as [`seam_aware_offsets`].
     pub offsets: Vec<(u32, u32)>,

@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::pipeline::Prepared;
 use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
-use crate::transport::local_slab::{LocalSlab, SlabShares};
+use crate::transport::local_slab::LocalSlab;
 use sssbake_profile::rng::Rng;
 
 /// Most texels checked.
@@ -33,12 +33,16 @@ pub struct ErrorEstimate {
 
 /// Estimates the relative RMSE of `exitance` (after the colour split, as
 /// `Prepared::integrate` returns it) against the exact sum at a seeded
-/// random subset of texels; `neighbours` is the mean count of texels
+/// random subset of texels, with the light entering raised as the
+/// integration raised it ([`Prepared::raised`]) and `kept` of it where
+/// the integration kept less ([`crate::pipeline::Integration::kept`]);
+/// `neighbours` is the mean count of texels
 /// within the profile's reach, which sets how many are affordable.
 pub fn estimate_error(
     prepared: &Prepared,
     scattering: &Scattering,
     exitance: &[[f32; 3]],
+    kept: Option<[f32; 3]>,
     neighbours: f64,
     seed: u64,
     control: &Control,
@@ -50,18 +54,14 @@ pub fn estimate_error(
     // The corrected model reads the sum behind a thin part too: those
     // texels are gathered as well.
     let slab = scattering.local_slab();
-    let behind: Vec<Option<(usize, SlabShares)>> = picked
+    let behind: Vec<Option<usize>> = picked
         .iter()
-        .map(|&i| {
-            let opposite = prepared.opposites()[i]?;
-            let shares = slab?.at(opposite.thickness)?;
-            Some((opposite.surfel as usize, shares))
-        })
+        .map(|&i| slab?.shares_at(prepared.opposites()[i]).1)
         .collect();
     let gathered: Vec<usize> = picked
         .iter()
         .copied()
-        .chain(behind.iter().flatten().map(|&(surfel, _)| surfel))
+        .chain(behind.iter().flatten().copied())
         .collect();
     let position: Vec<_> = gathered
         .iter()
@@ -85,7 +85,14 @@ pub fn estimate_error(
         own: OwnSource::Listed(&gathered),
         piece: &piece,
     };
-    let sources = prepared.texel_sources();
+    let mut sources = prepared.texel_sources();
+    // The light entering as the bake raised it where the surface ends.
+    let raised = prepared.raised();
+    if let Some(raised) = raised {
+        for (e, g) in sources.irradiance.iter_mut().zip(&raised.halves) {
+            *e = [0, 1, 2].map(|c| e[c] * g[c]);
+        }
+    }
     // The oblique exact sum where the material has one: the estimate then
     // counts what an azimuthal-mean method misses of each light's direction.
     let (sums, _) = brute::exact_sum(prepared, scattering, &sources, targets, control)?;
@@ -96,14 +103,20 @@ pub fn estimate_error(
         .zip(&behind)
         .map(|((&i, &here), behind)| {
             // The sums behind follow the picked ones, in the same order.
-            let corrected = match (behind.map(|(_, shares)| (shares, others.next())), slab) {
-                (Some((shares, Some(&there))), _) => {
+            let corrected = match (slab, behind) {
+                (Some(slab), Some(_)) => {
+                    let (shares, _) = slab.shares_at(prepared.opposites()[i]);
+                    let there = others.next().copied().unwrap_or(here);
                     LocalSlab::corrected(&shares, here, there, true)
                 }
-                (_, Some(slab)) => LocalSlab::corrected(&slab.thick(), here, here, true),
-                _ => here,
+                (Some(slab), None) => LocalSlab::corrected(&slab.thick(), here, here, true),
+                (None, _) => here,
             };
-            prepared.after_scattering(i, corrected)
+            let kept = kept.unwrap_or([1.0; 3]);
+            let left = raised.map_or(corrected, |r| {
+                [0, 1, 2].map(|c| corrected[c] * r.halves[i][c] * kept[c])
+            });
+            prepared.after_scattering(i, left)
         })
         .collect();
     let got: Vec<[f32; 3]> = picked.iter().map(|&i| exitance[i]).collect();
