@@ -27,7 +27,7 @@ use crate::transport::sources::{OwnSource, Sources, Targets};
 use crate::transport::texture_space;
 use crate::walk::Enclosure;
 use glam::{Vec2, Vec3};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 /// What light reaches the object.
@@ -184,8 +184,9 @@ pub struct Prepared {
     /// The light split by incidence, made on first use.
     incidence: OnceLock<Vec<IncidentHarmonics>>,
     /// The light entering raised where the surface within reach ends,
-    /// found by the first profile method that integrates.
-    raised: OnceLock<Raised>,
+    /// found by the first profile method that integrates under a
+    /// scattering, for that scattering.
+    raised: Mutex<Option<Arc<Raised>>>,
 }
 
 /// How much the light at each surfel is raised where the surface within
@@ -195,10 +196,23 @@ pub struct Prepared {
 /// light a texel returns what the plane or the slab returns.
 #[derive(Clone, Debug)]
 pub struct Raised {
+    /// The scattering it was found for ([`scattering_key`]).
+    key: String,
     /// Per surfel and channel, √gain, in [1, 2].
     pub halves: Vec<[f32; 3]>,
     /// Surfels raised by more than 1% in some channel.
     pub count: usize,
+}
+
+/// What tells one scattering's raised light from another's on the same
+/// object: the material with all its coefficients, the model and the reach.
+fn scattering_key(scattering: &Scattering) -> String {
+    format!(
+        "{:?} {} {}",
+        scattering.material,
+        scattering.model.name(),
+        scattering.kernel.d_max.to_bits()
+    )
 }
 
 impl Raised {
@@ -320,7 +334,7 @@ pub fn prepare(
         seconds: start.elapsed().as_secs_f64(),
         lights,
         incidence: OnceLock::new(),
-        raised: OnceLock::new(),
+        raised: Mutex::new(None),
     })
 }
 
@@ -436,22 +450,31 @@ impl Prepared {
         integrator: &dyn Integrator,
         scattering: &Scattering,
         control: &Control,
-    ) -> Result<&Raised, Error> {
-        if let Some(raised) = self.raised.get() {
+    ) -> Result<Arc<Raised>, Error> {
+        if let Some(raised) = self.raised_for(scattering) {
             return Ok(raised);
         }
         let uniform = integrator.integrate(&self.uniformly_lit(), scattering, control)?;
         let summed_across = integrator.method() != Method::Texture;
         let (gains, count) = slab.gains(self.opposites(), &uniform.exitance, summed_across);
-        let halves = gains.iter().map(|g| g.map(f32::sqrt)).collect();
-        Ok(self.raised.get_or_init(|| Raised { halves, count }))
+        let raised = Arc::new(Raised {
+            key: scattering_key(scattering),
+            halves: gains.iter().map(|g| g.map(f32::sqrt)).collect(),
+            count,
+        });
+        *self.raised.lock().unwrap_or_else(|e| e.into_inner()) = Some(Arc::clone(&raised));
+        Ok(raised)
     }
 
-    /// The light entering's gains where the bake raised it (see
-    /// [`crate::transport::local_slab`]); `None` before a profile method
-    /// integrated, or where nothing is raised.
-    pub fn raised(&self) -> Option<&Raised> {
-        self.raised.get()
+    /// The light entering's gains where the bake raised it under
+    /// `scattering` (see [`crate::transport::local_slab`]); `None` before a
+    /// profile method integrated under it, or where nothing is raised.
+    pub fn raised_for(&self, scattering: &Scattering) -> Option<Arc<Raised>> {
+        let raised = self.raised.lock().unwrap_or_else(|e| e.into_inner());
+        raised
+            .as_ref()
+            .filter(|r| r.key == scattering_key(scattering))
+            .cloned()
     }
 
     /// The same object with the light entering each surfel scaled by
@@ -488,7 +511,7 @@ impl Prepared {
             seconds: 0.0,
             lights: None,
             incidence: OnceLock::new(),
-            raised: OnceLock::new(),
+            raised: Mutex::new(None),
         }
     }
 
@@ -673,7 +696,7 @@ impl Prepared {
             Some(slab) => Some(self.raise(slab, integrator, scattering, control)?),
             None => None,
         };
-        let mut integrated = match raised {
+        let mut integrated = match &raised {
             Some(raised) => {
                 integrator.integrate(&self.raised_by(&raised.halves), scattering, control)?
             }
@@ -684,7 +707,7 @@ impl Prepared {
                 slab.correct_all(self.opposites(), &integrated.exitance, summed_across);
         }
         let mut kept = None;
-        if let Some(raised) = raised {
+        if let Some(raised) = &raised {
             raised.leaving(&mut integrated.exitance);
             kept = self.make_no_energy(&mut integrated.exitance);
         }

@@ -309,3 +309,32 @@ fn a_small_thin_part_returns_the_light_of_the_walk() {
         }
     }
 }
+
+/// The raised light belongs to the scattering it was found for: one
+/// object baked in two materials raises each by its own reach.
+#[test]
+fn each_material_raises_its_own_light() {
+    let skin = scattering_of("skin1", Model::Dipole);
+    let marble = scattering_of("marble", Model::Dipole);
+    let tile = stretched(cube(1.0), Vec3::new(12.0, 12.0, 3.0), "tile");
+    let scene = scene(vec![tile], vec![sun_from(Vec3::new(-0.3, 0.2, -1.0))]);
+    let prepared = prepared(&scene, "tile", 24);
+    let control = Control::new();
+    assert!(prepared.raised_for(&skin).is_none());
+    let in_skin = prepared
+        .integrate(&skin, &BruteIntegrator, &control)
+        .unwrap();
+    let raised_skin = prepared.raised_for(&skin).expect("raised under skin1");
+    assert!(prepared.raised_for(&marble).is_none());
+    let in_marble = prepared
+        .integrate(&marble, &BruteIntegrator, &control)
+        .unwrap();
+    let raised_marble = prepared.raised_for(&marble).expect("raised under marble");
+    assert!(in_skin.raised > 0 && in_marble.raised > 0);
+    assert_ne!(raised_skin.halves, raised_marble.halves);
+    // Asked again under skin1, the bake is what it was.
+    let again = prepared
+        .integrate(&skin, &BruteIntegrator, &control)
+        .unwrap();
+    assert_eq!(again.exitance, in_skin.exitance);
+}

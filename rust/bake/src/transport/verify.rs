@@ -34,7 +34,7 @@ pub struct ErrorEstimate {
 /// Estimates the relative RMSE of `exitance` (after the colour split, as
 /// `Prepared::integrate` returns it) against the exact sum at a seeded
 /// random subset of texels, with the light entering raised as the
-/// integration raised it ([`Prepared::raised`]) and `kept` of it where
+/// integration raised it ([`Prepared::raised_for`]) and `kept` of it where
 /// the integration kept less ([`crate::pipeline::Integration::kept`]);
 /// `neighbours` is the mean count of texels
 /// within the profile's reach, which sets how many are affordable.
@@ -87,8 +87,8 @@ pub fn estimate_error(
     };
     let mut sources = prepared.texel_sources();
     // The light entering as the bake raised it where the surface ends.
-    let raised = prepared.raised();
-    if let Some(raised) = raised {
+    let raised = prepared.raised_for(scattering);
+    if let Some(raised) = &raised {
         for (e, g) in sources.irradiance.iter_mut().zip(&raised.halves) {
             *e = [0, 1, 2].map(|c| e[c] * g[c]);
         }
@@ -113,7 +113,7 @@ pub fn estimate_error(
                 (None, _) => here,
             };
             let kept = kept.unwrap_or([1.0; 3]);
-            let left = raised.map_or(corrected, |r| {
+            let left = raised.as_ref().map_or(corrected, |r| {
                 [0, 1, 2].map(|c| corrected[c] * r.halves[i][c] * kept[c])
             });
             prepared.after_scattering(i, left)
