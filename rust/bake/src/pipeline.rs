@@ -441,9 +441,9 @@ impl Prepared {
 
     /// How much the light entering each surfel is raised where the surface
     /// within the profile's reach ends ([`LocalSlab::gains`]): found once
-    /// per object, by the first integrator that runs under a unit light,
-    /// so every later one and the exact sum of the error estimate raise
-    /// the same light.
+    /// per object and scattering, by the first integrator that runs under
+    /// a unit light, so every later one and the exact sum of the error
+    /// estimate raise the same light.
     fn raise(
         &self,
         slab: &LocalSlab,
@@ -468,7 +468,7 @@ impl Prepared {
 
     /// The light entering's gains where the bake raised it under
     /// `scattering` (see [`crate::transport::local_slab`]); `None` before a
-    /// profile method integrated under it, or where nothing is raised.
+    /// profile method integrated under it.
     pub fn raised_for(&self, scattering: &Scattering) -> Option<Arc<Raised>> {
         let raised = self.raised.lock().unwrap_or_else(|e| e.into_inner());
         raised
@@ -486,11 +486,7 @@ impl Prepared {
             .zip(gains)
             .map(|(e, g)| [0, 1, 2].map(|c| e[c] * g[c]))
             .collect();
-        Prepared {
-            irradiance,
-            colour: self.colour.clone(),
-            ..self.uniformly_lit()
-        }
+        self.relit(irradiance, self.colour.clone())
     }
 
     /// The same object under a unit irradiance everywhere, colour 1 and no
@@ -499,12 +495,18 @@ impl Prepared {
     /// model sets beside a plane's ([`crate::transport::local_slab`]).
     pub fn uniformly_lit(&self) -> Prepared {
         let n = self.surfels.len();
+        self.relit(vec![[1.0; 3]; n], vec![[1.0; 3]; n])
+    }
+
+    /// The same layout, faces behind and dilation under `irradiance` and
+    /// `colour` (one per surfel), with no lights to split by incidence.
+    fn relit(&self, irradiance: Vec<[f32; 3]>, colour: Vec<[f32; 3]>) -> Prepared {
         let opposites = OnceLock::new();
         let _ = opposites.set(self.opposites().to_vec());
         Prepared {
             layout: Arc::clone(&self.layout),
-            irradiance: vec![[1.0; 3]; n],
-            colour: vec![[1.0; 3]; n],
+            irradiance,
+            colour,
             colour_split: self.colour_split,
             dilation: self.dilation.clone(),
             opposites,
