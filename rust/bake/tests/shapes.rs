@@ -119,3 +119,73 @@ pub fn overlapping_quads() -> Mesh {
     .unwrap()
     .0
 }
+
+/// The closed surface of a solid made of boxes: the cells of the grid with
+/// lines at `xs`, `ys`, `zs` (mm, increasing) for which `filled(i, j, k)`
+/// holds. Each face between a filled cell and an empty one (or the
+/// outside) is a quad of its own with a flat normal and its own square of
+/// a UV atlas; faces meet exactly along the grid's lines, so the surface
+/// is closed and one piece wherever the cells touch by a face.
+pub fn boxes(
+    name: &str,
+    xs: &[f32],
+    ys: &[f32],
+    zs: &[f32],
+    filled: impl Fn(usize, usize, usize) -> bool,
+) -> Mesh {
+    let lines = [xs, ys, zs];
+    let cells = [xs.len() - 1, ys.len() - 1, zs.len() - 1];
+    let inside = |c: [i64; 3]| {
+        (0..3).all(|a| c[a] >= 0 && (c[a] as usize) < cells[a])
+            && filled(c[0] as usize, c[1] as usize, c[2] as usize)
+    };
+    // Each face: the axis it faces along, the side, and its cell.
+    let mut faces = Vec::new();
+    for i in 0..cells[0] {
+        for j in 0..cells[1] {
+            for k in 0..cells[2] {
+                let cell = [i as i64, j as i64, k as i64];
+                if !inside(cell) {
+                    continue;
+                }
+                for axis in 0..3 {
+                    for side in [-1i64, 1] {
+                        let mut next = cell;
+                        next[axis] += side;
+                        if !inside(next) {
+                            faces.push((axis, side, [i, j, k]));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let per_row = (faces.len() as f32).sqrt().ceil() as usize;
+    let square = 1.0 / per_row as f32;
+    let (mut positions, mut uvs, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+    for (f, &(axis, side, cell)) in faces.iter().enumerate() {
+        let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+        let bound = |ax: usize, high: bool| lines[ax][cell[ax] + high as usize];
+        let plane = bound(axis, side > 0);
+        let base = positions.len() as u32;
+        let origin = Vec2::new((f % per_row) as f32, (f / per_row) as f32) * square;
+        for (s, t) in [(false, false), (true, false), (true, true), (false, true)] {
+            let mut p = [0.0f32; 3];
+            p[axis] = plane;
+            p[a] = bound(a, s);
+            p[b] = bound(b, t);
+            positions.push(Vec3::from(p));
+            let corner = Vec2::new(s as u8 as f32, t as u8 as f32);
+            uvs.push(origin + (Vec2::splat(0.1) + corner * 0.8) * square);
+        }
+        // (a, b, axis) is right-handed: counter-clockwise seen from +axis.
+        if side > 0 {
+            triangles.extend([[base, base + 1, base + 2], [base, base + 2, base + 3]]);
+        } else {
+            triangles.extend([[base, base + 2, base + 1], [base, base + 3, base + 2]]);
+        }
+    }
+    Mesh::new(name, positions, None, Some(uvs), triangles)
+        .unwrap()
+        .0
+}

@@ -5,8 +5,9 @@ use super::Method;
 use super::disk_kernel::{DiskKernel, split_place};
 use super::integrator::{Integrated, Integrator};
 use super::kernel::Kernel;
-use super::source_table::{SourceTable, texel_disks};
+use super::source_table::{Apart, SourceTable, texel_disks};
 use super::sources::{Grid, OwnSource, Sources, Targets};
+use super::through_medium::{may_cross_air, path_length};
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
 use crate::pipeline::Prepared;
@@ -108,11 +109,18 @@ impl Sorted {
         for k in 0..xs.len().min(BLOCK) {
             let (dx, dy, dz) = (xs[k] - p.x, ys[k] - p.y, zs[k] - p.z);
             let d2 = dx * dx + dy * dy + dz * dz;
-            let d = d2.sqrt();
+            let j = block.start + k;
+            let straight = d2.sqrt();
+            let height = dx * n.x + dy * n.y + dz * n.z;
+            let d = if may_cross_air(height, d2) {
+                path_length(table.position[j], table.normal[j], p, n, straight)
+            } else {
+                straight
+            };
             squared[k] = d2;
             (entry[k], fraction[k]) = split_place(disks.place(d));
-            let within = d2 <= reach2 && d <= reach && table.joins(block.start + k, piece);
-            let special = d2 < near2[k] || block.start + k == own;
+            let within = d2 <= reach2 && d <= reach && table.joins(j, piece);
+            let special = d2 < near2[k] || j == own;
             kind[k] = within as u8 * (1 + special as u8);
         }
         // The pairs of each kind, gathered without a branch per pair.
@@ -133,12 +141,12 @@ impl Sorted {
         } else {
             for &k in &far[..far_count] {
                 let (k, j) = (k as usize, block.start + k as usize);
-                sum += table.contribution4(disks, j, p, n, squared[k], Some(own));
+                sum += table.contribution4(disks, j, p, n, Apart::unknown(squared[k]), Some(own));
             }
         }
         for &k in &near[..near_count] {
             let (k, j) = (k as usize, block.start + k as usize);
-            sum += table.contribution4(disks, j, p, n, squared[k], Some(own));
+            sum += table.contribution4(disks, j, p, n, Apart::unknown(squared[k]), Some(own));
         }
         sum
     }
@@ -160,7 +168,9 @@ impl Sorted {
             if d2 > reach * reach || !self.table.joins(j, piece) {
                 continue;
             }
-            sum += self.table.contribution4(disks, j, p, n, d2, own);
+            sum += self
+                .table
+                .contribution4(disks, j, p, n, Apart::unknown(d2), own);
         }
         sum
     }

@@ -214,7 +214,7 @@ impl<'k> DiskKernel<'k> {
     }
 
     /// [`DiskKernel::weight`] as a `Vec4` (the fourth lane 0).
-    #[inline]
+    #[inline(always)]
     pub(super) fn weight4(&self, separation: Separation, slot: Slot) -> Vec4 {
         let k = self.kernel;
         let t = separation.t;

@@ -8,6 +8,7 @@
 //! against the sample spacing (a sample's weight for itself is then
 //! exactly the reflectance within its own disk).
 
+use super::through_medium::longer_path;
 use sssbake_profile::profile::Profile;
 use std::sync::OnceLock;
 
@@ -53,8 +54,33 @@ pub struct Separation {
 impl Separation {
     /// The separation of entry `entry` (normal `entry_normal`) from exit
     /// `exit` (normal `exit_normal`), `distance2` being |entry − exit|².
+    /// R is read at the path through the medium
+    /// ([`super::through_medium::path_length`]); a pair that path joins
+    /// round a concave crease or not at all faces itself across air, so
+    /// nothing is transmitted between them.
     #[inline]
     pub fn new(
+        entry: glam::Vec3,
+        entry_normal: glam::Vec3,
+        exit: glam::Vec3,
+        exit_normal: glam::Vec3,
+        distance2: f32,
+        transmits: bool,
+    ) -> Self {
+        if let Some(distance) = longer_path(entry, entry_normal, exit, exit_normal, distance2) {
+            return Separation {
+                distance,
+                across: distance,
+                t: 0.0,
+            };
+        }
+        Self::straight(entry, entry_normal, exit, exit_normal, distance2, transmits)
+    }
+
+    /// [`Separation::new`] for a pair known to be joined straight through
+    /// the medium ([`super::through_medium::may_cross_air`] false).
+    #[inline]
+    pub fn straight(
         entry: glam::Vec3,
         entry_normal: glam::Vec3,
         exit: glam::Vec3,

@@ -20,6 +20,7 @@ mod source_table;
 pub mod sources;
 pub mod texture_space;
 pub mod thin;
+pub mod through_medium;
 pub mod verify;
 pub mod walk;
 

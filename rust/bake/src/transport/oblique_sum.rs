@@ -14,6 +14,7 @@
 //! below zero behind an entry point, never over a lit neighbourhood.
 
 use super::sources::{Grid, Sources, Targets};
+use super::through_medium::path_length;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::irradiance::incidence::{COMPONENTS, IncidentHarmonics, frame};
 use glam::{Vec2, Vec3};
@@ -65,16 +66,29 @@ pub fn integrate(
     let mut out = vec![[0.0f32; 3]; targets.position.len()];
     parallel_fill(&mut out, 64, control, |i| {
         let p = targets.position[i];
+        let n = targets.normal[i];
         let own = targets.own.of(i);
         let piece = targets.piece_of(i);
         let mut sum = [0.0f64; 3];
         grid.for_each_run(p, reach, |run| {
             for &g in &grid.order[run] {
                 let j = g as usize;
-                let d = p - lit.position[j];
-                if d.length_squared() > reach * reach || !sources.joins(lit.index[j], piece) {
+                let straight = p - lit.position[j];
+                let distance = straight.length();
+                if distance > reach || !sources.joins(lit.index[j], piece) {
                     continue;
                 }
+                // Across a concave crease the light goes round through the
+                // medium: the offset is read at the length of that path.
+                let path = path_length(lit.position[j], lit.normal[j], p, n, distance);
+                if path > reach {
+                    continue;
+                }
+                let d = if path > distance {
+                    straight * (path / distance)
+                } else {
+                    straight
+                };
                 let part = if own == Some(lit.index[j]) {
                     own_light(kernel, &lit, j)
                 } else {

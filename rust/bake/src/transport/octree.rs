@@ -14,8 +14,9 @@ use super::Method;
 use super::disk_kernel::{DiskKernel, Slot};
 use super::integrator::{Integrated, Integrator};
 use super::kernel::{Kernel, Separation};
-use super::source_table::{SourceTable, texel_disks};
+use super::source_table::{Apart, SourceTable, texel_disks};
 use super::sources::{OwnSource, Sources, Target, Targets};
+use super::through_medium::may_cross_air;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
 use crate::pipeline::Prepared;
@@ -128,11 +129,16 @@ impl Octree {
                 continue;
             }
             for j in node.first as usize..(node.first + node.count) as usize {
-                let d2 = (self.table.position[j] - p).length_squared();
+                let offset = self.table.position[j] - p;
+                let d2 = offset.length_squared();
                 if d2 > reach2 || !self.table.joins(j, piece) {
                     continue;
                 }
-                let m = self.table.contribution(texels, j, p, n, d2, own);
+                let apart = Apart {
+                    distance2: d2,
+                    straight: !may_cross_air(offset.dot(n), d2),
+                };
+                let m = self.table.contribution(texels, j, p, n, apart, own);
                 for c in 0..3 {
                     sum[c] += m[c] as f64;
                 }

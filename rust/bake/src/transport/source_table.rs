@@ -12,6 +12,26 @@ use rayon::prelude::*;
 /// Sub-samples per side of a texel's parallelogram in the near field.
 pub(super) const SUBDIVISIONS: usize = 4;
 
+/// How far apart a source and an exit are.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Apart {
+    /// Their squared straight distance, mm².
+    pub distance2: f32,
+    /// True when the pair is known to be joined straight through the
+    /// medium; else its path is found ([`super::through_medium`]).
+    pub straight: bool,
+}
+
+impl Apart {
+    /// A pair `distance2` mm² apart whose path is yet to be found.
+    pub fn unknown(distance2: f32) -> Self {
+        Apart {
+            distance2,
+            straight: false,
+        }
+    }
+}
+
 /// Sources in a walking order, structure of arrays.
 pub(super) struct SourceTable {
     pub position: Vec<Vec3>,
@@ -126,11 +146,12 @@ impl SourceTable {
     }
 
     /// P·flux of source `j` (this order) at exit `p` with normal `n`,
-    /// `d2` = |x_j − p|² within the kernel's reach. A texel's own light
-    /// (`own`) is weighed by the reflectance within its parallelogram;
-    /// texels near `p` are integrated over their parallelogram in
-    /// sub-samples rather than as one disk: a stretched texel's footprint
-    /// is long and thin, and texels crowded at a UV pole overlap as disks.
+    /// `apart` being how far the pair is within the kernel's reach. A
+    /// texel's own light (`own`) is weighed by the reflectance within its
+    /// parallelogram; texels near `p` are integrated over their
+    /// parallelogram in sub-samples rather than as one disk: a stretched
+    /// texel's footprint is long and thin, and texels crowded at a UV pole
+    /// overlap as disks.
     #[inline]
     pub fn contribution(
         &self,
@@ -138,31 +159,37 @@ impl SourceTable {
         j: usize,
         p: Vec3,
         n: Vec3,
-        d2: f32,
+        apart: Apart,
         own: Option<usize>,
     ) -> [f32; 3] {
-        let m = self.contribution4(disks, j, p, n, d2, own);
+        let m = self.contribution4(disks, j, p, n, apart, own);
         [m.x, m.y, m.z]
     }
 
     /// [`SourceTable::contribution`] as a `Vec4` (the fourth lane 0).
-    #[inline]
+    #[inline(always)]
     pub fn contribution4(
         &self,
         disks: &DiskKernel,
         j: usize,
         p: Vec3,
         n: Vec3,
-        d2: f32,
+        apart: Apart,
         own: Option<usize>,
     ) -> Vec4 {
+        let d2 = apart.distance2;
         let w = if own == Some(j) {
             self.own_weight(disks, j)
         } else if d2 < self.near2[j] {
             self.footprint_weight(disks, j, p, n)
         } else {
             let transmits = disks.kernel().transmits();
-            let separation = Separation::new(self.position[j], self.normal[j], p, n, d2, transmits);
+            let (q, m) = (self.position[j], self.normal[j]);
+            let separation = if apart.straight {
+                Separation::straight(q, m, p, n, d2, transmits)
+            } else {
+                Separation::new(q, m, p, n, d2, transmits)
+            };
             disks.weight4(separation, self.slot[j])
         };
         w * self.flux[j]
