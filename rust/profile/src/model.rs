@@ -93,6 +93,21 @@ pub struct ModelError {
     pub reason: String,
 }
 
+/// Why `layers` are not one semi-infinite medium (the dipole's and the
+/// empirical model's), naming the model that describes them; `None` when
+/// they are.
+fn not_a_half_space(layers: &[Layer]) -> Option<String> {
+    match layers {
+        [one] => one.thickness_mm.map(|t| {
+            format!("it describes a semi-infinite medium; this material is one layer {t} mm thick (use multipole or layered)")
+        }),
+        _ => Some(format!(
+            "it describes a semi-infinite medium; this material has {} layers (use layered)",
+            layers.len()
+        )),
+    }
+}
+
 /// Builds `model` for `material`. Gaussians are fitted with `gaussians`
 /// terms to the material's default profile. Monte Carlo simulates the
 /// material with the default [`ProfileSettings`] (seconds; a bake caches
@@ -122,6 +137,13 @@ pub fn build_profile(
     let Some(top) = layers.first() else {
         return Err(error("the material has no layers"));
     };
+    // Both model one semi-infinite medium: anything else would be taken
+    // as its top layer alone, without a word.
+    if matches!(model, Model::Dipole | Model::Empirical)
+        && let Some(reason) = not_a_half_space(layers)
+    {
+        return Err(error(&reason));
+    }
     Ok(match model {
         Model::Dipole => Box::new(Dipole::with_roughness(
             [0, 1, 2].map(|c| top.medium(c)),
