@@ -104,12 +104,8 @@ impl Default for Limits {
 }
 
 /// The second, uniform integration's copy of a texel's light and colour
-/// (12 bytes each), the face behind it (12), its sums (12) and its mean
-/// chord and slab (4 each).
-const UNIFORM_PASS_BYTES_PER_TEXEL: usize = 56;
-
-/// Rays a texel casts for its mean chord ([`crate::surface::chords`]).
-const CHORD_RAYS: usize = crate::surface::chords::RAYS;
+/// (12 bytes each), the face behind it (12) and its sums (12).
+const UNIFORM_PASS_BYTES_PER_TEXEL: usize = 48;
 
 /// One object's share of a bake, as the plan estimates it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -178,12 +174,10 @@ impl ObjectCost {
     /// This cost when the corrected model raises the sums where the
     /// surface within reach ends (`raises`, for a profile method): the
     /// integrator runs a second time under a unit light, on a copy of the
-    /// light, colour and faces behind, and holds its sums; each texel
-    /// casts [`CHORD_RAYS`] rays for the mean chord behind it.
+    /// light, colour and faces behind, and holds its sums.
     pub fn with_uniform_pass(mut self, raises: bool, method: Option<Method>) -> ObjectCost {
         if raises && method.is_some_and(|m| m != Method::Walk) {
             self.evaluations *= 2.0;
-            self.rays += self.texels * CHORD_RAYS as f64;
             self.memory_bytes += self.texels * UNIFORM_PASS_BYTES_PER_TEXEL as f64;
         }
         self

@@ -15,7 +15,6 @@ use crate::rays::RayScene;
 use crate::request::{BakeRequest, UvPolicy};
 use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
-use crate::surface::chords::equal_slabs;
 use crate::surface::dilation::{SeamAwareDilation, seam_aware_dilation};
 use crate::surface::opposite::{Opposite, opposites};
 use crate::surface::texels::{TexelSurfels, rasterize, uv_jacobian};
@@ -457,9 +456,7 @@ impl Prepared {
         }
         let uniform = integrator.integrate(&self.uniformly_lit(), scattering, control)?;
         let summed_across = integrator.method() != Method::Texture;
-        let enclosure = Enclosure::new(&self.mesh, &self.uvs);
-        let equal = equal_slabs(&enclosure, &self.surfels, scattering.kernel.d_max);
-        let (gains, count) = slab.gains(self.opposites(), &equal, &uniform.exitance, summed_across);
+        let (gains, count) = slab.gains(self.opposites(), &uniform.exitance, summed_across);
         let raised = Arc::new(Raised {
             key: scattering_key(scattering),
             halves: gains.iter().map(|g| g.map(f32::sqrt)).collect(),

@@ -276,10 +276,11 @@ fn a_thick_body_keeps_the_half_space_at_the_level_of_light() {
 /// A small thin part, a 12 mm square 3 mm thick in skin1: red reaches
 /// past its rim, and a half-space's profile hands each texel the light of
 /// surface beyond the rim that is not there. Raised to the slab's sum of
-/// weights, the bake returns what the walk returns: red within 5% on both
-/// faces (it was 7% dark, p90 of |ln ratio| 0.29 and 0.35), green and
-/// blue within 3% (where the square's mean chord is shorter than its
-/// thickness, at its edges, [`sssbake::surface::chords`]; they were 4–5%
+/// weights, the bake returns what the walk returns: red within 3% on both
+/// faces (it was 7% dark, p90 of |ln ratio| 0.29 and 0.35). Green and blue
+/// are nearly half-spaces here; their spread is at the square's edges,
+/// where the medium beyond the edge is missing and light that a
+/// half-space absorbs comes out (not modelled: their medians are 4–5%
 /// low).
 #[test]
 fn a_small_thin_part_returns_the_light_of_the_walk() {
@@ -336,26 +337,4 @@ fn each_material_raises_its_own_light() {
         .integrate(&skin, &BruteIntegrator, &control)
         .unwrap();
     assert_eq!(again.exitance, in_skin.exitance);
-}
-
-/// A ball of skin1 6 mm across, smaller than red's reach every way: the
-/// light that a half-space would take deep and absorb meets the surface
-/// again and comes out. Its chord along the normal is its diameter, but
-/// the mean of its chords is that of a slab a third as thick
-/// ([`sssbake::surface::chords`]), whose totals raise the light: every
-/// channel within 8% of the walk (it was 24%, 41% and 30% dark).
-#[test]
-fn a_small_ball_returns_the_light_of_the_walk() {
-    let skin = scattering_of("skin1", Model::Dipole);
-    let ball = stretched(sphere(1.0, 24, 48), Vec3::splat(3.0), "ball");
-    let scene = scene(vec![ball], vec![sun_from(Vec3::new(-0.3, 0.2, -1.0))]);
-    let (_, baked, walked, noise) = bake_and_walk(&scene, "ball", 48, &skin);
-    let agrees = agreement(&baked, &walked, &noise, |_| true);
-    eprintln!("{agrees:?}");
-    for c in 0..3 {
-        assert!(
-            (agrees.median_ratio[c] - 1.0).abs() < 0.08,
-            "channel {c}: {agrees:?}"
-        );
-    }
 }

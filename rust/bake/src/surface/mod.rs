@@ -3,7 +3,6 @@
 //! into texel surfels, the mesh's topology (parts, open edges, seams),
 //! dilation across seams and margins, and Turk's relaxed sample points.
 
-pub mod chords;
 pub mod dilation;
 pub mod opposite;
 pub mod raster;

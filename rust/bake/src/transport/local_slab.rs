@@ -56,13 +56,6 @@
 //! through air, and lowering a texel's own light by it darkened directly
 //! lit skin (on the head at Blender's default reach, red's median against
 //! the walk fell from 0.96 to 0.90).
-//!
-//! **Bodies small every way.** A ball or a nose's tip returns more than
-//! any slab as thick as its chord along the normal. There the slab whose
-//! chords have the body's mean ([`crate::surface::chords`]) sets what U
-//! is raised to, blending back to the normal's slab where the two agree: a
-//! part thin only along the normal has its rims' missing surface raised by
-//! U already.
 
 use crate::scattering::Scattering;
 use crate::surface::opposite::Opposite;
@@ -209,11 +202,6 @@ impl LocalSlab {
         }
     }
 
-    /// The thickest rung, mm: the profile's reach.
-    fn reach(&self) -> f32 {
-        self.thickness.last().copied().unwrap_or(0.0) as f32
-    }
-
     /// The shares at thickness `t` mm (linear in ln t between rungs; the
     /// thinnest rung below it), or `None` where the part is thicker than
     /// the reach ([`Self::thick`]).
@@ -263,21 +251,18 @@ impl LocalSlab {
     }
 
     /// The factor, in [1, [`MAX_GAIN`]] per channel, that brings a texel's
-    /// corrected sum of weights (`uniform`, here and behind, shared out by
-    /// `shares`) up to what the body returns there: the light a slab of
-    /// `whole`'s shares returns on both faces (a plane's or the local
-    /// slab's, or the slab of the body's mean chord where that is
-    /// thinner). How much the light entering there is raised.
+    /// corrected sum of weights (`uniform`, here and behind) up to the
+    /// plane's or the slab's of `shares`: how much the light entering
+    /// there is raised.
     pub fn gain(
         &self,
         shares: &SlabShares,
-        whole: &SlabShares,
         uniform: ([f32; 3], [f32; 3]),
         summed_across: bool,
     ) -> [f64; 3] {
         let u = Self::corrected(shares, uniform.0, uniform.1, summed_across);
         [0, 1, 2].map(|c| {
-            let expected = (whole.kept[c] + whole.sent[c]) * self.within_reach[c];
+            let expected = (shares.kept[c] + shares.sent[c]) * self.within_reach[c];
             let gain = expected / f64::from(u[c]);
             if gain.is_finite() && gain > 0.0 {
                 gain.clamp(1.0, MAX_GAIN)
@@ -297,30 +282,19 @@ impl LocalSlab {
 
     /// Per surfel, the gain of the light entering there ([`Self::gain`]),
     /// from `uniform`, the integrator's sums under a unit light
-    /// everywhere, and `equal`, the thickness of the slab of each surfel's
-    /// mean chord ([`crate::surface::chords`]; empty to go by the normal's
-    /// alone); and how many texels are raised by more than [`RAISED`] in
-    /// some channel.
+    /// everywhere; and how many texels are raised by more than [`RAISED`]
+    /// in some channel.
     pub fn gains(
         &self,
         opposites: &[Option<Opposite>],
-        equal: &[f32],
         uniform: &[[f32; 3]],
         summed_across: bool,
     ) -> (Vec<[f32; 3]>, usize) {
         let gains: Vec<[f32; 3]> = (0..uniform.len())
             .map(|i| {
-                let opposite = opposites.get(i).copied().flatten();
-                let (shares, behind) = self.shares_at(opposite);
-                let along_normal = opposite.map_or(self.reach(), |o| o.thickness);
-                let whole = equal
-                    .get(i)
-                    .map(|&t| small_body(t, along_normal))
-                    .filter(|&t| t < along_normal)
-                    .and_then(|t| self.at(t))
-                    .unwrap_or(shares);
+                let (shares, behind) = self.shares_at(opposites.get(i).copied().flatten());
                 let j = behind.filter(|&j| j < uniform.len()).unwrap_or(i);
-                let gain = self.gain(&shares, &whole, (uniform[i], uniform[j]), summed_across);
+                let gain = self.gain(&shares, (uniform[i], uniform[j]), summed_across);
                 gain.map(|g| g as f32)
             })
             .collect();
@@ -350,19 +324,6 @@ impl LocalSlab {
     }
 }
 
-/// The slab thickness (mm) a texel's gain goes by, from the slab of its
-/// mean chord `equal` and its chord along the normal `along_normal`: the
-/// former where the body is small every way (a ball: a third of the
-/// normal's), blending to the latter as the two agree. A part thin only
-/// along the normal has its rims' missing surface raised by the sums
-/// already ([`LocalSlab::gain`]), and its mean chord there would count it
-/// twice.
-fn small_body(equal: f32, along_normal: f32) -> f32 {
-    let ratio = (equal / along_normal).clamp(0.0, 1.0);
-    let weight = ((1.0 - ratio) * 1.5).min(1.0).powi(3);
-    along_normal - weight * (along_normal - equal)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -377,29 +338,10 @@ mod tests {
     }
 
     #[test]
-    fn a_body_small_every_way_goes_by_its_mean_chord() {
-        // A slab: the two agree.
-        assert_eq!(small_body(3.0, 3.0), 3.0);
-        // A ball: its mean chord's slab is a third of its diameter.
-        assert!((small_body(2.0, 6.0) - 2.0).abs() < 1e-5);
-        // Between, nearer the normal's as they agree, and never thicker.
-        let mut last = 0.0;
-        for equal in [2.0f32, 3.0, 4.0, 5.0, 5.9] {
-            let t = small_body(equal, 6.0);
-            assert!(t >= equal && t <= 6.0 && t >= last, "{equal}: {t}");
-            last = t;
-        }
-        // Broken inputs fall back to the normal's chord or stay NaN,
-        // which no slab is found for.
-        assert_eq!(small_body(1.0, 0.0), 0.0);
-        assert!(small_body(f32::NAN, 3.0).is_nan());
-    }
-
-    #[test]
     fn a_sum_short_of_the_planes_is_raised_and_no_other_is_lowered() {
         let slab = slab();
         let thick = slab.thick();
-        let gain = |u: [f32; 3]| slab.gain(&thick, &thick, (u, [0.0; 3]), true);
+        let gain = |u: [f32; 3]| slab.gain(&thick, (u, [0.0; 3]), true);
         // A plane's sums: no gain (the level scales both).
         let plane = [0.5, 0.4, 0.3];
         for g in gain(plane) {
