@@ -8,8 +8,7 @@ use glam::Vec3;
 use lit_scenes::*;
 use sssbake::Mesh;
 use sssbake::control::Control;
-use sssbake::transport::brute;
-use sssbake::transport::sources::{OwnSource, Targets};
+
 use sssbake_profile::model::Model;
 
 /// Air between the arms, mm.
@@ -54,15 +53,7 @@ fn faces_across_the_air_of_a_fold_exchange_no_light() {
         let texels: Vec<usize> = (0..surfels.len())
             .filter(|&i| toward_gap(i, side))
             .collect();
-        let position: Vec<Vec3> = texels.iter().map(|&i| surfels.position[i]).collect();
-        let normal: Vec<Vec3> = texels.iter().map(|&i| surfels.normal[i]).collect();
-        let targets = Targets {
-            position: &position,
-            normal: &normal,
-            own: OwnSource::Listed(&texels),
-            piece: &[],
-        };
-        brute::integrate(&skin.kernel, &sources, targets, &Control::new()).unwrap()
+        exact_sum_at(&prepared, &skin.kernel, &sources, &texels)
     };
     let (lit, across) = (gather(1.0), gather(-1.0));
     assert!(lit.len() > 100 && across.len() > 100);

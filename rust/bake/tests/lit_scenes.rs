@@ -10,7 +10,10 @@ use sssbake::materials::MaterialAssignment;
 use sssbake::pipeline::{Prepared, prepare};
 use sssbake::scattering::{D_MAX_EPSILON, Scattering};
 use sssbake::transport::Method;
+use sssbake::transport::brute;
 use sssbake::transport::integrator::IntegratorSettings;
+use sssbake::transport::kernel::Kernel;
+use sssbake::transport::sources::{OwnSource, Sources, Targets};
 use sssbake::{BakeRequest, Error, Light, LightKind, Mesh, Scene, SceneObject, plan};
 use sssbake_profile::material::Material;
 use sssbake_profile::model::Model;
@@ -150,4 +153,24 @@ pub fn interior(prepared: &Prepared, half: f32, margin: f32) -> Vec<usize> {
             p.x.abs() < half - margin && p.y.abs() < half - margin
         })
         .collect()
+}
+
+/// The exact sum of `kernel` over `sources` at the surfels `texels` of
+/// `prepared` (each its own source), gathering from every piece.
+pub fn exact_sum_at(
+    prepared: &Prepared,
+    kernel: &Kernel,
+    sources: &Sources,
+    texels: &[usize],
+) -> Vec<[f32; 3]> {
+    let surfels = &prepared.surfels;
+    let position: Vec<Vec3> = texels.iter().map(|&i| surfels.position[i]).collect();
+    let normal: Vec<Vec3> = texels.iter().map(|&i| surfels.normal[i]).collect();
+    let targets = Targets {
+        position: &position,
+        normal: &normal,
+        own: OwnSource::Listed(texels),
+        piece: &[],
+    };
+    brute::integrate(kernel, sources, targets, &Control::new()).unwrap()
 }

@@ -9,9 +9,8 @@ use glam::{Vec2, Vec3};
 use lit_scenes::*;
 use sssbake::Mesh;
 use sssbake::transport::Method;
-use sssbake::transport::brute;
 use sssbake::transport::integrator::IntegratorSettings;
-use sssbake::transport::sources::{OwnSource, Sources, Targets};
+use sssbake::transport::sources::Sources;
 use sssbake_profile::model::Model;
 
 /// Side of each cube, mm.
@@ -83,20 +82,7 @@ fn a_piece_in_shadow_receives_no_light_from_its_lit_neighbour() {
     // second cube's top near the gap would glow: what the pieces prevent.
     let mut sources = prepared.texel_sources();
     sources.piece.clear();
-    let position: Vec<Vec3> = on_second.iter().map(|&s| surfels.position[s]).collect();
-    let normal: Vec<Vec3> = on_second.iter().map(|&s| surfels.normal[s]).collect();
-    let across_air = brute::integrate(
-        &skin.kernel,
-        &sources,
-        Targets {
-            position: &position,
-            normal: &normal,
-            own: OwnSource::Listed(&on_second),
-            piece: &[],
-        },
-        &sssbake::control::Control::new(),
-    )
-    .unwrap();
+    let across_air = exact_sum_at(&prepared, &skin.kernel, &sources, &on_second);
     let leaked = across_air.iter().map(|m| m[0]).fold(0.0f32, f32::max);
     assert!(leaked > 1e-3, "across the air the gap would carry {leaked}");
 
