@@ -84,7 +84,7 @@ fn ladder(base: &IntegratorSettings) -> Vec<(Method, String, IntegratorSettings)
             s.texture.gaussians = gaussians
         });
     }
-    for samples in [4, 16, 64, 256] {
+    for samples in [16, 64, 256, 512] {
         with(Method::Importance, format!("{samples} spp"), &|s| {
             s.importance.samples = samples
         });

@@ -101,11 +101,13 @@ impl Profile for Dipole {
     }
 
     /// Mertens et al. 2003 §4: pick the real or the virtual source by its
-    /// share of the reflectance inside `r_max`, then invert that source's
+    /// share of the reflectance inside `r_max` (from `xi`, which, rescaled
+    /// to the chosen share, is again uniform and places the radius), then
+    /// invert that source's
     /// enclosed fraction ½(e^{−σz} − z e^{−σρ}/ρ) for ρ = √(r² + z²) by
     /// Newton's method on σρ + ln ρ (increasing and concave, so Newton from
     /// ρ = z climbs to the root without overshooting).
-    fn sample_radius(&self, channel: usize, xi: [f64; 2], r_max: f64) -> Option<f64> {
+    fn sample_radius(&self, channel: usize, xi: f64, r_max: f64) -> Option<f64> {
         let ch = self.channels.get(channel)?;
         let sigma = ch.sigma_tr;
         if !(sigma > 0.0 && r_max > 0.0) {
@@ -119,12 +121,13 @@ impl Profile for Dipole {
         if (m_r + m_v).is_nan() || m_r + m_v <= 0.0 {
             return None;
         }
-        let z = if xi[0] * (m_r + m_v) < m_r {
-            ch.z_r
+        let split = xi.clamp(0.0, 1.0) * (m_r + m_v);
+        let (z, within) = if split < m_r {
+            (ch.z_r, split / m_r)
         } else {
-            ch.z_v
+            (ch.z_v, ((split - m_r) / m_v).min(1.0))
         };
-        let target = (-sigma * z).exp() - 2.0 * xi[1].clamp(0.0, 1.0) * mass(z);
+        let target = (-sigma * z).exp() - 2.0 * within * mass(z);
         let rho_max = (r_max * r_max + z * z).sqrt();
         if target.is_nan() || target <= 0.0 {
             return Some(r_max);

@@ -57,9 +57,11 @@ pub trait Profile: Send + Sync {
     }
 
     /// Draws a radius (mm) in [0, `r_max`] from channel `channel`'s density
-    /// ∝ 2πr R(r), from two uniform numbers, where the model can do so
-    /// exactly; `None` sends callers to a tabulated inverse CDF.
-    fn sample_radius(&self, _channel: usize, _xi: [f64; 2], _r_max: f64) -> Option<f64> {
+    /// ∝ 2πr R(r), from one uniform number `xi` and monotone in it piece
+    /// by piece (so a stratified `xi` gives stratified radii), where the
+    /// model can do so exactly; `None` sends callers to a tabulated inverse
+    /// CDF.
+    fn sample_radius(&self, _channel: usize, _xi: f64, _r_max: f64) -> Option<f64> {
         None
     }
 
