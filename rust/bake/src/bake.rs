@@ -185,6 +185,7 @@ fn scatter(
                 prepared,
                 scattering,
                 &integration.exitance,
+                integration.raised.as_deref(),
                 integration.kept,
                 neighbours,
                 request.integrators.importance.seed,
@@ -242,7 +243,7 @@ fn scatter(
                             .flatten()
                             .filter(|o| slab.at(o.thickness).is_some())
                             .count(),
-                        raised_texels: integration.raised,
+                        raised_texels: integration.raised.as_ref().map_or(0, |r| r.count),
                         kept: integration.kept,
                     });
                 return Ok(Scattered {

@@ -184,8 +184,8 @@ pub struct Prepared {
     /// The light split by incidence, made on first use.
     incidence: OnceLock<Vec<IncidentHarmonics>>,
     /// The light entering raised where the surface within reach ends,
-    /// found by the first profile method that integrates under a
-    /// scattering, for that scattering.
+    /// found by the last profile method that integrated, for its
+    /// scattering and settings.
     raised: Mutex<Option<Arc<Raised>>>,
 }
 
@@ -196,7 +196,7 @@ pub struct Prepared {
 /// light a texel returns what the plane or the slab returns.
 #[derive(Clone, Debug)]
 pub struct Raised {
-    /// The scattering it was found for ([`scattering_key`]).
+    /// The scattering and integrator it was found by ([`raise_key`]).
     key: String,
     /// Per surfel and channel, √gain, in [1, 2].
     pub halves: Vec<[f32; 3]>,
@@ -204,11 +204,13 @@ pub struct Raised {
     pub count: usize,
 }
 
-/// What tells one scattering's raised light from another's on the same
-/// object: the material with all its coefficients, the model and the reach.
-fn scattering_key(scattering: &Scattering) -> String {
+/// What tells one raised light from another on the same object: the
+/// material with all its coefficients, the model and the reach, and the
+/// integrator with its settings (each finds the gains with its own error,
+/// which the error estimate measures).
+fn raise_key(scattering: &Scattering, integrator: &dyn Integrator) -> String {
     format!(
-        "{:?} {} {}",
+        "{:?} {} {} {integrator:?}",
         scattering.material,
         scattering.model.name(),
         scattering.kernel.d_max.to_bits()
@@ -349,10 +351,9 @@ pub struct Integration {
     pub sources: usize,
     /// The walk's noise and dropped weight, when the walk integrated.
     pub walk: Option<crate::transport::walk::WalkNoise>,
-    /// Surfels whose light entering was raised by more than 1% in some
-    /// channel, where the surface within the profile's reach ends
-    /// ([`crate::transport::local_slab`]).
-    pub raised: usize,
+    /// The light entering as raised where the surface within the
+    /// profile's reach ends ([`crate::transport::local_slab`]), when it was.
+    pub raised: Option<Arc<Raised>>,
     /// Per channel, the share of the raised light kept where it would have
     /// left more power than entered; `None` where all of it was.
     pub kept: Option<[f32; 3]>,
@@ -440,10 +441,9 @@ impl Prepared {
     }
 
     /// How much the light entering each surfel is raised where the surface
-    /// within the profile's reach ends ([`LocalSlab::gains`]): found once
-    /// per object and scattering, by the first integrator that runs under
-    /// a unit light, so every later one and the exact sum of the error
-    /// estimate raise the same light.
+    /// within the profile's reach ends ([`LocalSlab::gains`]): found by
+    /// `integrator` under a unit light, once per scattering and
+    /// integrator.
     fn raise(
         &self,
         slab: &LocalSlab,
@@ -451,30 +451,26 @@ impl Prepared {
         scattering: &Scattering,
         control: &Control,
     ) -> Result<Arc<Raised>, Error> {
-        if let Some(raised) = self.raised_for(scattering) {
-            return Ok(raised);
+        let key = raise_key(scattering, integrator);
+        if let Some(raised) = self
+            .raised
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .as_ref()
+            .filter(|r| r.key == key)
+        {
+            return Ok(Arc::clone(raised));
         }
         let uniform = integrator.integrate(&self.uniformly_lit(), scattering, control)?;
         let summed_across = integrator.method() != Method::Texture;
         let (gains, count) = slab.gains(self.opposites(), &uniform.exitance, summed_across);
         let raised = Arc::new(Raised {
-            key: scattering_key(scattering),
+            key,
             halves: gains.iter().map(|g| g.map(f32::sqrt)).collect(),
             count,
         });
         *self.raised.lock().unwrap_or_else(|e| e.into_inner()) = Some(Arc::clone(&raised));
         Ok(raised)
-    }
-
-    /// The light entering's gains where the bake raised it under
-    /// `scattering` (see [`crate::transport::local_slab`]); `None` before a
-    /// profile method integrated under it.
-    pub fn raised_for(&self, scattering: &Scattering) -> Option<Arc<Raised>> {
-        let raised = self.raised.lock().unwrap_or_else(|e| e.into_inner());
-        raised
-            .as_ref()
-            .filter(|r| r.key == scattering_key(scattering))
-            .cloned()
     }
 
     /// The same object with the light entering each surfel scaled by
@@ -721,7 +717,7 @@ impl Prepared {
             seconds: start.elapsed().as_secs_f64(),
             sources: integrated.sources,
             walk: integrated.walk,
-            raised: raised.map_or(0, |r| r.count),
+            raised,
             kept,
         })
     }

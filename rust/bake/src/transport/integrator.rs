@@ -35,7 +35,9 @@ pub struct Integrated {
 }
 
 /// M(x) = ∫ P(|x − x_i|) E_t(x_i) dA at every texel of a prepared object.
-pub trait Integrator: Send + Sync {
+/// Its `Debug` form names it with its settings (what a result found by it
+/// is kept under).
+pub trait Integrator: Send + Sync + std::fmt::Debug {
     /// Which method this is.
     fn method(&self) -> Method;
 

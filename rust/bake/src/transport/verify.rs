@@ -7,7 +7,7 @@ use super::brute;
 use super::sources::{OwnSource, Targets};
 use crate::control::Control;
 use crate::error::Error;
-use crate::pipeline::Prepared;
+use crate::pipeline::{Prepared, Raised};
 use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
 use crate::transport::local_slab::LocalSlab;
@@ -33,15 +33,24 @@ pub struct ErrorEstimate {
 
 /// Estimates the relative RMSE of `exitance` (after the colour split, as
 /// `Prepared::integrate` returns it) against the exact sum at a seeded
-/// random subset of texels, with the light entering raised as the
-/// integration raised it ([`Prepared::raised_for`]) and `kept` of it where
-/// the integration kept less ([`crate::pipeline::Integration::kept`]);
-/// `neighbours` is the mean count of texels
-/// within the profile's reach, which sets how many are affordable.
+/// random subset of texels, with `kept` of the light where the integration
+/// kept less ([`crate::pipeline::Integration::kept`]); `neighbours` is the
+/// mean count of texels within the profile's reach, which sets how many
+/// are affordable.
+///
+/// Where the integration `raised` the light entering, its gains came from
+/// its own sums under a unit light, with its own error. The exact sum
+/// raises the light by the same gains, and the exact gains at the checked
+/// texels (from the exact sums under a unit light there and behind) scale
+/// it: to first order in an error of the gains that varies slowly within
+/// the reach, the exact model's exitance. So the estimate counts the
+/// gains' error too.
+#[allow(clippy::too_many_arguments)]
 pub fn estimate_error(
     prepared: &Prepared,
     scattering: &Scattering,
     exitance: &[[f32; 3]],
+    raised: Option<&Raised>,
     kept: Option<[f32; 3]>,
     neighbours: f64,
     seed: u64,
@@ -86,9 +95,34 @@ pub fn estimate_error(
         piece: &piece,
     };
     let mut sources = prepared.texel_sources();
+    // The exact gains at the checked texels, from the exact sums under a
+    // unit light (the integration's gains were found under it too).
+    let exact_gains: Option<Vec<[f64; 3]>> = match (raised, slab) {
+        (Some(_), Some(slab)) => {
+            let mut unit = sources.clone();
+            unit.irradiance.fill([1.0; 3]);
+            let (uniform, _) = brute::exact_sum(prepared, scattering, &unit, targets, control)?;
+            let mut behind_uniform = uniform[picked.len()..].iter();
+            Some(
+                picked
+                    .iter()
+                    .zip(&behind)
+                    .zip(&uniform)
+                    .map(|((&i, behind), here)| {
+                        let (shares, _) = slab.shares_at(prepared.opposites()[i]);
+                        let there = match behind {
+                            Some(_) => behind_uniform.next().copied().unwrap_or(*here),
+                            None => *here,
+                        };
+                        slab.gain(&shares, (*here, there), true)
+                    })
+                    .collect(),
+            )
+        }
+        _ => None,
+    };
     // The light entering as the bake raised it where the surface ends.
-    let raised = prepared.raised_for(scattering);
-    if let Some(raised) = &raised {
+    if let Some(raised) = raised {
         for (e, g) in sources.irradiance.iter_mut().zip(&raised.halves) {
             *e = [0, 1, 2].map(|c| e[c] * g[c]);
         }
@@ -101,7 +135,8 @@ pub fn estimate_error(
         .iter()
         .zip(&sums)
         .zip(&behind)
-        .map(|((&i, &here), behind)| {
+        .enumerate()
+        .map(|(k, ((&i, &here), behind))| {
             // The sums behind follow the picked ones, in the same order.
             let corrected = match (slab, behind) {
                 (Some(slab), Some(_)) => {
@@ -113,8 +148,14 @@ pub fn estimate_error(
                 (None, _) => here,
             };
             let kept = kept.unwrap_or([1.0; 3]);
-            let left = raised.as_ref().map_or(corrected, |r| {
-                [0, 1, 2].map(|c| corrected[c] * r.halves[i][c] * kept[c])
+            let left = raised.map_or(corrected, |r| {
+                let h = r.halves[i];
+                // The bake's gain h², the exact one g: the light entering
+                // and leaving both scale by g/h² to first order.
+                let g = exact_gains.as_ref().map_or([1.0; 3], |g| {
+                    [0, 1, 2].map(|c| (g[k][c] / f64::from(h[c] * h[c])) as f32)
+                });
+                [0, 1, 2].map(|c| corrected[c] * h[c] * kept[c] * g[c])
             });
             prepared.after_scattering(i, left)
         })
