@@ -102,10 +102,9 @@ pub fn margin_fill(prepared: &Prepared, margin: u32) -> Vec<(u32, u32)> {
 /// The map `output` of `prepared` as an image, rows top to bottom, with
 /// the empty texels of `fill` (from [`margin_fill`]) filled. `exitance` is
 /// the integration's result (zero where there is none); `surface` the
-/// material's, whose exit term at the normal ([`Surface::exit_at_normal`]:
-/// ρdt(0) of Donner & Jensen 2005 eq. 25, 1 − F(0) when smooth, or a Stam
-/// top layer's radiance at the normal per unit of the exitance leaving it)
-/// turns the exitance into the `diffuse` map.
+/// material's, whose π L(0)/M ([`Surface::exit_at_normal`]: the radiance
+/// leaving along the normal per unit of the exitance that left, ρdt(0)/ρ̄dt
+/// under a boundary) turns the exitance into the `diffuse` map.
 pub fn render(
     prepared: &Prepared,
     exitance: &[[f32; 3]],

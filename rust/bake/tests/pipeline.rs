@@ -424,11 +424,11 @@ fn a_request_out_of_range_names_its_setting() {
 }
 
 /// A material's roughness sets the light crossing in (ρdt of Donner &
-/// Jensen 2005 eq. 26) and out (eq. 25, the `diffuse` map's ρdt(0)/π);
+/// Jensen 2005 eq. 26) and out (the `diffuse` map's ρdt(0)/(π ρ̄dt));
 /// the request's roughness overrides every material's.
 #[test]
 fn a_rough_surface_sets_entry_and_exit_and_the_request_overrides_it() {
-    use sssbake_profile::rough::diffuse_transmittance;
+    use sssbake_profile::rough::{diffuse_transmittance, hemispherical_transmittance};
     let scene = scene(
         vec![centred_square(60.0, "square")],
         vec![sun_from(Vec3::NEG_Z)],
@@ -463,7 +463,9 @@ fn a_rough_surface_sets_entry_and_exit_and_the_request_overrides_it() {
     for (object, m) in [(&own, 0.8), (&smooth, 0.0)] {
         let exit = centre(&object.render(Output::Diffuse).unwrap())
             / centre(&object.render(Output::Subsurface).unwrap());
-        let expected = diffuse_transmittance(1.0, 1.3, m) / std::f64::consts::PI;
+        let expected = diffuse_transmittance(1.0, 1.3, m)
+            / hemispherical_transmittance(1.3, m)
+            / std::f64::consts::PI;
         assert!(
             (exit / expected - 1.0).abs() < 1e-3,
             "{m}: exit {exit} vs {expected}"

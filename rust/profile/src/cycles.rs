@@ -407,7 +407,9 @@ mod tests {
         // Cycles lights the walk's exit through a plain diffuse closure: light
         // enters whole at every angle, and the layer takes 1 − F(0) once, from
         // the light leaving towards the normal. A material file's coat of the
-        // same index takes 1 − F(θ) from every light instead.
+        // same index takes 1 − F(θ) from every light instead, and the light
+        // it lets out, nearly isotropic inside, leaves towards the normal as
+        // ρdt(0)/ρ̄dt of the exitance.
         use crate::fresnel::dielectric_reflectance;
         use crate::model::Model;
         use crate::surface::Surface;
@@ -428,7 +430,21 @@ mod tests {
         };
         let boundary = Surface::of(&coated, Model::Dipole).unwrap();
         assert!(boundary.entry(0.2)[0] < 0.9 * boundary.entry(1.0)[0]);
-        assert_eq!(boundary.exit_at_normal(), surface.exit_at_normal());
+        let Surface::Boundary { eta, roughness } = boundary else {
+            panic!("a coat is a boundary: {boundary:?}")
+        };
+        let through = crate::rough::hemispherical_transmittance(eta, roughness);
+        assert!(through < 1.0);
+        for (coat, layer) in boundary
+            .exit_at_normal()
+            .iter()
+            .zip(surface.exit_at_normal())
+        {
+            assert!(
+                (coat * through - layer).abs() < 1e-9,
+                "{coat} · {through} against {layer}"
+            );
+        }
     }
 
     #[test]

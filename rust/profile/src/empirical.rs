@@ -12,9 +12,17 @@
 //! annulus (even in ln r past 0.01 mean free paths), so the profile holds
 //! exactly the light of its lobes.
 //!
-//! Scope: the top layer taken as semi-infinite under a smooth boundary, at
-//! normal incidence only, so the profile is radially symmetric. Oblique
-//! incidence (the paper's θ_i axis and its θ_s dependence) is not built.
+//! The fit rescales each lobe's k_s so that its exitance is the slice's
+//! simulated one ([`crate::empirical_fit`]): what a bake reads, the
+//! exitance, is therefore the simulation's, and the lobe's shape (its
+//! spread over exit directions, which one radiance per texel cannot keep)
+//! changes no map.
+//!
+//! Scope: the top layer taken as semi-infinite under a smooth boundary
+//! (a layered material is refused). This profile is the normal-incidence,
+//! radially symmetric one; oblique incidence (the paper's θ_i axis and its
+//! θ_s dependence) is [`crate::empirical_oblique`], by the exitance's
+//! azimuthal harmonics.
 
 use crate::dipole::Dipole;
 use crate::empirical_fit::{SliceFit, fit_slice};

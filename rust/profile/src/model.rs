@@ -44,7 +44,8 @@ pub enum Model {
     /// ([`crate::stam_topped`]).
     Stam,
     /// Donner et al. 2009's empirical BSSRDF: elliptic lobes fitted to
-    /// photon tracing of the top layer, at normal incidence.
+    /// photon tracing of the top layer, whose exitance (the simulated one)
+    /// the bake reads, at normal and at oblique incidence.
     Empirical,
 }
 

@@ -20,6 +20,9 @@ use std::f64::consts::PI;
 
 /// Photons per reproducible stream.
 const CHUNK: u64 = 4096;
+/// Cosine of the half-angle of the cone around the normal in which light
+/// leaving the top counts as seen at normal view (18.2°).
+pub const NORMAL_VIEW_COS: f64 = 0.95;
 /// Below this weight a photon plays Russian roulette...
 const ROULETTE_THRESHOLD: f64 = 1e-4;
 /// ...and survives with this probability, its weight divided by it.
@@ -85,6 +88,17 @@ pub struct MonteCarlo {
     /// Its standard error.
     #[serde(default)]
     pub reflectance_moment_x_stderr: Rgb,
+    /// π times the radiance leaving the top towards the normal, per unit
+    /// flux entering (dimensionless): the scattered light leaving within
+    /// [`NORMAL_VIEW_COS`] of the normal in air, over that cone's
+    /// projected solid angle π(1 − cos²). Over `total_reflectance`, how
+    /// much brighter than a Lambertian exitance the surface looks from
+    /// above.
+    #[serde(default)]
+    pub reflectance_at_normal: Rgb,
+    /// Its standard error.
+    #[serde(default)]
+    pub reflectance_at_normal_stderr: Rgb,
     /// Light leaving the top without scattering (internal reflections only).
     pub unscattered_reflectance: Rgb,
     /// Light leaving the bottom without scattering (ballistic).
@@ -107,6 +121,7 @@ struct Tally {
     reflect_total: [f64; 2],
     transmit_total: [f64; 2],
     reflect_moment: [f64; 2],
+    reflect_at_normal: [f64; 2],
     unscattered: [f64; 2],
     truncated: f64,
     interactions: u64,
@@ -120,6 +135,7 @@ impl Tally {
             reflect_total: [0.0; 2],
             transmit_total: [0.0; 2],
             reflect_moment: [0.0; 2],
+            reflect_at_normal: [0.0; 2],
             unscattered: [0.0; 2],
             truncated: 0.0,
             interactions: 0,
@@ -142,6 +158,7 @@ impl Tally {
         add(&mut self.reflect_total, &other.reflect_total);
         add(&mut self.transmit_total, &other.transmit_total);
         add(&mut self.reflect_moment, &other.reflect_moment);
+        add(&mut self.reflect_at_normal, &other.reflect_at_normal);
         add(&mut self.unscattered, &other.unscattered);
         self.truncated += other.truncated;
         self.interactions += other.interactions;
@@ -248,6 +265,10 @@ pub fn simulate_oblique(layers: &[Layer], settings: &Settings, cos_inside: f64) 
             result.reflectance_moment_x[c],
             result.reflectance_moment_x_stderr[c],
         ) = mean_and_error(total.reflect_moment);
+        let cone = 1.0 - NORMAL_VIEW_COS * NORMAL_VIEW_COS;
+        let (at_normal, at_normal_err) = mean_and_error(total.reflect_at_normal);
+        result.reflectance_at_normal[c] = at_normal / cone;
+        result.reflectance_at_normal_stderr[c] = at_normal_err / cone;
         result.unscattered_reflectance[c] = total.unscattered[0] / n;
         result.unscattered_transmittance[c] = total.unscattered[1] / n;
         result.truncated[c] = total.truncated / n;
@@ -327,14 +348,19 @@ fn trace_photon(
                 direction[2] = -direction[2];
                 continue;
             }
-            let Some(next) = neighbour else {
-                record(tally, edges, downward, position, weight, scattered);
-                return;
-            };
             let ratio = slab.ior / n_t;
             let cos_t = (1.0 - ratio * ratio * (1.0 - cos_i * cos_i))
                 .max(0.0)
                 .sqrt();
+            let Some(next) = neighbour else {
+                let exit = Exit {
+                    downward,
+                    position,
+                    cos_out: cos_t,
+                };
+                record(tally, edges, exit, weight, scattered);
+                return;
+            };
             direction = [
                 direction[0] * ratio,
                 direction[1] * ratio,
@@ -365,14 +391,21 @@ fn trace_photon(
     }
 }
 
-fn record(
-    tally: &mut Tally,
-    edges: &[f64],
+/// Where and how a photon leaves the layers.
+struct Exit {
+    /// Through the bottom.
     downward: bool,
     position: [f64; 3],
-    weight: f64,
-    scattered: bool,
-) {
+    /// Cosine to the normal of its direction outside.
+    cos_out: f64,
+}
+
+fn record(tally: &mut Tally, edges: &[f64], exit: Exit, weight: f64, scattered: bool) {
+    let Exit {
+        downward,
+        position,
+        cos_out,
+    } = exit;
     let radius = position[0].hypot(position[1]);
     if !scattered {
         tally.unscattered[usize::from(downward)] += weight;
@@ -389,6 +422,10 @@ fn record(
         let moment = weight * position[0];
         tally.reflect_moment[0] += moment;
         tally.reflect_moment[1] += moment * moment;
+        if cos_out >= NORMAL_VIEW_COS {
+            tally.reflect_at_normal[0] += weight;
+            tally.reflect_at_normal[1] += weight * weight;
+        }
     }
     let bin = edges.partition_point(|&e| e <= radius);
     if bin >= 1 && bin < edges.len() {

@@ -81,6 +81,23 @@ pub fn diffuse_transmittance(cos: f64, eta: f64, roughness: f64) -> f64 {
     value.clamp(0.0, 1.0)
 }
 
+/// The hemispherical transmittance from outside, 2∫_0^1 ρdt(μ) μ dμ: the
+/// share of diffuse light from outside that crosses into a material of
+/// relative index `eta` with RMS facet slope `roughness`; for a smooth
+/// boundary 1 − F_dr(1/η), which reciprocity makes η²(1 − F_dr(η)).
+pub fn hemispherical_transmittance(eta: f64, roughness: f64) -> f64 {
+    static RULE: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+    let rule = RULE.get_or_init(|| gauss_legendre(32));
+    // ∫_0^1 ρdt(√t) dt: smooth in t from outside (no critical angle).
+    let total = integrate(
+        |t| diffuse_transmittance(t.max(0.0).sqrt(), eta, roughness),
+        0.0,
+        1.0,
+        rule,
+    );
+    total.clamp(0.0, 1.0)
+}
+
 /// ρd of eq. 24: the rough boundary's reflectance seen from inside a
 /// material of relative index `eta`, averaged over diffuse (cosine-weighted)
 /// incidence, ∫_0^1 albedo(μ) 2μ dμ; for `roughness` 0, the exact F_dr.

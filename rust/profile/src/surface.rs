@@ -14,7 +14,7 @@
 use crate::Rgb;
 use crate::material::{Material, TopLayer};
 use crate::model::Model;
-use crate::rough::diffuse_transmittance;
+use crate::rough::{diffuse_transmittance, hemispherical_transmittance};
 use crate::stam::epidermis::Epidermis;
 
 /// A material's surface as the light crossing it sees it.
@@ -92,17 +92,36 @@ impl Surface {
         }
     }
 
-    /// π times the radiance leaving towards the normal per unit exitance
-    /// (dimensionless, per channel), the factor the `diffuse` map applies:
-    /// ρdt(0°) of a boundary or a Principled specular layer (Donner &
-    /// Jensen 2005 eq. 25, the
-    /// diffusion profile's exitance taken before the exit term), or for a
-    /// Stam top layer, whose profile's exitance is what already left into
-    /// air, the share of it leaving at the normal
-    /// ([`Epidermis::exit_at_normal`]).
+    /// π L(0)/M: π times the radiance leaving towards the normal per unit
+    /// of the exitance M that leaves into air (dimensionless, per
+    /// channel), the factor the `diffuse` map applies. Every profile's
+    /// exitance is the light that has left (the diffusion profiles' net
+    /// flux through the boundary, the Monte Carlo's tallies in air).
+    ///
+    /// - A boundary: the light meeting it from inside is nearly isotropic
+    ///   (diffusion), radiance L_i. Leaving towards ω it is L_i ρdt(ω)/η²
+    ///   (reciprocity: the share crossing out towards ω is the share
+    ///   crossing in from ω, and radiance divides by η² going out), so
+    ///   M = π L_i ρ̄dt/η² and π L(0)/M = ρdt(0)/ρ̄dt, with ρ̄dt the
+    ///   hemispherical transmittance from outside. Smooth, that is
+    ///   (1 − F(0))/(η²(1 − F_dr(η))); index-matched, 1 (Lambertian).
+    /// - A Principled specular layer over an index-matched medium: the
+    ///   medium's exitance leaves Lambertian and Cycles gives the layer
+    ///   its share where viewed, so ρdt(0).
+    /// - A Stam top layer: its solved share of Lambertian light from below
+    ///   leaving at the normal ([`Epidermis::exit_at_normal`]), the same
+    ///   quantity.
     pub fn exit_at_normal(&self) -> Rgb {
         match self {
-            Surface::Boundary { .. } => self.entry(1.0),
+            Surface::Boundary { eta, roughness } => {
+                let through = hemispherical_transmittance(*eta, *roughness);
+                let at_normal = diffuse_transmittance(1.0, *eta, *roughness);
+                [if through > 0.0 {
+                    at_normal / through
+                } else {
+                    1.0
+                }; 3]
+            }
             Surface::ViewedBoundary { eta, roughness } => {
                 [diffuse_transmittance(1.0, *eta, *roughness); 3]
             }
