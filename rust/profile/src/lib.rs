@@ -52,6 +52,7 @@ pub mod material;
 pub mod medium;
 pub mod model;
 pub mod monte_carlo;
+mod monte_carlo_faces;
 pub mod monte_carlo_profile;
 pub mod multipole;
 pub mod presets;

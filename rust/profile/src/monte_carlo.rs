@@ -14,6 +14,7 @@
 use crate::Rgb;
 use crate::fresnel::dielectric_reflectance;
 use crate::material::Layer;
+use crate::monte_carlo_faces::{Crossing, RoughFace};
 use crate::rng::Rng;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -41,6 +42,9 @@ pub struct Settings {
     /// counted in [`MonteCarlo::truncated`] (walks in nearly lossless media
     /// can be arbitrarily long).
     pub max_interactions: u64,
+    /// RMS facet slope m of the faces against air, top and bottom (0:
+    /// smooth; rough faces as [`crate::monte_carlo_faces`] makes them).
+    pub roughness: f64,
 }
 
 impl Settings {
@@ -52,6 +56,7 @@ impl Settings {
             seed,
             edges_mm,
             max_interactions: 1_000_000,
+            roughness: 0.0,
         }
     }
 }
@@ -99,7 +104,8 @@ pub struct MonteCarlo {
     /// Its standard error.
     #[serde(default)]
     pub reflectance_at_normal_stderr: Rgb,
-    /// Light leaving the top without scattering (internal reflections only).
+    /// Light leaving the top without scattering (internal reflections;
+    /// entered from air, the face's own reflection too).
     pub unscattered_reflectance: Rgb,
     /// Light leaving the bottom without scattering (ballistic).
     pub unscattered_transmittance: Rgb,
@@ -182,6 +188,33 @@ pub fn simulate(layers: &[Layer], settings: &Settings) -> MonteCarlo {
     simulate_oblique(layers, settings, 1.0)
 }
 
+/// Where the photons start.
+#[derive(Clone, Copy)]
+enum Start {
+    /// Inside the top layer, travelling along the direction.
+    Inside([f64; 3]),
+    /// In air above the top face, travelling along the direction.
+    Above([f64; 3]),
+}
+
+/// As [`simulate`], for a collimated beam arriving from air at cosine
+/// `cos_outside` (in (0, 1]) to the normal, which meets the top face as
+/// it is (smooth, or rough with `settings.roughness`): the tallies are per
+/// unit flux arriving, and what the face reflects is in
+/// [`MonteCarlo::unscattered_reflectance`].
+pub fn simulate_from_air(layers: &[Layer], settings: &Settings, cos_outside: f64) -> MonteCarlo {
+    let mu = if cos_outside.is_finite() {
+        cos_outside.clamp(1e-6, 1.0)
+    } else {
+        1.0
+    };
+    run(
+        layers,
+        settings,
+        Start::Above([(1.0 - mu * mu).sqrt(), 0.0, mu]),
+    )
+}
+
 /// As [`simulate`], for a beam that enters the top layer travelling at
 /// cosine `cos_inside` (in (0, 1]) to the normal: the refracted direction
 /// of light arriving obliquely from outside. The tallies stay per unit
@@ -194,6 +227,10 @@ pub fn simulate_oblique(layers: &[Layer], settings: &Settings, cos_inside: f64) 
         1.0
     };
     let start = [(1.0 - cos_inside * cos_inside).sqrt(), 0.0, cos_inside];
+    run(layers, settings, Start::Inside(start))
+}
+
+fn run(layers: &[Layer], settings: &Settings, start: Start) -> MonteCarlo {
     let edges = settings.edges_mm.clone();
     let bins = edges.len().saturating_sub(1);
     let mut result = MonteCarlo {
@@ -221,6 +258,7 @@ pub fn simulate_oblique(layers: &[Layer], settings: &Settings, cos_inside: f64) 
         let variance = (s[1] / n - mean * mean).max(0.0);
         (mean, (variance / n).sqrt())
     };
+    let faces = Faces::new(layers, settings.roughness);
     for c in 0..3 {
         let slabs = channel_slabs(layers, c);
         let chunks = settings.photons.div_ceil(CHUNK);
@@ -231,9 +269,15 @@ pub fn simulate_oblique(layers: &[Layer], settings: &Settings, cos_inside: f64) 
                 let mut rng = Rng::new(settings.seed, ((c as u64) << 40) | chunk);
                 let mut tally = Tally::new(bins);
                 for _ in 0..count {
+                    let Some((direction, weight)) = enter(&faces, start, &mut rng, &mut tally)
+                    else {
+                        continue;
+                    };
+                    let photon = Photon { direction, weight };
                     trace_photon(
                         &slabs,
-                        start,
+                        &faces,
+                        photon,
                         &edges,
                         settings.max_interactions,
                         &mut rng,
@@ -301,18 +345,74 @@ fn channel_slabs(layers: &[Layer], c: usize) -> Vec<Slab> {
         .collect()
 }
 
+/// The faces against air: smooth, or rough on the top layer's top and the
+/// bottom layer's bottom.
+struct Faces {
+    top: Option<RoughFace>,
+    bottom: Option<RoughFace>,
+    /// The top layer's index, for a smooth entry.
+    top_ior: f64,
+}
+
+impl Faces {
+    fn new(layers: &[Layer], roughness: f64) -> Self {
+        let rough = |layer: Option<&Layer>| {
+            layer
+                .filter(|_| roughness > 0.0)
+                .map(|l| RoughFace::new(roughness, l.ior))
+        };
+        Faces {
+            top: rough(layers.first()),
+            bottom: rough(layers.last()),
+            top_ior: layers.first().map_or(1.0, |l| l.ior),
+        }
+    }
+}
+
+/// A photon as it starts inside: its direction and weight.
+struct Photon {
+    direction: [f64; 3],
+    weight: f64,
+}
+
+/// The photon inside the top layer, or `None` where the top face sent it
+/// back into air (counted as unscattered reflectance).
+fn enter(faces: &Faces, start: Start, rng: &mut Rng, tally: &mut Tally) -> Option<([f64; 3], f64)> {
+    let d = match start {
+        Start::Inside(d) => return Some((d, 1.0)),
+        Start::Above(d) => d,
+    };
+    if let Some(face) = &faces.top {
+        return match face.cross(d, true, rng) {
+            Crossing::Through(d, w) => Some((d, w)),
+            Crossing::Back(_, w) => {
+                tally.unscattered[0] += w;
+                None
+            }
+        };
+    }
+    if rng.uniform() < dielectric_reflectance(d[2], 1.0, faces.top_ior) {
+        tally.unscattered[0] += 1.0;
+        return None;
+    }
+    let ratio = 1.0 / faces.top_ior;
+    let cos_t = (1.0 - ratio * ratio * (1.0 - d[2] * d[2])).max(0.0).sqrt();
+    Some(([d[0] * ratio, d[1] * ratio, cos_t], 1.0))
+}
+
 fn trace_photon(
     slabs: &[Slab],
-    start: [f64; 3],
+    faces: &Faces,
+    photon: Photon,
     edges: &[f64],
     max_interactions: u64,
     rng: &mut Rng,
     tally: &mut Tally,
 ) {
     let mut position = [0.0f64; 3];
-    let mut direction = start;
+    let mut direction = photon.direction;
     let mut layer = 0usize;
-    let mut weight = 1.0;
+    let mut weight = photon.weight;
     let mut scattered = false;
     let mut interactions = 0u64;
     loop {
@@ -342,6 +442,32 @@ fn trace_photon(
             } else {
                 layer.checked_sub(1)
             };
+            let rough = match (neighbour, downward) {
+                (Some(_), _) => None,
+                (None, true) => faces.bottom.as_ref(),
+                (None, false) => faces.top.as_ref(),
+            };
+            if let Some(face) = rough {
+                match face.cross(direction, false, rng) {
+                    Crossing::Back(d, w) => {
+                        direction = d;
+                        weight *= w;
+                        if weight <= 0.0 {
+                            return;
+                        }
+                    }
+                    Crossing::Through(d, w) => {
+                        let exit = Exit {
+                            downward,
+                            position,
+                            cos_out: d[2].abs(),
+                        };
+                        record(tally, edges, exit, weight * w, scattered);
+                        return;
+                    }
+                }
+                continue;
+            }
             let n_t = neighbour.map_or(1.0, |i| slabs[i].ior);
             let cos_i = direction[2].abs();
             if rng.uniform() < dielectric_reflectance(cos_i, slab.ior, n_t) {
