@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+use sssbake_profile::stam::StamLayer;
 use sssbake_profile::{Layer, Profile, Rgb};
 use std::f64::consts::PI;
 
@@ -65,5 +66,18 @@ pub fn assert_physical(profile: &dyn Profile, r: f64, what: &str) {
             "{what}: T({r})[{c}] = {}",
             tt[c]
         );
+    }
+}
+
+/// The Stam layer `l` as the Monte Carlo's slab (σt = 1/mm, so its
+/// thickness in mm is τ) in three channels of single-scattering albedos
+/// `albedos`.
+pub fn stam_slab(l: StamLayer, albedos: [f64; 3]) -> Layer {
+    Layer {
+        sigma_a: albedos.map(|a| 1.0 - a),
+        sigma_s: albedos,
+        g: l.g,
+        ior: l.eta,
+        thickness_mm: Some(l.optical_depth),
     }
 }

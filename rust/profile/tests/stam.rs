@@ -5,7 +5,8 @@
 //! `SSSBAKE_LONG_STAM=1` runs the Monte Carlo comparison with 20× the
 //! photons and more slabs (about a minute).
 
-use sssbake_profile::Layer;
+mod common;
+use common::stam_slab;
 use sssbake_profile::fresnel::dielectric_reflectance;
 use sssbake_profile::monte_carlo::{Settings, simulate_from_air, simulate_oblique};
 use sssbake_profile::stam::{StamLayer, StamResponse, StamSettings};
@@ -95,13 +96,7 @@ fn the_brdf_and_btdf_are_reciprocal() {
 /// `mu_out`; returns R and T per channel with their standard errors, faces
 /// and unscattered light included as the discrete ordinates count them.
 fn monte_carlo(l: StamLayer, albedos: [f64; 3], mu_out: f64, photons: u64) -> [[f64; 4]; 3] {
-    let slab = Layer {
-        sigma_a: albedos.map(|a| 1.0 - a),
-        sigma_s: albedos,
-        g: l.g,
-        ior: l.eta,
-        thickness_mm: Some(l.optical_depth),
-    };
+    let slab = stam_slab(l, albedos);
     let cos_inside = (1.0 - (1.0 - mu_out * mu_out) / (l.eta * l.eta)).sqrt();
     let mut settings = Settings::new(photons, 11, vec![0.0, 1e9]);
     settings.max_interactions = 100_000;
@@ -291,13 +286,7 @@ fn nearly_smooth_rough_faces_approach_the_smooth_layer() {
 /// entered from air at cosine `mu_out`: R and T per channel (faces and
 /// unscattered light included) with their standard errors.
 fn rough_monte_carlo(l: StamLayer, albedos: [f64; 3], mu_out: f64, photons: u64) -> [[f64; 4]; 3] {
-    let slab = Layer {
-        sigma_a: albedos.map(|a| 1.0 - a),
-        sigma_s: albedos,
-        g: l.g,
-        ior: l.eta,
-        thickness_mm: Some(l.optical_depth),
-    };
+    let slab = stam_slab(l, albedos);
     let mut settings = Settings::new(photons, 13, vec![0.0, 1e9]);
     settings.max_interactions = 100_000;
     settings.roughness = l.roughness;

@@ -4,6 +4,8 @@
 //! Fresnel face), the Monte Carlo photon transport of the same slab on an
 //! absorbing base, and the Monte Carlo of the whole skin.
 
+mod common;
+use common::stam_slab;
 use sssbake_profile::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
 use sssbake_profile::material::{Layer, Material, Optics, TopLayer};
 use sssbake_profile::model::{Model, build_profile};
@@ -129,13 +131,7 @@ fn a_vanishing_smooth_epidermis_is_the_fresnel_boundary_the_bake_used_before() {
 /// absorbing base, by the Monte Carlo in three channels of `albedos`:
 /// (value, standard error) per channel, the face's reflection included.
 fn monte_carlo_on_absorber(l: StamLayer, albedos: [f64; 3], mu_out: f64) -> [[f64; 2]; 3] {
-    let slab = Layer {
-        sigma_a: albedos.map(|a| 1.0 - a),
-        sigma_s: albedos,
-        g: l.g,
-        ior: l.eta,
-        thickness_mm: Some(l.optical_depth),
-    };
+    let slab = stam_slab(l, albedos);
     let absorber = Layer::semi_infinite([1e3; 3], [0.0; 3], l.eta);
     let cos_inside = (1.0 - (1.0 - mu_out * mu_out) / (l.eta * l.eta)).sqrt();
     let mut settings = Settings::new(100_000, 5, vec![0.0, 1e9]);
