@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what the tests need, once: the Debian libraries bpy loads when
-# headless, and a repository-local Python venv (.venv) with the pinned
-# packages of tests/requirements.txt. Re-running reuses what is there.
+# headless and Debian's Chromium, a repository-local Python venv (.venv) with
+# the pinned packages of tests/requirements.txt, and the pinned Node.js
+# packages of tests/node into .node. Re-running reuses what is there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -34,11 +35,24 @@ if [ "$(cat "$stamp" 2>/dev/null)" != "$wanted" ]; then
     echo "$wanted" > "$stamp"
 fi
 
-# The Khronos glTF validator, from the npm registry, into .node/ (git-ignored).
-validator_version=2.0.0-dev.3.10
-if [ ! -f .node/node_modules/gltf-validator/package.json ] ||
-    ! grep -q "\"version\": \"$validator_version\"" .node/node_modules/gltf-validator/package.json; then
-    command -v npm >/dev/null || { echo "error: the glTF validator needs Node.js and npm" >&2; exit 1; }
-    echo "installing gltf-validator $validator_version into .node"
-    npm install --silent --no-audit --no-fund --prefix .node "gltf-validator@$validator_version" >/dev/null
+# Chromium, from Debian's packages, for the web viewers' check (tests/test_web_viewers.py).
+if ! command -v chromium >/dev/null; then
+    echo "installing Debian's Chromium for the web viewers' check"
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends chromium >/dev/null
+fi
+
+# From the npm registry, into .node/ (git-ignored), as tests/node/package-lock.json pins them:
+# the Khronos glTF validator, three.js, model-viewer and playwright-core (which drives Chromium).
+command -v npm >/dev/null || { echo "error: the glTF validator and the web viewers need Node.js and npm" >&2; exit 1; }
+node_stamp=.node/.package-lock.sha256
+node_wanted=$(cat tests/node/package.json tests/node/package-lock.json | sha256sum | cut -d' ' -f1)
+if [ "$(cat "$node_stamp" 2>/dev/null)" != "$node_wanted" ]; then
+    echo "installing the Node.js test packages into .node"
+    mkdir -p .node
+    cp tests/node/package.json tests/node/package-lock.json .node/
+    (cd .node && npm ci --silent --no-audit --no-fund >/dev/null)
+    echo "$node_wanted" > "$node_stamp"
 fi
