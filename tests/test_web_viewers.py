@@ -21,6 +21,7 @@ import subprocess
 import numpy as np
 import pytest
 from conftest import ROOT, bake_summary, exr, png_rgb, srgb_to_linear
+from traced_view import assert_shows, nothing_outside, radiance_at, smooth_pixels
 
 RESOLUTION = 256
 SIZE = 512
@@ -90,30 +91,6 @@ def pbr_neutral(colour: np.ndarray) -> np.ndarray:
     return np.where(peak < start, colour, compressed)
 
 
-def bilinear(image: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """`image` (rows top to bottom) at glTF texture coordinates (origin at the top left),
-    filtered bilinearly between texel centres, as a GPU samples it."""
-    height, width, _ = image.shape
-    x = np.clip(u * width - 0.5, 0, width - 1)
-    y = np.clip(v * height - 0.5, 0, height - 1)
-    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
-    x1, y1 = np.minimum(x0 + 1, width - 1), np.minimum(y0 + 1, height - 1)
-    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
-    top = image[y0, x0] * (1 - fx) + image[y0, x1] * fx
-    bottom = image[y1, x0] * (1 - fx) + image[y1, x1] * fx
-    return top * (1 - fy) + bottom * fy
-
-
-def window_spread(image: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray]:
-    """Per pixel and channel, the largest and smallest value in the size × size window
-    whose top left is `size // 2` pixels up and left (edges repeated)."""
-    before = size // 2
-    padded = np.pad(image, ((before, size - 1 - before), (before, size - 1 - before), (0, 0)), mode="edge")
-    rows, columns = image.shape[:2]
-    windows = np.stack([padded[y : y + rows, x : x + columns] for y in range(size) for x in range(size)])
-    return windows.max(axis=0), windows.min(axis=0)
-
-
 def shoot(viewer: str, out: pathlib.Path, name: str, exposure: float, tmp_path: pathlib.Path) -> dict:
     """Runs tests/viewer/shoot.mjs for one viewer; returns the screenshot (linear display
     values, rows top to bottom), the texture coordinates and coverage of the uv pass, and
@@ -170,44 +147,13 @@ def test_a_web_viewer_shows_the_baked_radiance(browser, bakes, viewer, name, tmp
     assert report["lights"] >= 1
 
     # What the viewer's pipeline makes of the map at each covered pixel.
-    radiance = np.zeros_like(look)
-    radiance[covered] = bilinear(diffuse, uv[covered, 0], uv[covered, 1])
+    radiance = radiance_at(diffuse, uv, covered)
     if viewer == "three":
         expected = np.clip(exposure * radiance, 0, 1)
     else:
         assert report["toneMapping"] == "auto" and report["environment"] is None
         expected = pbr_neutral(exposure * MODEL_VIEWER_EXPOSURE_GAIN * radiance)
-
-    # Where the map is smooth: the pixel's 3 × 3 neighbours all on the object and within
-    # 5% of each other, and the texels around the ones it filters within 5% too (not a
-    # chart edge, where a coarser mip level mixes in the margin).
-    inside = window_spread(covered[..., None].astype(float), 3)[1][..., 0] > 0.5
-    high, low = window_spread(expected, 3)
-    texel_high, texel_low = window_spread(diffuse, 4)
-    height, width, _ = diffuse.shape
-    tx = np.clip((uv[..., 0] * width - 0.5).astype(int), 0, width - 1)
-    ty = np.clip((uv[..., 1] * height - 0.5).astype(int), 0, height - 1)
-    # The 4 × 4 window at (tx + 1, ty + 1) holds the 2 × 2 texels filtered and one more on
-    # each side.
-    tx1, ty1 = np.minimum(tx + 1, width - 1), np.minimum(ty + 1, height - 1)
-    texel_smooth = texel_high[ty1, tx1] <= 1.05 * texel_low[ty1, tx1]
-    # A pixel spanning at most 2 texels, so the mip level it reads stays within that
-    # window (not where a sphere's texture coordinates meet at its pole).
-    texels = uv * np.array([width, height])
-    step = np.maximum(
-        np.abs(np.diff(texels, axis=0, append=texels[-1:])).max(axis=2),
-        np.abs(np.diff(texels, axis=1, append=texels[:, -1:])).max(axis=2),
-    )
-    fine = step <= 2.0
     # Bright enough that one 8-bit step of the sRGB output is under 2%.
-    chosen = (inside & fine)[..., None] & (high <= 1.05 * low) & texel_smooth & (expected > 0.2)
-    assert chosen.sum() > 2000, chosen.sum()
-    relative = np.abs(look[chosen] - expected[chosen]) / expected[chosen]
-    assert np.median(relative) < 0.006, np.median(relative)
-    assert relative.max() < 0.02, relative.max()
-    # On average neither brighter (a second lighting) nor darker (a clip or a lost strength).
-    assert abs(np.mean(look[chosen] / expected[chosen]) - 1) < 0.003
-
-    # Nothing drawn where the object is not (away from its antialiased silhouette).
-    near_object = window_spread(covered[..., None].astype(float), 5)[0][..., 0] > 0.5
-    assert look[~near_object].max() == 0
+    chosen = smooth_pixels(expected, covered, uv, diffuse) & (expected > 0.2)
+    assert_shows(look, expected, chosen)
+    assert nothing_outside(look, covered)
