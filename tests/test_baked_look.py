@@ -4,12 +4,14 @@ material; the glTF copy's emissive PNG does not clip and its strength restores t
 Blender imports both and renders the bake at the map's brightness."""
 
 import json
+import math
 import pathlib
 import subprocess
 
 import numpy as np
 import pytest
 from conftest import ROOT, bake_summary, exr, png_rgb, run, srgb_to_linear, usd_validation_errors
+from traced_view import assert_shows, nothing_outside, radiance_at, smooth_pixels
 
 HEAD = ROOT / "examples" / "head"
 RESOLUTION = 128
@@ -317,3 +319,103 @@ def test_blender_renders_the_usd_layer_at_the_maps_brightness(usd_bake, tmp_path
     rendered = render_flat(bpy, material, uv_map_name(material), tmp_path / "usd.exr", engine)
     diffuse = exr(out / "Head_diffuse.exr").astype(np.float64)
     assert_renders_the_map(rendered, as_rendered(diffuse, engine), 0.01)
+
+
+# (d) The imported head from a camera, as a person looks at it in Blender.
+
+VIEW_SIZE = 320
+
+
+def aim_camera(bpy, target, direction, distance: float):
+    """A 30° perspective camera `distance` from `target`, looking back along `direction`."""
+    from mathutils import Vector
+
+    scene = bpy.context.scene
+    camera = bpy.data.objects.new("View", bpy.data.cameras.new("View"))
+    camera.data.angle = math.radians(30)
+    camera.location = Vector(target) + Vector(direction).normalized() * distance
+    camera.rotation_euler = (Vector(target) - camera.location).to_track_quat("-Z", "Y").to_euler()
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+
+
+def render_view(bpy, engine: str, path: pathlib.Path) -> np.ndarray:
+    """The scene from its camera by `engine` into a linear RGBA EXR with a transparent
+    film and a black world; rows top to bottom."""
+    import OpenEXR
+
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("Black")
+    world.color = (0, 0, 0)
+    scene.world = world
+    scene.render.engine = engine
+    scene.render.film_transparent = True
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 4
+    scene.cycles.use_adaptive_sampling = False
+    scene.cycles.use_denoising = False
+    scene.cycles.filter_width = 0.01
+    scene.eevee.taa_render_samples = 64
+    scene.render.filter_size = 0.01
+    scene.render.resolution_x = scene.render.resolution_y = VIEW_SIZE
+    scene.render.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_mode = "RGBA"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    return OpenEXR.File(str(path)).parts[0].channels["RGBA"].pixels.astype(np.float64)
+
+
+def texture_coordinates(bpy, mesh_object, uv_name: str, path: pathlib.Path) -> tuple[np.ndarray, np.ndarray]:
+    """Each pixel's texture coordinates (origin at the image's top left) and whether the
+    object covers it, from the same camera, every material showing its UVs as emission."""
+    material = bpy.data.materials.new("Coordinates")
+    nodes = material.node_tree.nodes
+    nodes.clear()
+    coordinates = nodes.new("ShaderNodeUVMap")
+    coordinates.uv_map = uv_name
+    emission = nodes.new("ShaderNodeEmission")
+    output = nodes.new("ShaderNodeOutputMaterial")
+    material.node_tree.links.new(coordinates.outputs["UV"], emission.inputs["Color"])
+    material.node_tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
+    for slot in mesh_object.material_slots:
+        slot.link = "OBJECT"
+        slot.material = material
+    pixels = render_view(bpy, "CYCLES", path)
+    uv = np.stack([pixels[..., 0], 1.0 - pixels[..., 1]], axis=-1)
+    return uv, pixels[..., 3] > 0.999
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+@pytest.mark.parametrize("asset", ["gltf", "usd"])
+def test_blender_shows_the_imported_head_at_the_maps_radiance(gltf_bake, usd_bake, tmp_path, engine, asset):
+    """The glTF copy or the USD layer imported with its lights, seen from a camera: every
+    pixel where the map is smooth shows the map's radiance, nothing added by the lights."""
+    import bpy
+
+    out, _ = gltf_bake if asset == "gltf" else usd_bake
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if asset == "gltf":
+        bpy.ops.import_scene.gltf(filepath=str(out / "head.gltf"))
+    else:
+        bpy.ops.wm.usd_import(filepath=str(out / "head_sssbake.usda"))
+    scene = bpy.context.scene
+    assert [o for o in scene.objects if o.type == "LIGHT"], "the asset's lights are in the scene"
+    (head,) = [o for o in scene.objects if o.type == "MESH"]
+    from mathutils import Vector
+
+    corners = np.array([head.matrix_world @ Vector(c) for c in head.bound_box])
+    centre, size = corners.mean(axis=0), float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
+    # From above and behind, where the key light falls (the web check's view of the head).
+    aim_camera(bpy, centre, (0.0, 0.84, 0.54), 1.2 * size)
+    look = render_view(bpy, engine, tmp_path / "look.exr")
+    uv, covered = texture_coordinates(bpy, head, uv_map_name(head.active_material), tmp_path / "uv.exr")
+
+    diffuse = exr(out / "Head_diffuse.exr").astype(np.float64)
+    expected = radiance_at(diffuse, uv, covered)
+    chosen = smooth_pixels(expected, covered, uv, diffuse) & (expected > 0.2 * diffuse.max())
+    assert_shows(look[..., :3], expected, chosen)
+    assert nothing_outside(look[..., :3], covered)
