@@ -157,7 +157,7 @@ def add_usd_subsurface(path):
 
 
 def head():
-    """Suzanne at the size of a head (about 20 cm across), twice subdivided."""
+    """Suzanne at the size of a head (about 20 cm across), twice subdivided, in skin."""
     reset()
     bpy.ops.mesh.primitive_monkey_add(size=0.2)
     obj = bpy.context.active_object
@@ -167,7 +167,6 @@ def head():
     finish(obj, translucent_material("Skin", (0.8, 0.55, 0.45), (1.0, 0.35, 0.2), SKIN_SCALE))
     sun("Key", (math.radians(50), 0, math.radians(30)), 1.0)
     point("Rim", (0.05, 0.4, 0.1), 40.0, 0.05)
-    export("head")
 
 
 def marble():
@@ -178,7 +177,6 @@ def marble():
     obj.name = "Ball"
     finish(obj, translucent_material("Marble", (0.83, 0.79, 0.75), MARBLE_RADIUS, MARBLE_SCALE, ior=1.5))
     sun("Sun", (math.radians(60), 0, math.radians(-20)), 3.0)
-    export("marble")
 
 
 def ear():
@@ -205,11 +203,15 @@ def ear():
     bpy.ops.object.mode_set(mode="OBJECT")
     sun("Back", (math.radians(180), 0, 0), 3.0)
     sun("Front", (0, 0, 0), 0.3)
-    export("ear")
 
+
+# Each example's scene, built in the current Blender session (other scripts build them to
+# render the original beside the bake).
+SCENES = {"head": head, "marble": marble, "ear": ear}
 
 if __name__ == "__main__":
-    names = sys.argv[1:] or ["head", "marble", "ear"]
+    names = sys.argv[1:] or list(SCENES)
     for example in names:
-        {"head": head, "marble": marble, "ear": ear}[example]()
+        SCENES[example]()
+        export(example)
         print(f"wrote examples/{example}")

@@ -417,5 +417,6 @@ def test_blender_shows_the_imported_head_at_the_maps_radiance(gltf_bake, usd_bak
     diffuse = exr(out / "Head_diffuse.exr").astype(np.float64)
     expected = radiance_at(diffuse, uv, covered)
     chosen = smooth_pixels(expected, covered, uv, diffuse) & (expected > 0.2 * diffuse.max())
-    assert_shows(look[..., :3], expected, chosen)
+    shown = assert_shows(look[..., :3], expected, chosen)
+    print(f"{engine} shows the {asset} import: {shown}")
     assert nothing_outside(look[..., :3], covered)
