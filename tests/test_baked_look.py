@@ -184,6 +184,37 @@ def test_the_gltf_copy_passes_the_khronos_validator(gltf_bake):
 # (c) Blender imports both and renders the bake at the map's brightness.
 
 
+def render_view(bpy, engine: str, path: pathlib.Path, size: int) -> np.ndarray:
+    """The scene from its camera by `engine` (Cycles or EEVEE), size × size pixels, into a
+    linear RGBA EXR with a transparent film and a black world; rows top to bottom. Both
+    engines' film filters are narrowed to 0.01 pixel."""
+    import OpenEXR
+
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("Black")
+    world.color = (0, 0, 0)
+    scene.world = world
+    scene.render.engine = engine
+    scene.render.film_transparent = True
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 4
+    scene.cycles.use_adaptive_sampling = False
+    scene.cycles.use_denoising = False
+    scene.cycles.filter_width = 0.01
+    scene.eevee.taa_render_samples = 64
+    scene.render.filter_size = 0.01
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_mode = "RGBA"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    return OpenEXR.File(str(path)).parts[0].channels["RGBA"].pixels.astype(np.float64)
+
+
 def render_flat(bpy, material, uv_name: str, path: pathlib.Path, engine: str) -> np.ndarray:
     """`material` on a 2 × 2 square whose UVs span [0, 1]², seen square-on by an
     orthographic camera that puts one pixel on each texel, rendered by `engine` (Cycles or
@@ -207,28 +238,7 @@ def render_flat(bpy, material, uv_name: str, path: pathlib.Path, engine: str) ->
     camera.location = (0, 0, 5)
     scene.collection.objects.link(camera)
     scene.camera = camera
-    world = bpy.data.worlds.new("Black")
-    world.color = (0, 0, 0)
-    scene.world = world
-    scene.render.engine = engine
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = 4
-    scene.cycles.use_adaptive_sampling = False
-    scene.cycles.use_denoising = False
-    scene.cycles.filter_width = 0.01
-    # EEVEE's film filter, likewise narrowed to the pixel.
-    scene.eevee.taa_render_samples = 64
-    scene.render.filter_size = 0.01
-    scene.render.resolution_x = scene.render.resolution_y = RESOLUTION
-    scene.render.resolution_percentage = 100
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_mode = "RGB"
-    scene.render.image_settings.color_depth = "32"
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
-    return exr(path).astype(np.float64)
+    return render_view(bpy, engine, path, RESOLUTION)[..., :3]
 
 
 def assert_renders_the_map(rendered: np.ndarray, diffuse: np.ndarray, tolerance: float):
@@ -339,36 +349,6 @@ def aim_camera(bpy, target, direction, distance: float):
     scene.camera = camera
 
 
-def render_view(bpy, engine: str, path: pathlib.Path) -> np.ndarray:
-    """The scene from its camera by `engine` into a linear RGBA EXR with a transparent
-    film and a black world; rows top to bottom."""
-    import OpenEXR
-
-    scene = bpy.context.scene
-    world = bpy.data.worlds.new("Black")
-    world.color = (0, 0, 0)
-    scene.world = world
-    scene.render.engine = engine
-    scene.render.film_transparent = True
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = 4
-    scene.cycles.use_adaptive_sampling = False
-    scene.cycles.use_denoising = False
-    scene.cycles.filter_width = 0.01
-    scene.eevee.taa_render_samples = 64
-    scene.render.filter_size = 0.01
-    scene.render.resolution_x = scene.render.resolution_y = VIEW_SIZE
-    scene.render.resolution_percentage = 100
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_mode = "RGBA"
-    scene.render.image_settings.color_depth = "32"
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
-    return OpenEXR.File(str(path)).parts[0].channels["RGBA"].pixels.astype(np.float64)
-
-
 def texture_coordinates(bpy, mesh_object, uv_name: str, path: pathlib.Path) -> tuple[np.ndarray, np.ndarray]:
     """Each pixel's texture coordinates (origin at the image's top left) and whether the
     object covers it, from the same camera, every material showing its UVs as emission."""
@@ -384,7 +364,7 @@ def texture_coordinates(bpy, mesh_object, uv_name: str, path: pathlib.Path) -> t
     for slot in mesh_object.material_slots:
         slot.link = "OBJECT"
         slot.material = material
-    pixels = render_view(bpy, "CYCLES", path)
+    pixels = render_view(bpy, "CYCLES", path, VIEW_SIZE)
     uv = np.stack([pixels[..., 0], 1.0 - pixels[..., 1]], axis=-1)
     return uv, pixels[..., 3] > 0.999
 
@@ -411,7 +391,7 @@ def test_blender_shows_the_imported_head_at_the_maps_radiance(gltf_bake, usd_bak
     centre, size = corners.mean(axis=0), float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
     # From above and behind, where the key light falls (the web check's view of the head).
     aim_camera(bpy, centre, (0.0, 0.84, 0.54), 1.2 * size)
-    look = render_view(bpy, engine, tmp_path / "look.exr")
+    look = render_view(bpy, engine, tmp_path / "look.exr", VIEW_SIZE)
     uv, covered = texture_coordinates(bpy, head, uv_map_name(head.active_material), tmp_path / "uv.exr")
 
     diffuse = exr(out / "Head_diffuse.exr").astype(np.float64)
