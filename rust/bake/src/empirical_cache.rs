@@ -5,14 +5,14 @@
 //! that key in full, so a stale or colliding file is fitted anew. A slice
 //! does not depend on σt, so media that differ only in scale share it.
 //! The oblique-incidence tallies of each channel
-//! ([`sssbake_profile::empirical_oblique`]) are kept the same way, keyed
+//! ([`sssbake_profile::models::empirical::oblique`]) are kept the same way, keyed
 //! by the same optics and annuli.
 
 use crate::monte_carlo_cache::{cached, file_for};
 use sssbake_profile::Material;
-use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings, Slice, SliceOptics};
-use sssbake_profile::empirical_kernel::ObliqueKernel;
-use sssbake_profile::empirical_oblique::{DEFAULT_OBLIQUE_PHOTONS, ObliqueSlice};
+use sssbake_profile::models::empirical::kernel::ObliqueKernel;
+use sssbake_profile::models::empirical::oblique::{DEFAULT_OBLIQUE_PHOTONS, ObliqueSlice};
+use sssbake_profile::models::empirical::{EmpiricalProfile, EmpiricalSettings, Slice, SliceOptics};
 use std::path::{Path, PathBuf};
 
 /// Changes whenever the simulation or the fit change meaning without the

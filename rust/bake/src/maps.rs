@@ -17,7 +17,7 @@ use crate::surface::dilation::seam_aware_offsets;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::thin::inward_thickness;
 use serde::{Deserialize, Serialize};
-use sssbake_profile::surface::Surface;
+use sssbake_profile::boundary::surface::Surface;
 
 /// A map sssbake can write.
 #[derive(

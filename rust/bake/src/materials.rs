@@ -19,7 +19,9 @@ use crate::error::{Error, InputError};
 use crate::scene::SceneObject;
 use serde::Deserialize;
 use sssbake_profile::appearance::channel_mean_free_paths;
-pub use sssbake_profile::cycles::{AlbedoMapping, PrincipledSubsurface, SubsurfaceMethod};
+pub use sssbake_profile::appearance::cycles::{
+    AlbedoMapping, PrincipledSubsurface, SubsurfaceMethod,
+};
 use sssbake_profile::presets;
 use sssbake_profile::{Appearance, Material};
 use std::collections::BTreeMap;

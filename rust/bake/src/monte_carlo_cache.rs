@@ -6,10 +6,10 @@
 //! trusted. A cache that cannot be read or written costs time, never a bake.
 
 use sssbake_profile::Material;
-use sssbake_profile::monte_carlo::{Settings, simulate};
-use sssbake_profile::monte_carlo_profile::{
+use sssbake_profile::models::monte_carlo::profile::{
     MonteCarloProfile, ProfileSettings, tallies_are_physical,
 };
+use sssbake_profile::models::monte_carlo::{Settings, simulate};
 use std::path::{Path, PathBuf};
 
 /// The environment variable naming the cache folder (else the user's

@@ -12,8 +12,8 @@ use crate::scattering::D_MAX_EPSILON;
 use crate::transport::Method;
 use crate::transport::integrator::IntegratorSettings;
 use serde::{Deserialize, Serialize};
+use sssbake_profile::boundary::rough::MAX_ROUGHNESS;
 use sssbake_profile::model::Model;
-use sssbake_profile::rough::MAX_ROUGHNESS;
 use std::sync::Arc;
 
 /// The largest map side, texels.

@@ -7,12 +7,12 @@ use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::transport::kernel::Kernel;
 use crate::transport::local_slab::LocalSlab;
 use sssbake_profile::Material;
-use sssbake_profile::empirical::EmpiricalSettings;
-use sssbake_profile::empirical_kernel::ObliqueKernel;
+use sssbake_profile::boundary::surface::Surface;
 use sssbake_profile::model::{Model, ModelError, build_profile};
-use sssbake_profile::monte_carlo_profile::ProfileSettings;
+use sssbake_profile::models::empirical::EmpiricalSettings;
+use sssbake_profile::models::empirical::kernel::ObliqueKernel;
+use sssbake_profile::models::monte_carlo::profile::ProfileSettings;
 use sssbake_profile::profile::Profile;
-use sssbake_profile::surface::Surface;
 use std::sync::OnceLock;
 
 /// Share of the reflectance left outside d_max when none is asked for.

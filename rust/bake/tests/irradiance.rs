@@ -11,7 +11,7 @@ use sssbake::irradiance::environment::EnvironmentMap;
 use sssbake::irradiance::{IrradianceSettings, Receivers, transmitted_irradiance};
 use sssbake::rays::RayScene;
 use sssbake::{Light, LightKind, Mesh};
-use sssbake_profile::fresnel::dielectric_reflectance;
+use sssbake_profile::boundary::fresnel::dielectric_reflectance;
 use std::f64::consts::PI;
 
 const ETA: f64 = 1.3;

@@ -16,11 +16,11 @@ use sssbake::transport::importance::{self, Oblique, Surface};
 use sssbake::transport::oblique_sum;
 use sssbake::transport::sources::{OwnSource, Targets};
 use sssbake::{BakeRequest, plan};
-use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings, SliceOptics};
-use sssbake_profile::empirical_kernel::ObliqueKernel;
-use sssbake_profile::empirical_oblique::ObliqueSlice;
 use sssbake_profile::material::{Material, Optics};
 use sssbake_profile::model::Model;
+use sssbake_profile::models::empirical::kernel::ObliqueKernel;
+use sssbake_profile::models::empirical::oblique::ObliqueSlice;
+use sssbake_profile::models::empirical::{EmpiricalProfile, EmpiricalSettings, SliceOptics};
 use sssbake_profile::presets::preset;
 
 const PHOTONS: u64 = 100_000;

@@ -428,7 +428,7 @@ fn a_request_out_of_range_names_its_setting() {
 /// the request's roughness overrides every material's.
 #[test]
 fn a_rough_surface_sets_entry_and_exit_and_the_request_overrides_it() {
-    use sssbake_profile::rough::{diffuse_transmittance, hemispherical_transmittance};
+    use sssbake_profile::boundary::rough::{diffuse_transmittance, hemispherical_transmittance};
     let scene = scene(
         vec![centred_square(60.0, "square")],
         vec![sun_from(Vec3::NEG_Z)],

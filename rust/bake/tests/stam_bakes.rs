@@ -12,10 +12,10 @@ use sssbake::image::Image;
 use sssbake::materials::MaterialAssignment;
 use sssbake::transport::Method;
 use sssbake::{BakeRequest, BakedObject, Output, bake, plan};
-use sssbake_profile::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
+use sssbake_profile::boundary::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
+use sssbake_profile::boundary::surface::Surface;
 use sssbake_profile::material::{Layer, Material, Optics, TopLayer};
 use sssbake_profile::presets::preset;
-use sssbake_profile::surface::Surface;
 
 /// Bakes a 60 mm square lit by a sun at incidence cosine `cos` with
 /// `material`, by the exact sum, at 48².

@@ -301,7 +301,7 @@ fn a_stam_topped_skin_blurs_a_shadow_edge_as_its_half_plane_integral() {
 #[test]
 fn the_monte_carlo_profile_bakes_and_is_simulated_once() {
     use sssbake::monte_carlo_cache::{cache_file, monte_carlo_profile};
-    use sssbake_profile::monte_carlo_profile::ProfileSettings;
+    use sssbake_profile::models::monte_carlo::profile::ProfileSettings;
     let dir = std::env::temp_dir().join(format!("sssbake-mc-cache-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let material = sssbake::materials::preset("skin1").unwrap();
@@ -355,7 +355,7 @@ fn the_monte_carlo_profile_bakes_and_is_simulated_once() {
 #[test]
 fn the_empirical_profile_bakes_and_is_fitted_once() {
     use sssbake::empirical_cache::{cache_file, empirical_profile};
-    use sssbake_profile::empirical::EmpiricalSettings;
+    use sssbake_profile::models::empirical::EmpiricalSettings;
     let dir = std::env::temp_dir().join(format!("sssbake-empirical-cache-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let material = sssbake::materials::preset("skin1").unwrap();

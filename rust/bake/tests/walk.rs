@@ -9,7 +9,7 @@ use sssbake::walk::{
     WalkSettings, WalkTargets, walk_exitance,
 };
 use sssbake_profile::material::Layer;
-use sssbake_profile::monte_carlo::{Settings, simulate};
+use sssbake_profile::models::monte_carlo::{Settings, simulate};
 
 /// Texels of the light map the box faces fall in (a 4 × 4 map): the top
 /// face covers texels x, y ∈ {0, 1}, the bottom x ∈ {2, 3}, y ∈ {0, 1},
@@ -456,8 +456,8 @@ fn extreme_media_give_finite_bounded_exitance_within_the_event_bound() {
 /// apart).
 #[test]
 fn the_empirical_model_returns_the_light_of_the_walk() {
-    use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings};
     use sssbake_profile::material::{Material, Optics, TopLayer};
+    use sssbake_profile::models::empirical::{EmpiricalProfile, EmpiricalSettings};
     use sssbake_profile::profile::Profile;
     let material = Material {
         name: "walk's media".into(),

@@ -5,8 +5,8 @@
 //! `plot::render_png`).
 
 use crate::plot::{COLOURS, escape, tick};
-use sssbake_profile::stam::StamResponse;
-use sssbake_profile::stam::epidermis::Epidermis;
+use sssbake_profile::models::stam::StamResponse;
+use sssbake_profile::models::stam::epidermis::Epidermis;
 use std::f64::consts::PI;
 use std::fmt::Write;
 

@@ -9,8 +9,8 @@ use crate::stam_report::per_angle;
 use serde_json::json;
 use sssbake::Error;
 use sssbake_profile::Material;
-use sssbake_profile::stam::contact::ContactTotals;
-use sssbake_profile::stam::epidermis::Epidermis;
+use sssbake_profile::models::stam::contact::ContactTotals;
+use sssbake_profile::models::stam::epidermis::Epidermis;
 
 /// The top layer of `material` solved in contact, per channel.
 pub fn solve(material: &Material) -> Result<Epidermis, Error> {

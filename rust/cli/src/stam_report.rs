@@ -5,8 +5,8 @@ use crate::angle_plot::degrees;
 use serde_json::{Value, json};
 use sssbake::Error;
 use sssbake_profile::Material;
-use sssbake_profile::stam::material::solve_material;
-use sssbake_profile::stam::{StamResponse, StamSettings};
+use sssbake_profile::models::stam::material::solve_material;
+use sssbake_profile::models::stam::{StamResponse, StamSettings};
 use std::f64::consts::PI;
 
 /// The layer's response per channel, or why the material has none.

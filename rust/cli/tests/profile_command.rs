@@ -268,8 +268,8 @@ fn bad_input_gets_a_clear_error() {
 
 #[test]
 fn stam_reports_angles_and_the_library_numbers() {
-    use sssbake_profile::stam::StamSettings;
-    use sssbake_profile::stam::material::solve_material;
+    use sssbake_profile::models::stam::StamSettings;
+    use sssbake_profile::models::stam::material::solve_material;
     let out = json(&[
         "profile",
         "--preset",
@@ -358,9 +358,9 @@ fn stam_reports_angles_and_the_library_numbers() {
 /// the light a face against air would have sent back up.
 #[test]
 fn stam_shows_a_declared_top_layer_in_contact_with_the_layer_beneath() {
-    use sssbake_profile::stam::StamSettings;
-    use sssbake_profile::stam::epidermis::Epidermis;
-    use sssbake_profile::stam::material::layers_for;
+    use sssbake_profile::models::stam::StamSettings;
+    use sssbake_profile::models::stam::epidermis::Epidermis;
+    use sssbake_profile::models::stam::material::layers_for;
     let out = json(&[
         "profile",
         "--preset",

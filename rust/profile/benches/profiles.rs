@@ -5,7 +5,7 @@
 //! second on one core. Run: `cargo bench -p sssbake-profile`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use sssbake_profile::monte_carlo::{Settings, edges_around, simulate};
+use sssbake_profile::models::monte_carlo::{Settings, edges_around, simulate};
 use sssbake_profile::presets::preset;
 use sssbake_profile::{Layered, Model, Profile, build_profile};
 use std::hint::black_box;

@@ -33,53 +33,27 @@
 //! ```
 
 pub mod appearance;
-pub mod burley;
-pub mod cycles;
-pub mod dipole;
-pub mod empirical;
-pub mod empirical_fit;
-pub mod empirical_kernel;
-pub mod empirical_lobe;
-pub mod empirical_oblique;
-pub mod empirical_simulation;
-pub mod fresnel;
-pub mod gaussians;
-pub mod hankel;
-pub mod images;
-pub mod inversion;
-pub mod layered;
+pub mod boundary;
+pub mod diffusion;
 pub mod material;
-pub mod medium;
 pub mod model;
-pub mod monte_carlo;
-mod monte_carlo_faces;
-pub mod monte_carlo_profile;
-pub mod multipole;
+pub mod models;
+pub mod numerics;
 pub mod presets;
 pub mod profile;
-pub mod quadrature;
-pub mod rng;
-pub mod roots;
-pub mod rough;
-pub mod slab;
-pub mod split;
-pub mod stam;
-pub mod stam_topped;
-pub mod surface;
-pub mod tabulated;
 
 pub use appearance::Appearance;
-pub use burley::Burley;
-pub use dipole::Dipole;
-pub use empirical::EmpiricalProfile;
-pub use gaussians::{GaussianFit, SumOfGaussians};
-pub use layered::Layered;
 pub use material::{Layer, Material, MaterialError, Optics};
 pub use model::{Model, ModelError, build_profile};
-pub use monte_carlo_profile::MonteCarloProfile;
-pub use multipole::Multipole;
+pub use models::burley::Burley;
+pub use models::dipole::Dipole;
+pub use models::empirical::EmpiricalProfile;
+pub use models::gaussians::{GaussianFit, SumOfGaussians};
+pub use models::layered::Layered;
+pub use models::monte_carlo::profile::MonteCarloProfile;
+pub use models::multipole::Multipole;
+pub use models::tabulated::Tabulated;
 pub use profile::Profile;
-pub use tabulated::Tabulated;
 
 /// One value per colour channel, in the order red, green, blue.
 pub type Rgb = [f64; 3];

@@ -3,9 +3,9 @@
 //! file and the field.
 
 use crate::Rgb;
-use crate::gaussians::SumOfGaussians;
-use crate::medium::Medium;
-use crate::rough::MAX_ROUGHNESS;
+use crate::boundary::rough::MAX_ROUGHNESS;
+use crate::diffusion::medium::Medium;
+use crate::models::gaussians::SumOfGaussians;
 use serde::Deserialize;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use std::fmt;
@@ -57,11 +57,11 @@ pub enum TopLayer {
     /// By diffusion, as every layer of the stack.
     #[default]
     Diffusion,
-    /// By Stam 2001's discrete ordinates ([`crate::stam`]): a thin surface
+    /// By Stam 2001's discrete ordinates ([`crate::models::stam`]): a thin surface
     /// layer (an epidermis) whose faces are the material's surface, with
     /// its own roughness. Light enters through its angular transmittance
     /// T(θi) and the layers below see its totals, with no lateral spread
-    /// ([`crate::stam_topped`]). TOML: `model = "stam"` in the first
+    /// ([`crate::models::stam::topped`]). TOML: `model = "stam"` in the first
     /// `[[layers]]` table.
     Stam,
     /// By diffusion, under Blender's Principled specular layer (the coat,
@@ -70,7 +70,7 @@ pub enum TopLayer {
     /// enters, since Cycles lights the point a subsurface walk leaves
     /// through a plain diffuse closure (`subsurface_shader_data_setup` in
     /// `kernel/integrator/subsurface.h`). Set by
-    /// [`crate::cycles::PrincipledSubsurface::to_material`].
+    /// [`crate::appearance::cycles::PrincipledSubsurface::to_material`].
     PrincipledSpecular,
 }
 

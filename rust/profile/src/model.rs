@@ -1,15 +1,15 @@
 //! Choosing and building the profile a material needs.
 
-use crate::burley::Burley;
-use crate::dipole::Dipole;
-use crate::empirical::{EmpiricalProfile, EmpiricalSettings};
-use crate::gaussians::fit_gaussians;
-use crate::layered::Layered;
 use crate::material::{Layer, Material, Optics, TopLayer};
-use crate::monte_carlo_profile::{MonteCarloProfile, ProfileSettings};
-use crate::multipole::{DEFAULT_ACCURACY, Multipole};
+use crate::models::burley::Burley;
+use crate::models::dipole::Dipole;
+use crate::models::empirical::{EmpiricalProfile, EmpiricalSettings};
+use crate::models::gaussians::fit_gaussians;
+use crate::models::layered::Layered;
+use crate::models::monte_carlo::profile::{MonteCarloProfile, ProfileSettings};
+use crate::models::multipole::{DEFAULT_ACCURACY, Multipole};
+use crate::models::stam::topped::StamTopped;
 use crate::profile::Profile;
-use crate::stam_topped::StamTopped;
 
 /// The profile models sssbake offers.
 #[derive(
@@ -39,9 +39,9 @@ pub enum Model {
     /// The Monte Carlo photon-transport reference, smoothed into a profile.
     MonteCarlo,
     /// Stam 2001's plane-parallel layer between smooth or rough faces, by
-    /// discrete ordinates: R(θi), T(θi) and BRDFs ([`crate::stam`]); as a
+    /// discrete ordinates: R(θi), T(θi) and BRDFs ([`crate::models::stam`]); as a
     /// material's declared top layer, the surface of the stack below it
-    /// ([`crate::stam_topped`]).
+    /// ([`crate::models::stam::topped`]).
     Stam,
     /// Donner et al. 2009's empirical BSSRDF: elliptic lobes fitted to
     /// photon tracing of the top layer, whose exitance (the simulated one)

@@ -6,8 +6,8 @@
 //! six-Gaussian skin.
 
 use crate::Rgb;
-use crate::gaussians::SumOfGaussians;
 use crate::material::{Layer, Material, Optics, TopLayer};
+use crate::models::gaussians::SumOfGaussians;
 
 /// Jensen et al. 2001, table of measured parameters: name, σs' (1/mm) and
 /// σa (1/mm) per channel. All were measured with η = 1.3 and are given as

@@ -1,7 +1,7 @@
 //! The interface every reflectance profile offers, whatever model made it.
 
 use crate::Rgb;
-use crate::roots::radius_where;
+use crate::numerics::roots::radius_where;
 
 /// A radially symmetric diffusion profile per RGB channel.
 ///

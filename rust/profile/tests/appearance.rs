@@ -2,8 +2,8 @@
 //! dipole shows exactly that colour, on ordinary and extreme inputs.
 
 use sssbake_profile::appearance::{MIN_MEAN_FREE_PATH_MM, channel_mean_free_paths};
-use sssbake_profile::dipole::dipole_total_reflectance;
-use sssbake_profile::fresnel::boundary_a;
+use sssbake_profile::boundary::fresnel::boundary_a;
+use sssbake_profile::models::dipole::dipole_total_reflectance;
 use sssbake_profile::presets::preset;
 use sssbake_profile::{Appearance, Dipole, Profile};
 

@@ -1,7 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use sssbake_profile::stam::StamLayer;
+use sssbake_profile::models::stam::StamLayer;
 use sssbake_profile::{Layer, Profile, Rgb};
 use std::f64::consts::PI;
 

@@ -3,9 +3,9 @@
 //! a diffuse lobe for the fit, and physical bounds at the extremes. Set
 //! `SSSBAKE_LONG_EMPIRICAL` for ten times the photons and more media.
 
-use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings};
-use sssbake_profile::empirical_lobe::exit_transmittance;
-use sssbake_profile::monte_carlo::{Settings, simulate};
+use sssbake_profile::models::empirical::lobe::exit_transmittance;
+use sssbake_profile::models::empirical::{EmpiricalProfile, EmpiricalSettings};
+use sssbake_profile::models::monte_carlo::{Settings, simulate};
 use sssbake_profile::{Layer, Material, Model, Optics, Profile, build_profile, presets};
 
 fn long() -> bool {

@@ -2,12 +2,12 @@
 //! Monte Carlo (another code: layered, tallies by radius and the mean
 //! forward position), and its symmetry at normal incidence.
 
-use sssbake_profile::empirical::{EmpiricalProfile, EmpiricalSettings, SliceOptics};
-use sssbake_profile::empirical_kernel::ObliqueKernel;
-use sssbake_profile::empirical_oblique::{
+use sssbake_profile::models::empirical::kernel::ObliqueKernel;
+use sssbake_profile::models::empirical::oblique::{
     HARMONICS_KEPT, HARMONICS_TALLIED, ObliqueSlice, simulate_incidence,
 };
-use sssbake_profile::monte_carlo::{Settings, simulate_oblique};
+use sssbake_profile::models::empirical::{EmpiricalProfile, EmpiricalSettings, SliceOptics};
+use sssbake_profile::models::monte_carlo::{Settings, simulate_oblique};
 use sssbake_profile::{Material, Optics, Profile, presets};
 
 const PHOTONS: u64 = 100_000;
@@ -110,7 +110,7 @@ fn oblique_exitance_and_its_forward_shift_follow_the_monte_carlo() {
 }
 
 /// χ² of the harmonics from m₁ up against zero, and its degrees of freedom.
-fn chi_square(tally: &sssbake_profile::empirical_oblique::ObliqueTally) -> (f64, usize) {
+fn chi_square(tally: &sssbake_profile::models::empirical::oblique::ObliqueTally) -> (f64, usize) {
     let mut sum = 0.0;
     let mut count = 0;
     for (m, e) in tally.harmonics.iter().zip(&tally.harmonics_stderr) {

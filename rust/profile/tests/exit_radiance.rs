@@ -3,10 +3,10 @@
 //! normal view.
 
 use sssbake_profile::Layer;
-use sssbake_profile::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
-use sssbake_profile::monte_carlo::{Settings, simulate};
-use sssbake_profile::rough::hemispherical_transmittance;
-use sssbake_profile::surface::Surface;
+use sssbake_profile::boundary::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
+use sssbake_profile::boundary::rough::hemispherical_transmittance;
+use sssbake_profile::boundary::surface::Surface;
+use sssbake_profile::models::monte_carlo::{Settings, simulate};
 
 /// A semi-infinite medium of index `eta` whose channels have
 /// single-scattering albedos `albedo` (σt = 1/mm), simulated.

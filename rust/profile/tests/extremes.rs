@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use sssbake_profile::gaussians::fit_gaussians;
+use sssbake_profile::models::gaussians::fit_gaussians;
 use sssbake_profile::{Burley, Dipole, Layer, Layered, Multipole, Profile};
 use std::time::{Duration, Instant};
 
@@ -173,7 +173,7 @@ fn fits_at_the_extremes() {
 
 #[test]
 fn monte_carlo_at_the_extremes() {
-    use sssbake_profile::monte_carlo::{Settings, edges_around, simulate};
+    use sssbake_profile::models::monte_carlo::{Settings, edges_around, simulate};
     for albedo in [1.0 - 1e-9, 1e-6] {
         for sigma_t in [1e-4, 1e4] {
             for (ior, g) in [(1.0, -0.9), (2.5, 0.99)] {

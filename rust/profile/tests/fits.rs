@@ -2,11 +2,11 @@
 
 mod common;
 use common::*;
-use sssbake_profile::burley::{ScalingFit, scaling_factor};
-use sssbake_profile::dipole::dipole_total_reflectance;
-use sssbake_profile::fresnel::boundary_a;
-use sssbake_profile::gaussians::fit_gaussians;
-use sssbake_profile::inversion::{InversionError, InversionModel, invert_albedo};
+use sssbake_profile::appearance::inversion::{InversionError, InversionModel, invert_albedo};
+use sssbake_profile::boundary::fresnel::boundary_a;
+use sssbake_profile::models::burley::{ScalingFit, scaling_factor};
+use sssbake_profile::models::dipole::dipole_total_reflectance;
+use sssbake_profile::models::gaussians::fit_gaussians;
 use sssbake_profile::presets::preset;
 use sssbake_profile::{
     Burley, Dipole, Layered, Model, Multipole, Profile, SumOfGaussians, build_profile,

@@ -13,7 +13,7 @@
 
 mod common;
 use common::*;
-use sssbake_profile::monte_carlo::{MonteCarlo, Settings, edges_around, simulate};
+use sssbake_profile::models::monte_carlo::{MonteCarlo, Settings, edges_around, simulate};
 use sssbake_profile::presets::preset;
 use sssbake_profile::{Dipole, Layer, Layered, Multipole, Profile};
 
@@ -256,10 +256,10 @@ fn the_three_layer_skin_matches_monte_carlo() {
 /// the same amount.
 #[test]
 fn skin1_totals_match_discrete_ordinates() {
-    use sssbake_profile::fresnel::dielectric_reflectance;
-    use sssbake_profile::monte_carlo::simulate_oblique;
-    use sssbake_profile::stam::StamSettings;
-    use sssbake_profile::stam::material::layers_for;
+    use sssbake_profile::boundary::fresnel::dielectric_reflectance;
+    use sssbake_profile::models::monte_carlo::simulate_oblique;
+    use sssbake_profile::models::stam::StamSettings;
+    use sssbake_profile::models::stam::material::layers_for;
     let material = preset("skin1").unwrap();
     let layers = material.layers().unwrap().to_vec();
     let settings = StamSettings {

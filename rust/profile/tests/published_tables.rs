@@ -23,8 +23,8 @@
 
 mod common;
 use common::grey_layer;
-use sssbake_profile::dipole::dipole_total_reflectance;
-use sssbake_profile::monte_carlo::{Settings, simulate};
+use sssbake_profile::models::dipole::dipole_total_reflectance;
+use sssbake_profile::models::monte_carlo::{Settings, simulate};
 use sssbake_profile::{Layer, Multipole, Profile};
 
 /// The reduced albedo for which the dipole reflects 90.2% under a matched

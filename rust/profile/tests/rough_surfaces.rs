@@ -3,9 +3,10 @@
 
 mod common;
 use common::grey_layer;
-use sssbake_profile::dipole::dipole_total_reflectance;
-use sssbake_profile::rough::{boundary_a, diffuse_reflectance};
-use sssbake_profile::{Layer, Material, Model, Optics, build_profile, fresnel};
+use sssbake_profile::boundary::fresnel;
+use sssbake_profile::boundary::rough::{boundary_a, diffuse_reflectance};
+use sssbake_profile::models::dipole::dipole_total_reflectance;
+use sssbake_profile::{Layer, Material, Model, Optics, build_profile};
 
 fn material(layer: Layer, roughness: f64) -> Material {
     Material {

@@ -1,8 +1,8 @@
 //! Radii drawn from a profile follow its enclosed reflectance.
 
 use sssbake_profile::model::{Model, build_profile};
+use sssbake_profile::numerics::rng::Rng;
 use sssbake_profile::presets::preset;
-use sssbake_profile::rng::Rng;
 
 #[test]
 fn dipole_radii_follow_the_enclosed_reflectance() {

@@ -2,9 +2,9 @@
 
 mod common;
 use common::*;
-use sssbake_profile::layered::{Stack, tabulate};
-use sssbake_profile::medium::Medium;
-use sssbake_profile::slab::{Incidence, SlabChannel};
+use sssbake_profile::diffusion::medium::Medium;
+use sssbake_profile::diffusion::slab::{Incidence, SlabChannel};
+use sssbake_profile::models::layered::{Stack, tabulate};
 use sssbake_profile::{Dipole, Layered, Multipole, Profile};
 
 #[test]

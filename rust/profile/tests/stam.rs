@@ -7,9 +7,9 @@
 
 mod common;
 use common::stam_slab;
-use sssbake_profile::fresnel::dielectric_reflectance;
-use sssbake_profile::monte_carlo::{Settings, simulate_from_air, simulate_oblique};
-use sssbake_profile::stam::{StamLayer, StamResponse, StamSettings};
+use sssbake_profile::boundary::fresnel::dielectric_reflectance;
+use sssbake_profile::models::monte_carlo::{Settings, simulate_from_air, simulate_oblique};
+use sssbake_profile::models::stam::{StamLayer, StamResponse, StamSettings};
 
 fn layer(albedo: f64, optical_depth: f64, g: f64, eta: f64, roughness: f64) -> StamLayer {
     StamLayer {

@@ -6,14 +6,14 @@
 
 mod common;
 use common::stam_slab;
-use sssbake_profile::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
+use sssbake_profile::boundary::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
+use sssbake_profile::boundary::surface::Surface;
 use sssbake_profile::material::{Layer, Material, Optics, TopLayer};
 use sssbake_profile::model::{Model, build_profile};
-use sssbake_profile::monte_carlo::{Settings, simulate_oblique};
+use sssbake_profile::models::monte_carlo::{Settings, simulate_oblique};
+use sssbake_profile::models::stam::StamLayer;
+use sssbake_profile::models::stam::contact::ContactTotals;
 use sssbake_profile::presets::preset;
-use sssbake_profile::stam::StamLayer;
-use sssbake_profile::stam::contact::ContactTotals;
-use sssbake_profile::surface::Surface;
 
 fn layer(albedo: f64, optical_depth: f64, g: f64, eta: f64, roughness: f64) -> StamLayer {
     StamLayer {
@@ -252,7 +252,7 @@ fn between_matched_faces_contact_and_air_are_one_layer() {
     for (albedo, tau, g) in [(0.5, 1.0, 0.0), (0.9, 2.0, 0.8), (0.99, 0.3, -0.5)] {
         let l = layer(albedo, tau, g, 1.0, 0.0);
         let ours = contact(l);
-        let settings = sssbake_profile::stam::StamSettings {
+        let settings = sssbake_profile::models::stam::StamSettings {
             modes: Some(1),
             ..Default::default()
         };

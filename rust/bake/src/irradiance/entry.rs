@@ -2,10 +2,10 @@
 //! transmittance ρt(θ) = 1 − F(θ) of a smooth boundary, the rough
 //! boundary's ρdt(θ) of Donner & Jensen 2005 §2.4 (eq. 26) for a
 //! Torrance–Sparrow surface with a Beckmann distribution
-//! ([`sssbake_profile::rough`]), or a Stam top layer's T(θi) per channel
-//! ([`sssbake_profile::surface`]).
+//! ([`sssbake_profile::boundary::rough`]), or a Stam top layer's T(θi) per channel
+//! ([`sssbake_profile::boundary::surface`]).
 
-use sssbake_profile::surface::Surface;
+use sssbake_profile::boundary::surface::Surface;
 
 /// The boundary light enters through.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,5 +1,5 @@
 //! Where the light entering each receiver comes from, as an oblique
-//! kernel needs it ([`sssbake_profile::empirical_kernel`]): per incidence
+//! kernel needs it ([`sssbake_profile::models::empirical::kernel`]): per incidence
 //! node, the transmitted irradiance of the light samples assigned to it
 //! and, per azimuthal harmonic k, that irradiance times (cos kα, sin kα),
 //! α being the azimuth of the light's travel direction on the tangent
@@ -19,8 +19,8 @@ use crate::irradiance::emitters::Emitter;
 use crate::irradiance::entry::EntryTransmittance;
 use crate::rays::RayScene;
 use glam::Vec3;
-use sssbake_profile::empirical_kernel::ObliqueKernel;
-use sssbake_profile::empirical_oblique::{HARMONICS_KEPT, INCIDENCE_NODES};
+use sssbake_profile::models::empirical::kernel::ObliqueKernel;
+use sssbake_profile::models::empirical::oblique::{HARMONICS_KEPT, INCIDENCE_NODES};
 
 /// Components per node: the irradiance, then cos kα and sin kα weights for
 /// k = 1 … [`HARMONICS_KEPT`] − 1.

@@ -8,7 +8,7 @@ use crate::mesh::Mesh;
 use crate::surface::topology::{NONE, neighbours};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
-use sssbake_profile::rng::Rng;
+use sssbake_profile::numerics::rng::Rng;
 use std::collections::HashMap;
 
 /// Points on a mesh's surface, structure of arrays.

@@ -13,8 +13,8 @@ use crate::scattering::{D_MAX_EPSILON, Scattering};
 use glam::Vec3;
 use sssbake_profile::material::{Layer, Material, Optics};
 use sssbake_profile::model::Model;
+use sssbake_profile::numerics::rng::Rng;
 use sssbake_profile::presets::preset;
-use sssbake_profile::rng::Rng;
 
 /// The exitance at `p` (normal `n`, being source `own`) summed over every
 /// source in turn.

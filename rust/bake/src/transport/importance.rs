@@ -40,10 +40,10 @@ use crate::scattering::Scattering;
 use crate::surface::topology::triangle_pieces;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
-use sssbake_profile::empirical_kernel::ObliqueKernel;
-use sssbake_profile::empirical_oblique::HARMONICS_KEPT;
+use sssbake_profile::models::empirical::kernel::ObliqueKernel;
+use sssbake_profile::models::empirical::oblique::HARMONICS_KEPT;
+use sssbake_profile::numerics::rng::Rng;
 use sssbake_profile::profile::Profile;
-use sssbake_profile::rng::Rng;
 use std::f32::consts::{PI, TAU};
 
 /// Share of probes along the normal, and along each tangent (on flat

@@ -119,7 +119,7 @@ impl Kernel {
                 if total > 0.0 {
                     let target = (1.0 - epsilon) * total;
                     let enclosed_t = |r: f64| enclosed(|s| profile.transmittance(s)[c], r);
-                    d_max = d_max.max(sssbake_profile::roots::radius_where(
+                    d_max = d_max.max(sssbake_profile::numerics::roots::radius_where(
                         enclosed_t, target, scale,
                     ));
                 }

@@ -1,5 +1,5 @@
 //! The exact discrete sum with an oblique kernel
-//! ([`sssbake_profile::empirical_kernel`]): M(x) = Σ_j A_j Σ_nodes
+//! ([`sssbake_profile::models::empirical::kernel`]): M(x) = Σ_j A_j Σ_nodes
 //! [E_j,n m₀,n(r) + Σ_k m_k,n(r) (C_jk,n cos kβ + S_jk,n sin kβ)], β the
 //! azimuth of x − x_j on source j's tangent plane in its frame and
 //! (E, C, S) the source's light split by incidence
@@ -18,8 +18,8 @@ use super::through_medium::path_length;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::irradiance::incidence::{COMPONENTS, IncidentHarmonics, frame};
 use glam::{Vec2, Vec3};
-use sssbake_profile::empirical_kernel::ObliqueKernel;
-use sssbake_profile::empirical_oblique::HARMONICS_KEPT;
+use sssbake_profile::models::empirical::kernel::ObliqueKernel;
+use sssbake_profile::models::empirical::oblique::HARMONICS_KEPT;
 
 /// Sub-points per side of a near source's footprint.
 const NEAR_GRID: usize = 4;

@@ -1,5 +1,5 @@
 //! How much light a slab of a material returns and sends through, by
-//! thickness, simulated by the Monte Carlo ([`sssbake_profile::monte_carlo`])
+//! thickness, simulated by the Monte Carlo ([`sssbake_profile::models::monte_carlo`])
 //! and kept on disk like the Monte Carlo profile's tallies.
 //!
 //! Totals by the Monte Carlo, not by diffusion: through a few mean free
@@ -15,7 +15,7 @@ use crate::monte_carlo_cache::{cache_dir, cached};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sssbake_profile::material::Layer;
-use sssbake_profile::monte_carlo::{Settings, simulate};
+use sssbake_profile::models::monte_carlo::{Settings, simulate};
 
 /// Photons per thickness and channel: totals to about 1% where light
 /// crosses.

@@ -25,8 +25,8 @@ use crate::surface::dilation::{ImageSides, SeamAwareDilation};
 use crate::surface::texels::{EMPTY, TexelSurfels};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use sssbake_profile::gaussians::SumOfGaussians;
-use sssbake_profile::gaussians::fit_gaussians;
+use sssbake_profile::models::gaussians::SumOfGaussians;
+use sssbake_profile::models::gaussians::fit_gaussians;
 
 /// Blurs whose σ is below this many texels are skipped (a Gaussian that
 /// narrow leaves a texel grid unchanged to within its sampling).

@@ -11,7 +11,7 @@ use crate::pipeline::{Prepared, Raised};
 use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
 use crate::transport::local_slab::LocalSlab;
-use sssbake_profile::rng::Rng;
+use sssbake_profile::numerics::rng::Rng;
 
 /// Most texels checked.
 const MOST_CHECKED: usize = 4096;

@@ -45,7 +45,7 @@ use super::phase::cosine_hemisphere;
 use crate::control::{Cancelled, Control, parallel_fill};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
-use sssbake_profile::rng::Rng;
+use sssbake_profile::numerics::rng::Rng;
 
 /// The direction walks start in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -3,7 +3,7 @@
 //!
 //! The profile crate builds every model from the material's layers
 //! (`Layer::sigma_a`, `sigma_s`, `g`, `ior`, all per mm); Blender's
-//! Principled inputs become such a layer in `sssbake_profile::cycles`
+//! Principled inputs become such a layer in `sssbake_profile::appearance::cycles`
 //! (index-matched, `ior` 1, under a coat that only shapes the entry). The
 //! walk reads the same first layer, so a bake and its walk see one medium.
 //!
@@ -13,7 +13,7 @@
 //! truth for this one. A measured sum of Gaussians carries no coefficients
 //! and is refused too.
 
-use sssbake_profile::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
+use sssbake_profile::boundary::fresnel::{dielectric_reflectance, diffuse_reflectance_exact};
 use sssbake_profile::material::{Material, Optics};
 
 /// Below this distance from 1 a boundary index counts as index-matched.

@@ -8,7 +8,7 @@ use super::enclosure::Enclosure;
 use super::medium::{Boundary, ChannelMedium};
 use super::phase::scatter;
 use glam::{Vec2, Vec3};
-use sssbake_profile::rng::Rng;
+use sssbake_profile::numerics::rng::Rng;
 
 /// Below this weight a walk plays Russian roulette...
 pub const ROULETTE_WEIGHT: f64 = 0.05;

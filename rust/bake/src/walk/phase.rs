@@ -2,7 +2,7 @@
 //! cosine-distributed start into the medium (`StartDirection::Diffuse`).
 
 use glam::Vec3;
-use sssbake_profile::rng::Rng;
+use sssbake_profile::numerics::rng::Rng;
 use std::f64::consts::TAU;
 
 /// Below this |g| the phase function is sampled as isotropic: the
