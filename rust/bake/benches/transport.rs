@@ -9,7 +9,8 @@
 use glam::Vec3;
 use sssbake::control::Control;
 use sssbake::materials::MaterialAssignment;
-use sssbake::pipeline::{Prepared, prepare};
+use sssbake::pipeline::prepare;
+use sssbake::prepared::Prepared;
 use sssbake::rays::RayScene;
 use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::importance::{self, Surface};

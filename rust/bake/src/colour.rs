@@ -11,7 +11,7 @@
 //! constant texture c bakes exactly what a colour factor c bakes.
 
 use crate::image::Image;
-use crate::pipeline::Layout;
+use crate::layout::Layout;
 use crate::scene::SceneObject;
 use glam::Vec2;
 use serde::Serialize;

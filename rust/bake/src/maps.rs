@@ -11,7 +11,7 @@
 //! | `area` | surface area the texel stands for, mm² |
 
 use crate::image::Image;
-use crate::pipeline::Prepared;
+use crate::prepared::Prepared;
 use crate::rays::RayScene;
 use crate::surface::dilation::seam_aware_offsets;
 use crate::surface::texels::TexelSurfels;

@@ -5,11 +5,12 @@
 
 use crate::colour::{ColourMap, ColourPlan, area_mean, relative_to, texture_per_texel};
 use crate::error::{Error, InputError};
+use crate::layout::Layout;
 use crate::limits::{Cost, ObjectCost, bytes_text, estimated_texels};
 use crate::maps::Output;
 use crate::materials::Sourced;
-use crate::pipeline::{Layout, Lighting};
 use crate::request::BakeRequest;
+use crate::request::Lighting;
 use crate::scattering::Scattering;
 use crate::scene::Scene;
 use crate::surface::topology::{TopologyReport, topology_report};

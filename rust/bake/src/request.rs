@@ -4,10 +4,10 @@
 
 use crate::error::Error;
 use crate::image::Image;
+use crate::irradiance::environment::EnvironmentMap;
 use crate::limits::Limits;
 use crate::maps::Output;
 use crate::materials::MaterialAssignment;
-use crate::pipeline::Lighting;
 use crate::scattering::D_MAX_EPSILON;
 use crate::transport::Method;
 use crate::transport::integrator::IntegratorSettings;
@@ -15,6 +15,23 @@ use serde::{Deserialize, Serialize};
 use sssbake_profile::boundary::rough::MAX_ROUGHNESS;
 use sssbake_profile::model::Model;
 use std::sync::Arc;
+
+/// What light reaches the object.
+#[derive(Clone, Debug, Default)]
+pub enum Lighting {
+    /// The scene's lights, with the images environment lights name.
+    #[default]
+    SceneLights,
+    /// The scene's lights; `environment` replaces every environment
+    /// light's texture (already read from its file).
+    SceneLightsWith {
+        /// The equirectangular image (shared: the plan copies the request).
+        environment: Arc<EnvironmentMap>,
+    },
+    /// A texture in the object's own UV layout is the transmitted
+    /// irradiance (a lightmap from any renderer); lights are ignored.
+    Irradiance(Arc<Image>),
+}
 
 /// The largest map side, texels.
 pub const MAX_RESOLUTION: u32 = 16384;

@@ -10,7 +10,7 @@ use glam::Vec3;
 use lit_scenes::*;
 use sssbake::Mesh;
 use sssbake::control::Control;
-use sssbake::pipeline::Prepared;
+use sssbake::prepared::Prepared;
 use sssbake::scattering::Scattering;
 use sssbake::transport::brute::BruteIntegrator;
 use sssbake::transport::light_check::{EVENT_BUDGET, check_against_light};

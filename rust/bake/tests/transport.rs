@@ -5,7 +5,7 @@ mod lit_scenes;
 use glam::Vec3;
 use lit_scenes::*;
 use sssbake::control::Control;
-use sssbake::pipeline::Prepared;
+use sssbake::prepared::Prepared;
 use sssbake::transport::integrator::IntegratorSettings;
 use sssbake::transport::sources::{OwnSource, Targets};
 use sssbake::transport::{Method, brute, octree};

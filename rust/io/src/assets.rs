@@ -12,7 +12,7 @@ use crate::usd_writer::{LayerWriter, UsdBaked, usd_layer};
 use glam::{Mat3, Vec3};
 use serde_json::json;
 use sssbake::bake::ObjectSummary;
-use sssbake::pipeline::Layout;
+use sssbake::layout::Layout;
 use sssbake::{Error, SceneObject, Summary};
 use std::path::{Path, PathBuf};
 

@@ -8,6 +8,9 @@ use crate::surface::topology::{NONE, neighbours, welded_vertices};
 use glam::{DVec2, Vec2};
 use std::collections::VecDeque;
 
+/// The widest blur, in texels either side; wider Gaussians are truncated.
+pub const MAX_REACH: u32 = 512;
+
 /// For every empty texel within `margin` texels (8-connected steps) of a
 /// covered one: (that texel, the covered texel it copies), both as
 /// y·N + x, found breadth-first so each copies from a nearest covered

@@ -10,7 +10,7 @@ use super::sources::{Grid, OwnSource, Sources, Targets};
 use super::through_medium::{may_cross_air, path_length};
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
-use crate::pipeline::Prepared;
+use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use glam::{DVec3, Vec3, Vec4};
 use rayon::prelude::*;

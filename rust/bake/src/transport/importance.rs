@@ -34,7 +34,7 @@ use crate::error::Error;
 use crate::irradiance::incidence::{IncidentHarmonics, frame};
 use crate::irradiance::sequence::basis;
 use crate::mesh::Mesh;
-use crate::pipeline::Prepared;
+use crate::prepared::Prepared;
 use crate::rays::RayScene;
 use crate::scattering::Scattering;
 use crate::surface::topology::triangle_pieces;

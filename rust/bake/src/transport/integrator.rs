@@ -19,7 +19,7 @@ use super::texture_space::TextureIntegrator;
 use super::walk::{WalkIntegrator, WalkNoise};
 use crate::control::Control;
 use crate::error::Error;
-use crate::pipeline::Prepared;
+use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use serde::{Deserialize, Serialize};
 

@@ -12,7 +12,7 @@
 
 use crate::control::Control;
 use crate::error::Error;
-use crate::pipeline::Prepared;
+use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
 use crate::transport::verify::pick;

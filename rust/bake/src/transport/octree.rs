@@ -19,7 +19,7 @@ use super::sources::{OwnSource, Sources, Target, Targets};
 use super::through_medium::may_cross_air;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::error::Error;
-use crate::pipeline::Prepared;
+use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};

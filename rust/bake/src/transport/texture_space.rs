@@ -19,7 +19,7 @@ use super::sources::{OwnSource, Targets};
 use super::{brute, choice};
 use crate::control::{Cancelled, Control};
 use crate::error::Error;
-use crate::pipeline::Prepared;
+use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use crate::surface::dilation::{ImageSides, SeamAwareDilation};
 use crate::surface::texels::{EMPTY, TexelSurfels};
@@ -32,8 +32,7 @@ use sssbake_profile::models::gaussians::fit_gaussians;
 /// narrow leaves a texel grid unchanged to within its sampling).
 const SHARP: f32 = 0.2;
 
-/// The widest blur, in texels either side; wider Gaussians are truncated.
-pub const MAX_REACH: u32 = 512;
+pub use crate::surface::dilation::MAX_REACH;
 
 /// Texels within this many steps (in any of the 8 directions) of a texel
 /// the layout leaves empty take the exact sum.

@@ -7,7 +7,7 @@ use super::brute;
 use super::sources::{OwnSource, Targets};
 use crate::control::Control;
 use crate::error::Error;
-use crate::pipeline::{Prepared, Raised};
+use crate::prepared::{Prepared, Raised};
 use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
 use crate::transport::local_slab::LocalSlab;

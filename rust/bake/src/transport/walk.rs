@@ -14,7 +14,7 @@ use super::integrator::{Integrated, Integrator};
 use crate::control::Cancelled;
 use crate::control::Control;
 use crate::error::Error;
-use crate::pipeline::Prepared;
+use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use crate::walk::path::ROULETTE_WEIGHT;
 use crate::walk::{

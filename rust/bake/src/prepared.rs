@@ -1,0 +1,329 @@
+//! An object ready to integrate: its layout and the light entering it, as
+//! the integrators read them (lit by [`crate::pipeline::prepare`]).
+
+use crate::control::{Cancelled, Control};
+use crate::error::Error;
+use crate::irradiance::emitters::Emitter;
+use crate::irradiance::entry::EntryTransmittance;
+use crate::irradiance::incidence::{IncidentHarmonics, incident_harmonics};
+use crate::irradiance::{IrradianceSettings, Receivers};
+use crate::layout::Layout;
+use crate::rays::RayScene;
+use crate::surface::dilation::{MAX_REACH, SeamAwareDilation, seam_aware_dilation};
+use crate::surface::opposite::{Opposite, opposites};
+use crate::surface::texels::uv_jacobian;
+use crate::surface::turk::{place_points, relax};
+use crate::transport::sources::{OwnSource, Sources, Targets};
+use crate::walk::Enclosure;
+use glam::Vec3;
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// An object ready to integrate: its layout and the light entering it.
+pub struct Prepared {
+    pub(crate) layout: Arc<Layout>,
+    /// Transmitted irradiance per surfel, W/m² (before the colour split);
+    /// empty when the bake needs no light.
+    pub irradiance: Vec<[f32; 3]>,
+    /// The base colour per surfel relative to the nominal colour the
+    /// profile is built for (ones without a map).
+    pub colour: Vec<[f32; 3]>,
+    pub(crate) colour_split: f32,
+    pub(crate) dilation: OnceLock<SeamAwareDilation>,
+    /// The face behind each texel, found on first use.
+    pub(crate) opposites: OnceLock<Vec<Option<Opposite>>>,
+    pub(crate) seconds: f64,
+    /// The lights and scene kept for splitting the light by incidence,
+    /// when the material has an oblique kernel and scene lights light it.
+    pub(crate) lights: Option<SceneLighting>,
+    /// The light split by incidence, made on first use.
+    pub(crate) incidence: OnceLock<Vec<IncidentHarmonics>>,
+    /// The light entering raised where the surface within reach ends,
+    /// found by the last profile method that integrated, for its
+    /// scattering and settings.
+    pub(crate) raised: Mutex<Option<Arc<Raised>>>,
+}
+
+/// How much the light at each surfel is raised where the surface within
+/// the profile's reach ends ([`crate::transport::local_slab`]): by the
+/// square root of the gain where it enters and again where it leaves, so
+/// the pair weight stays symmetric (light's reciprocity) and under uniform
+/// light a texel returns what the plane or the slab returns.
+#[derive(Clone, Debug)]
+pub struct Raised {
+    /// The scattering and integrator it was found by
+    /// ([`crate::pipeline`]'s key).
+    pub(crate) key: String,
+    /// Per surfel and channel, √gain, in [1, 2].
+    pub halves: Vec<[f32; 3]>,
+    /// Surfels raised by more than 1% in some channel.
+    pub count: usize,
+}
+
+impl Raised {
+    /// The sums `exitance` (one per surfel) raised where the light leaves.
+    pub fn leaving(&self, exitance: &mut [[f32; 3]]) {
+        for (m, h) in exitance.iter_mut().zip(&self.halves) {
+            *m = [0, 1, 2].map(|c| m[c] * h[c]);
+        }
+    }
+}
+
+/// What the irradiance was gathered from, kept for
+/// [`Prepared::incidence`].
+pub(crate) struct SceneLighting {
+    pub(crate) mesh: u32,
+    pub(crate) rays: RayScene,
+    pub(crate) emitters: Vec<Emitter>,
+    pub(crate) entry: EntryTransmittance,
+    pub(crate) settings: IrradianceSettings,
+}
+
+/// The layout's fields read straight through a prepared object.
+impl std::ops::Deref for Prepared {
+    type Target = Layout;
+
+    fn deref(&self) -> &Layout {
+        &self.layout
+    }
+}
+
+impl Prepared {
+    /// Seconds spent lighting.
+    pub fn seconds(&self) -> f64 {
+        self.seconds
+    }
+
+    /// The layout this object was prepared on.
+    pub fn layout(&self) -> &Arc<Layout> {
+        &self.layout
+    }
+
+    /// The texels as targets of the integration.
+    pub fn targets(&self) -> Targets<'_> {
+        Targets {
+            position: &self.surfels.position,
+            normal: &self.surfels.normal,
+            own: OwnSource::None,
+            piece: &self.surfels.piece,
+        }
+    }
+
+    /// Empty texels near a chart and the covered texels they copy, as far
+    /// as texture-space blurs reach, with which lie beyond open edges (made
+    /// on first use).
+    pub fn dilation(&self) -> &SeamAwareDilation {
+        self.dilation
+            .get_or_init(|| seam_aware_dilation(&self.mesh, &self.uvs, &self.surfels, MAX_REACH))
+    }
+
+    /// The face behind each surfel, where the object ends along its
+    /// inward normal (found on first use).
+    pub fn opposites(&self) -> &[Option<Opposite>] {
+        self.opposites
+            .get_or_init(|| opposites(&Enclosure::new(&self.mesh, &self.uvs), &self.surfels))
+    }
+
+    /// True when some texel has a face behind it nearer than `reach` mm.
+    pub fn has_thin_parts(&self, reach: f32) -> bool {
+        self.opposites()
+            .iter()
+            .flatten()
+            .any(|o| o.thickness <= reach)
+    }
+
+    /// The same object with the light entering each surfel scaled by
+    /// `gains` (one per surfel), and no lights to split by incidence.
+    pub fn raised_by(&self, gains: &[[f32; 3]]) -> Prepared {
+        let irradiance = self
+            .irradiance
+            .iter()
+            .zip(gains)
+            .map(|(e, g)| [0, 1, 2].map(|c| e[c] * g[c]))
+            .collect();
+        self.relit(irradiance, self.colour.clone())
+    }
+
+    /// The same object under a unit irradiance everywhere, colour 1 and no
+    /// lights to split by incidence: integrated, it gives each texel its
+    /// sum of the kernel's weights over the surface, which the corrected
+    /// model sets beside a plane's ([`crate::transport::local_slab`]).
+    pub fn uniformly_lit(&self) -> Prepared {
+        let n = self.surfels.len();
+        self.relit(vec![[1.0; 3]; n], vec![[1.0; 3]; n])
+    }
+
+    /// The same layout, faces behind and dilation under `irradiance` and
+    /// `colour` (one per surfel), with no lights to split by incidence.
+    fn relit(&self, irradiance: Vec<[f32; 3]>, colour: Vec<[f32; 3]>) -> Prepared {
+        let opposites = OnceLock::new();
+        let _ = opposites.set(self.opposites().to_vec());
+        Prepared {
+            layout: Arc::clone(&self.layout),
+            irradiance,
+            colour,
+            colour_split: self.colour_split,
+            dilation: self.dilation.clone(),
+            opposites,
+            seconds: 0.0,
+            lights: None,
+            incidence: OnceLock::new(),
+            raised: Mutex::new(None),
+        }
+    }
+
+    /// The irradiance per surfel with the colour applied before scattering.
+    pub fn entering(&self) -> Vec<[f32; 3]> {
+        let alpha = self.colour_split;
+        self.irradiance
+            .iter()
+            .zip(&self.colour)
+            .map(|(e, c)| [0, 1, 2].map(|k| e[k] * c[k].powf(alpha)))
+            .collect()
+    }
+
+    /// Drops what only the scattering reads: the scene's lights and rays
+    /// kept for splitting the light by incidence, and the split. After
+    /// this, [`Self::incidence`] gives `None`.
+    pub fn release_lighting(&mut self) {
+        self.lights = None;
+        self.incidence = OnceLock::new();
+    }
+
+    /// True when the light can be split by incidence for an oblique
+    /// kernel ([`Self::incidence`] gives it).
+    pub fn splits_by_incidence(&self) -> bool {
+        self.lights.is_some() && self.irradiance.len() == self.surfels.len()
+    }
+
+    /// The light entering each texel split by incidence (after the colour
+    /// split's first part, as [`Self::entering`]), for an oblique kernel;
+    /// `None` when the material has none or the light is an irradiance
+    /// image (no direction to split by). Gathered on first use, with
+    /// the same samples as the irradiance.
+    pub fn incidence(&self, control: &Control) -> Result<Option<&[IncidentHarmonics]>, Cancelled> {
+        let Some(lights) = self.lights.as_ref().filter(|_| self.splits_by_incidence()) else {
+            return Ok(None);
+        };
+        if self.incidence.get().is_none() {
+            let surfels = &self.surfels;
+            let mut split = incident_harmonics(
+                Receivers {
+                    mesh: lights.mesh,
+                    position: &surfels.position,
+                    normal: &surfels.normal,
+                    triangle: &surfels.triangle,
+                },
+                &lights.emitters,
+                &lights.rays,
+                &lights.entry,
+                &lights.settings,
+                control,
+            )?;
+            let alpha = self.colour_split;
+            for (h, colour) in split.iter_mut().zip(&self.colour) {
+                let scale = colour.map(|c| c.powf(alpha));
+                for v in h.iter_mut().flatten() {
+                    for k in 0..3 {
+                        v[k] *= scale[k];
+                    }
+                }
+            }
+            let _ = self.incidence.set(split);
+        }
+        Ok(self.incidence.get().map(Vec::as_slice))
+    }
+
+    /// The texels as sources of light.
+    pub fn texel_sources(&self) -> Sources {
+        let n = self.surfels.resolution as f32;
+        // Each texel's covered parallelogram, from texel units onto its
+        // triangle's plane, scaled to the area it stands for (which adds
+        // the shares of every triangle in the texel, at their own scale):
+        // a texel's own light then returns exactly R_total where the
+        // profile is sharper than the texel, neither more nor less.
+        let footprint = self
+            .surfels
+            .triangle
+            .iter()
+            .zip(&self.surfels.extent)
+            .zip(&self.surfels.area)
+            .map(|((&t, extent), &area)| {
+                let Some((du, dv)) = uv_jacobian(&self.mesh, &self.uvs, t as usize) else {
+                    return [Vec3::ZERO; 2];
+                };
+                let (du, dv) = (du.as_vec3() / n, dv.as_vec3() / n);
+                let edges = extent.map(|e| du * e.x + dv * e.y);
+                let spanned = edges[0].cross(edges[1]).length();
+                if spanned > 0.0 && area > 0.0 {
+                    edges.map(|e| e * (area / spanned).sqrt())
+                } else {
+                    [Vec3::ZERO; 2]
+                }
+            })
+            .collect();
+        Sources {
+            position: self.surfels.position.clone(),
+            normal: self.surfels.normal.clone(),
+            area: self.surfels.area.clone(),
+            irradiance: self.entering(),
+            footprint,
+            piece: self.surfels.piece.clone(),
+        }
+    }
+
+    /// `count` relaxed Turk points as sources, each carrying the texels of
+    /// its Voronoi cell.
+    pub fn point_sources(
+        &self,
+        count: usize,
+        seed: u64,
+        control: &Control,
+    ) -> Result<Sources, Error> {
+        let (mut points, mut weights) = place_points(&self.mesh, count, seed);
+        relax(&self.mesh, &mut points, &mut weights, 10);
+        control.check()?;
+        let spacing = (self.mesh.area() / points.position.len().max(1) as f64).sqrt() as f32;
+        Ok(crate::transport::clusters::cluster(
+            &self.texel_sources(),
+            &points.position,
+            spacing,
+        ))
+    }
+
+    /// The irradiance entering (after the colour split) as a dilated N × N
+    /// texture, row-major with y growing with v.
+    pub fn entering_texture(&self) -> Vec<[f32; 3]> {
+        let n = self.surfels.resolution as usize;
+        let mut image = vec![[0.0f32; 3]; n * n];
+        for (s, e) in self.entering().into_iter().enumerate() {
+            image[self.surfels.texel[s] as usize] = e;
+        }
+        for &(to, from) in &self.dilation().offsets {
+            image[to as usize] = image[from as usize];
+        }
+        image
+    }
+
+    /// For each texel of the N × N layout, row-major with y growing with
+    /// v, the surfel it holds or copies (the same dilation as
+    /// [`Self::entering_texture`]); `u32::MAX` where none.
+    pub fn surfel_texture(&self) -> Vec<u32> {
+        let n = self.surfels.resolution as usize;
+        let mut image = vec![u32::MAX; n * n];
+        for (s, &t) in self.surfels.texel.iter().enumerate() {
+            image[t as usize] = s as u32;
+        }
+        for &(to, from) in &self.dilation().offsets {
+            image[to as usize] = image[from as usize];
+        }
+        image
+    }
+
+    /// Exitance `m` at texel `i` with the colour split's second part
+    /// applied: C^(1 − α).
+    pub fn after_scattering(&self, i: usize, m: [f32; 3]) -> [f32; 3] {
+        let beta = 1.0 - self.colour_split;
+        let c = self.colour[i];
+        [0, 1, 2].map(|k| m[k] * c[k].powf(beta))
+    }
+}
