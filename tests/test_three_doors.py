@@ -122,7 +122,8 @@ def cli_maps(sssbake, scene, out):
         "brute",
         "--light-samples",
         "64",
-        "--keep-uvs",
+        "--uvs",
+        "keep",
         "--outputs",
         "irradiance,subsurface",
     )

@@ -29,18 +29,20 @@ import os
 import sys
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any, Protocol, Unpack
 
 from . import _native, _usd
 from ._options import options_json
 from .errors import Cancelled, Error, InputError, OutputError, SettingError
 from .host import BakeResult, Scene, defaults, unwrap
+from .options import Options
 
 __all__ = [
     "BakeResult",
     "Cancelled",
     "Error",
     "InputError",
+    "Options",
     "OutputError",
     "Scene",
     "SettingError",
@@ -51,6 +53,7 @@ __all__ = [
     "plan",
     "presets",
     "profile",
+    "settings",
     "unwrap",
 ]
 
@@ -93,7 +96,7 @@ def bake(
     progress: Progress | None = None,
     cancel: CancelEvent | None = None,
     look_on: Any | None = None,
-    **options: Any,
+    **options: Unpack[Options],
 ) -> dict[str, Any]:
     """Bakes `scene` into the folder `out` as `sssbake bake --json` does and
     returns its summary: per object the plan, the method and its estimated
@@ -134,7 +137,7 @@ def bake(
     return summary
 
 
-def plan(scene: SceneFile, **options: Any) -> dict[str, Any]:
+def plan(scene: SceneFile, **options: Unpack[Options]) -> dict[str, Any]:
     """The plan `bake` with these options would run, as `sssbake plan --json`
     prints it: per object the material, model, resolution, UV decision,
     method and why, and the estimated cost; nothing is baked."""
@@ -184,6 +187,15 @@ def batch(
     os.environ.setdefault("SSSBAKE_PYTHON", sys.executable)
     callback = None if on_asset is None else (lambda text: on_asset(json.loads(text)))
     return json.loads(_native.batch(os.fspath(manifest), os.fspath(out), force, jobs, list(assets), callback))
+
+
+def settings() -> list[dict[str, Any]]:
+    """Every bake setting, as the library defines it: `name` (the keyword), `doc`, `kind`
+    (`count`, `number`, `switch`, `choice`, `choices`, `names`, `file`, `size`) with its
+    range (`min`, `max`, `min_exclusive`) or `names`, `unit`, `part` (`scene`, `bake`,
+    `writing`, or `{"integrator": method}`), `default` (None where there is none to state)
+    and `default_text`. `sssbake.options.Options` types them as keywords."""
+    return json.loads(_native.settings())
 
 
 def presets() -> dict[str, str]:

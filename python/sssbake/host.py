@@ -18,12 +18,13 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from typing import Any, Protocol
+from typing import Any, Protocol, Unpack
 
 import numpy as np
 
 from . import _native
 from ._options import options_json
+from .options import Options
 
 
 class CancelEvent(Protocol):
@@ -147,7 +148,7 @@ class Scene:
         *,
         progress: Progress | None = None,
         cancel: CancelEvent | None = None,
-        **options: Any,
+        **options: Unpack[Options],
     ) -> BakeResult:
         """Bakes object `name`, each face with the material its material index names
         (all with the first when the mesh gives none or one material is given), into its
@@ -178,7 +179,7 @@ class Scene:
         force: bool = False,
         progress: Progress | None = None,
         cancel: CancelEvent | None = None,
-        **options: Any,
+        **options: Unpack[Options],
     ) -> dict[str, Any]:
         """Bakes every object (or `objects`) into the folder `out` as `sssbake.bake`
         bakes a file, with its options (`preset`, `material` or `materials` for the

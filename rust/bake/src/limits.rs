@@ -276,6 +276,17 @@ pub fn bytes_text(bytes: f64) -> String {
     format!("{value:.1} {}", UNITS[unit])
 }
 
+/// `bytes` as [`parse_bytes`] reads it back: in the largest binary unit
+/// that divides it (`16G`, `512M`), else in bytes.
+pub fn size_text(bytes: u64) -> String {
+    for (shift, unit) in [(40, "T"), (30, "G"), (20, "M"), (10, "K")] {
+        if bytes > 0 && bytes.is_multiple_of(1u64 << shift) {
+            return format!("{}{unit}", bytes >> shift);
+        }
+    }
+    bytes.to_string()
+}
+
 /// Reads a size such as `16G`, `512MiB`, `2.5 GB` or `1000000` (bytes);
 /// the units are binary (K = 1024).
 pub fn parse_bytes(text: &str) -> Result<u64, String> {

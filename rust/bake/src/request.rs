@@ -37,8 +37,21 @@ pub enum Lighting {
 pub const MAX_RESOLUTION: u32 = 16384;
 
 /// What to do with an object's own UVs.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    Serialize,
+    Deserialize,
+    strum::Display,
+    strum::EnumString,
+    strum::VariantNames,
+)]
 #[serde(rename_all = "lowercase")]
+#[strum(serialize_all = "lowercase")]
 pub enum UvPolicy {
     /// Keep usable UVs; unwrap missing or unusable ones with xatlas.
     #[default]

@@ -42,7 +42,7 @@ struct Cli {
 enum Command {
     /// Bake subsurface scattering maps for the objects of a scene.
     #[command(allow_negative_numbers = true)]
-    Bake(bake_command::BakeArgs),
+    Bake(Box<bake_command::BakeArgs>),
     /// Bake the assets of a TOML manifest, each into its own folder,
     /// skipping those unchanged since their last bake; or write the batch
     /// as an Open Job Description job bundle.
@@ -54,13 +54,13 @@ enum Command {
     /// Show what a bake with the same options would do, and what it would
     /// leave out, without baking.
     #[command(allow_negative_numbers = true)]
-    Plan(plan_command::PlanArgs),
+    Plan(Box<plan_command::PlanArgs>),
     /// List the material presets.
     Presets,
     /// Run every integrator on a scene across a ladder of settings and
     /// report each one's error against the exact sum and its run time.
     #[command(allow_negative_numbers = true)]
-    Report(report_command::ReportArgs),
+    Report(Box<report_command::ReportArgs>),
     /// Print every command and option as Markdown: the reference in
     /// docs/cli.md.
     #[command(hide = true)]

@@ -196,7 +196,7 @@ fn bad_inputs_name_the_problem_and_leave_nothing_behind() {
         ),
         (
             vec![scene.into(), "--preset".into(), "granite".into()],
-            1,
+            2,
             "granite",
         ),
         (
@@ -207,7 +207,7 @@ fn bad_inputs_name_the_problem_and_leave_nothing_behind() {
         (
             vec![scene.into(), "--resolution".into(), "-5".into()],
             2,
-            "'--resolution <RESOLUTION>': -5 is not in 1..=16384",
+            "'--resolution <RESOLUTION>': -5 must be between 1 and 16384",
         ),
         (
             vec![scene.into(), "--resolution".into(), "16385".into()],

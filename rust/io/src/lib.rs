@@ -17,6 +17,7 @@ pub mod linear_rgb;
 pub mod look;
 pub mod options;
 pub mod python;
+pub mod settings;
 pub mod staging;
 pub mod usd_lights;
 pub mod usd_material;

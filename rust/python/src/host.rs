@@ -245,7 +245,9 @@ fn object_request(options_json: &str, host: &HostScene) -> Result<BakeRequest, E
             ));
         }
     }
-    options.uvs.get_or_insert(UvPolicy::Keep);
+    options
+        .uvs
+        .get_or_insert_with(|| UvPolicy::Keep.to_string());
     request_for(&options, host)
 }
 

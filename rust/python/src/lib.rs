@@ -22,6 +22,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(run::plan, module)?)?;
     module.add_function(wrap_pyfunction!(run::batch, module)?)?;
     module.add_function(wrap_pyfunction!(run::presets, module)?)?;
+    module.add_function(wrap_pyfunction!(run::settings, module)?)?;
     module.add_function(wrap_pyfunction!(stage::uv_primvars, module)?)?;
     module.add_function(wrap_pyfunction!(profile::profile, module)?)?;
     module.add_function(wrap_pyfunction!(host::unwrap, module)?)?;

@@ -145,6 +145,13 @@ pub fn batch(
     Ok(to_json(&report))
 }
 
+/// Every bake setting (`sssbake_io::settings::SETTINGS`) as JSON: name, doc,
+/// kind and range, unit, part, default.
+#[pyfunction]
+pub fn settings() -> String {
+    serde_json::to_string(&*sssbake_io::settings::SETTINGS).unwrap_or_default()
+}
+
 /// Every material preset: (name, description).
 #[pyfunction]
 pub fn presets() -> Vec<(&'static str, &'static str)> {
