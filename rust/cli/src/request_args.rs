@@ -136,29 +136,11 @@ fn flag(setting: &'static Setting) -> Arg {
                 _ => setting.name.to_uppercase(),
             })
             .allow_negative_numbers(true)
-            .value_parser(ValueParser::new(move |text: &str| parse(setting, text))),
+            .value_parser(ValueParser::new(move |text: &str| setting.parse(text))),
     }
 }
 
 /// A parser of `names` giving each as a JSON string.
 fn choices(names: &[&'static str]) -> impl TypedValueParser<Value = Value> {
     PossibleValuesParser::new(names.to_vec()).map(Value::String)
-}
-
-/// `text` as `setting`'s value, checked against its range.
-fn parse(setting: &Setting, text: &str) -> Result<Value, String> {
-    let value = match setting.kind {
-        Kind::Count { .. } => match (text.parse::<u64>(), text.parse::<i64>()) {
-            (Ok(v), _) => Value::from(v),
-            (_, Ok(v)) => Value::from(v),
-            _ => return Err(format!("`{text}` is not a whole number")),
-        },
-        Kind::Number { .. } => text
-            .parse::<f64>()
-            .map(Value::from)
-            .map_err(|_| format!("`{text}` is not a number"))?,
-        _ => Value::String(text.to_string()),
-    };
-    setting.check(&value)?;
-    Ok(value)
 }

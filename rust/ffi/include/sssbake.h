@@ -13,7 +13,7 @@
 /**
  * The version of this ABI: hosts refuse a library of another version.
  */
-#define SSSBAKE_ABI_VERSION 8
+#define SSSBAKE_ABI_VERSION 9
 
 /**
  * [`sssbake_bake_to_folder`] flag: replace files already in the folder.
@@ -181,6 +181,11 @@ typedef enum SssbakeStatus {
    */
   SSSBAKE_STATUS_CANNOT_WRITE = 5,
 } SssbakeStatus;
+
+/**
+ * Bake options (opaque): every setting left out is the library's default.
+ */
+typedef struct SssbakeOptions SssbakeOptions;
 
 /**
  * A finished bake (opaque): its maps, rendered on request.
@@ -691,6 +696,55 @@ enum SssbakeStatus sssbake_string_free(char *string);
  * `out` points to writable storage for a pointer.
  */
 enum SssbakeStatus sssbake_names(uint32_t kind, char **out);
+
+/**
+ * New options, every setting the library's default. On success `*out`
+ * holds them; free them with [`sssbake_options_free`].
+ *
+ * # Safety
+ * `out` is writable.
+ */
+enum SssbakeStatus sssbake_options_new(struct SssbakeOptions **out);
+
+/**
+ * Sets the setting named `key` (as in a batch manifest: `resolution`,
+ * `method`, `octree_epsilon`, …) to `value`, written as on the command
+ * line (`1024`, `octree`, `0.35`, `subsurface,diffuse`, `16G`, `true`). An
+ * unknown key, or a value the setting does not take, is refused naming
+ * the key and its range, and the options stay as they were. A host's own
+ * scene decides its units, UV set, materials and objects: those keys are
+ * refused when the options bake.
+ *
+ * # Safety
+ * `key` and `value` are NUL-terminated.
+ */
+enum SssbakeStatus sssbake_options_set(struct SssbakeOptions *options,
+                                       const char *key,
+                                       const char *value);
+
+/**
+ * Frees options (null is allowed and frees nothing); a bake running with
+ * them keeps them until it returns.
+ */
+enum SssbakeStatus sssbake_options_free(struct SssbakeOptions *options);
+
+/**
+ * Bakes `object` of `scene` as [`sssbake_bake_materials`](crate::sssbake_bake_materials)
+ * does, with `options` in place of settings: the object's own UVs kept as
+ * they are unless `uvs` says otherwise.
+ *
+ * # Safety
+ * As [`sssbake_bake_materials`](crate::sssbake_bake_materials).
+ */
+enum SssbakeStatus sssbake_bake_options(const struct SssbakeScene *scene,
+                                        const char *object,
+                                        const struct SssbakeMaterial *materials,
+                                        size_t material_count,
+                                        const struct SssbakeOptions *options,
+                                        SssbakeProgress progress,
+                                        void *user,
+                                        const int32_t *cancel,
+                                        struct SssbakeResult **out);
 
 /**
  * Makes an empty scene whose units are `millimetres_per_unit` mm.

@@ -10,7 +10,7 @@ use sssbake::control::{Control, watch_while};
 use sssbake::limits::Limits;
 use sssbake::transport::integrator::IntegratorSettings;
 use sssbake::{BakeRequest, Method, Output, UvPolicy};
-use sssbake_host::{Composite, PartRunner, bake_materials};
+use sssbake_host::{Composite, HostScene, PartRunner, bake_materials};
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
 use std::ffi::{CString, c_char, c_void};
@@ -258,38 +258,71 @@ pub unsafe extern "C" fn sssbake_bake_materials(
 ) -> SssbakeStatus {
     guarded(|| {
         // SAFETY: forwarded from the caller.
-        unsafe { clear(out, "out") }?;
-        let scene = SCENES.get(scene, "scene")?;
-        // SAFETY: forwarded from the caller.
         let (settings, cancel) = unsafe { host_arguments(settings, cancel) }?;
+        let request = |_: &HostScene| request_from_host(settings, true);
+        let watch = (progress, UserData(user), cancel);
         // SAFETY: forwarded from the caller.
-        let materials = unsafe { slice(materials, material_count, "materials") }?;
-        // SAFETY: forwarded from the caller.
-        let object = unsafe { text(object, "object name") }?;
-        let user = UserData(user);
-        let materials = materials
-            .iter()
-            // SAFETY: forwarded from the caller.
-            .map(|m| unsafe { host_material(m) })
-            .collect::<Result<Vec<_>, _>>()?;
-        let request = request_from_host(settings, true)?;
-        let mut runner = HostRunner {
-            progress,
-            user: &user,
-            cancel,
-        };
-        let (composite, summary) =
-            bake_materials(&reading(&scene), object, &materials, &request, &mut runner)?;
-        let summary = serde_json::to_string(&summary).unwrap_or_default();
-        let result = SssbakeResult {
-            composite,
-            summary: CString::new(summary).unwrap_or_default(),
-        };
-        let handle = RESULTS.issue(result)?;
-        // SAFETY: checked non-null; the caller gives writable storage.
-        unsafe { *out = handle };
-        Ok(())
+        unsafe {
+            bake_host(
+                scene,
+                object,
+                materials,
+                material_count,
+                request,
+                watch,
+                out,
+            )
+        }
     })
+}
+
+/// What a bake reports to and hears from the host while it runs: its
+/// progress callback with its user pointer, and its cancel flag.
+pub(crate) type Watch<'a> = (SssbakeProgress, UserData, Option<&'a AtomicI32>);
+
+/// Bakes `object` of `scene` with `materials` and the request `request`
+/// makes for the scene, watched by `watch`, into `*out`.
+///
+/// # Safety
+/// As [`sssbake_bake_materials`].
+pub(crate) unsafe fn bake_host(
+    scene: *const SssbakeScene,
+    object: *const c_char,
+    materials: *const SssbakeMaterial,
+    material_count: usize,
+    request: impl FnOnce(&HostScene) -> Result<BakeRequest, Failure>,
+    (progress, user, cancel): Watch<'_>,
+    out: *mut *mut SssbakeResult,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded from the caller.
+    unsafe { clear(out, "out") }?;
+    let scene = SCENES.get(scene, "scene")?;
+    // SAFETY: forwarded from the caller.
+    let materials = unsafe { slice(materials, material_count, "materials") }?;
+    // SAFETY: forwarded from the caller.
+    let object = unsafe { text(object, "object name") }?;
+    let materials = materials
+        .iter()
+        // SAFETY: forwarded from the caller.
+        .map(|m| unsafe { host_material(m) })
+        .collect::<Result<Vec<_>, _>>()?;
+    let host = reading(&scene);
+    let request = request(&host)?;
+    let mut runner = HostRunner {
+        progress,
+        user: &user,
+        cancel,
+    };
+    let (composite, summary) = bake_materials(&host, object, &materials, &request, &mut runner)?;
+    let summary = serde_json::to_string(&summary).unwrap_or_default();
+    let result = SssbakeResult {
+        composite,
+        summary: CString::new(summary).unwrap_or_default(),
+    };
+    let handle = RESULTS.issue(result)?;
+    // SAFETY: checked non-null; the caller gives writable storage.
+    unsafe { *out = handle };
+    Ok(())
 }
 
 /// Runs each part of a bake watched: the host's progress callback and

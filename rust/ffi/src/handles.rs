@@ -21,11 +21,13 @@ const ALIGN_BITS: u32 = 4;
 /// Bits of the kind tag, above the alignment bits.
 const TAG_BITS: u32 = 4;
 /// The kinds of handle by tag (0 is never a tag, so 0 is never a handle).
-const KINDS: [&str; 3] = ["", "scene", "result"];
+const KINDS: [&str; 4] = ["", "scene", "result", "options"];
 /// The tag of scene handles.
 pub(crate) const SCENE: usize = 1;
 /// The tag of result handles.
 pub(crate) const RESULT: usize = 2;
+/// The tag of options handles.
+pub(crate) const OPTIONS: usize = 3;
 
 /// The next serial number, shared by every kind so that no two handles
 /// of any kinds are equal.

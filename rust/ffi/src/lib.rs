@@ -17,6 +17,7 @@ mod folder;
 mod handles;
 mod lights;
 mod material;
+mod options;
 mod scene;
 mod unwrap;
 
@@ -25,11 +26,12 @@ pub use errors::*;
 pub use folder::*;
 pub use lights::*;
 pub use material::*;
+pub use options::*;
 pub use scene::*;
 pub use unwrap::*;
 
 /// The version of this ABI: hosts refuse a library of another version.
-pub const SSSBAKE_ABI_VERSION: u32 = 8;
+pub const SSSBAKE_ABI_VERSION: u32 = 9;
 
 /// The version of this ABI ([`SSSBAKE_ABI_VERSION`]).
 #[unsafe(no_mangle)]

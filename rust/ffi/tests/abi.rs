@@ -1053,3 +1053,170 @@ fn limits_in_the_settings_refuse_a_bake_before_it_starts() {
         assert!(message.starts_with("max_evaluations: "), "{message}");
     }
 }
+
+/// Options set by name, as the text the command line takes.
+struct Options(*mut SssbakeOptions);
+
+impl Options {
+    fn new(pairs: &[(&str, &str)]) -> Options {
+        let mut options = null_mut();
+        assert_eq!(
+            unsafe { sssbake_options_new(&mut options) },
+            SssbakeStatus::Ok
+        );
+        let options = Options(options);
+        for (key, value) in pairs {
+            assert_eq!(
+                options.set(key, value),
+                SssbakeStatus::Ok,
+                "{}",
+                last_error()
+            );
+        }
+        options
+    }
+
+    fn set(&self, key: &str, value: &str) -> SssbakeStatus {
+        let (key, value) = (CString::new(key).unwrap(), CString::new(value).unwrap());
+        unsafe { sssbake_options_set(self.0, key.as_ptr(), value.as_ptr()) }
+    }
+
+    /// The sphere baked with these options in skin1, or the status.
+    fn bake(&self, scene: &Scene) -> Result<*mut SssbakeResult, SssbakeStatus> {
+        let (skin, ball) = (
+            CString::new("skin1").unwrap(),
+            CString::new("Ball").unwrap(),
+        );
+        let mut result = null_mut();
+        let status = unsafe {
+            sssbake_bake_options(
+                scene.0,
+                ball.as_ptr(),
+                &preset(&skin),
+                1,
+                self.0,
+                None,
+                null_mut(),
+                null(),
+                &mut result,
+            )
+        };
+        if status == SssbakeStatus::Ok {
+            Ok(result)
+        } else {
+            Err(status)
+        }
+    }
+}
+
+impl Drop for Options {
+    fn drop(&mut self) {
+        sssbake_options_free(self.0);
+    }
+}
+
+fn pixels(result: *mut SssbakeResult, output: u32) -> Vec<f32> {
+    let n = sssbake_result_resolution(result) as usize;
+    let mut pixels = vec![f32::NAN; 4 * n * n];
+    let status = unsafe { sssbake_result_image(result, output, pixels.as_mut_ptr(), pixels.len()) };
+    assert_eq!(status, SssbakeStatus::Ok, "{}", last_error());
+    pixels
+}
+
+#[test]
+fn options_set_by_name_bake_as_the_settings_struct_does() {
+    let scene = lit_sphere();
+    let by_struct = small_result(scene.0);
+    let options = Options::new(&[
+        ("resolution", "8"),
+        ("method", "brute"),
+        ("light_samples", "4"),
+        (
+            "outputs",
+            "subsurface,irradiance,diffuse,thickness,stretch,area",
+        ),
+    ]);
+    let by_name = options
+        .bake(&scene)
+        .unwrap_or_else(|_| panic!("{}", last_error()));
+    assert_eq!(sssbake_result_resolution(by_name), 8);
+    for output in 0..6 {
+        assert_eq!(
+            pixels(by_struct, output),
+            pixels(by_name, output),
+            "output {output}"
+        );
+    }
+    // A setting the struct has no field for: the octree's threshold.
+    let octree = Options::new(&[
+        ("resolution", "8"),
+        ("method", "octree"),
+        ("octree_epsilon", "0.25"),
+    ]);
+    let result = octree
+        .bake(&scene)
+        .unwrap_or_else(|_| panic!("{}", last_error()));
+    let summary = unsafe { CStr::from_ptr(sssbake_result_summary(result)) }
+        .to_str()
+        .unwrap();
+    let summary: serde_json::Value = serde_json::from_str(summary).unwrap();
+    assert_eq!(
+        summary["objects"][0]["accuracy"]["octree_epsilon"], 0.25,
+        "{summary}"
+    );
+    for result in [by_struct, by_name, result] {
+        assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
+    }
+}
+
+#[test]
+fn options_refuse_unknown_names_and_values_out_of_range_naming_them() {
+    let scene = lit_sphere();
+    let options = Options::new(&[
+        ("resolution", "8"),
+        ("method", "brute"),
+        ("light_samples", "2"),
+    ]);
+    refused(
+        options.set("resolutoin", "16"),
+        "no setting is called `resolutoin`",
+    );
+    for (key, value, words) in [
+        ("resolution", "0", "0 must be between 1 and 16384"),
+        ("resolution", "eight", "`eight` is not a whole number"),
+        ("method", "fast", "unknown name `fast`"),
+        ("colour_split", "2", "2 must be between 0 and 1"),
+        ("max_memory", "lots", "lots"),
+    ] {
+        assert_ne!(options.set(key, value), SssbakeStatus::Ok);
+        assert!(last_error().contains(key), "{key}: {}", last_error());
+        assert!(
+            last_error().contains(words),
+            "{words:?} not in {}",
+            last_error()
+        );
+    }
+    // The refused values left the options as they were.
+    let result = options
+        .bake(&scene)
+        .unwrap_or_else(|_| panic!("{}", last_error()));
+    assert_eq!(sssbake_result_resolution(result), 8);
+    assert_eq!(sssbake_result_free(result), SssbakeStatus::Ok);
+    // A host's scene has its own units: the bake refuses the file's.
+    assert_eq!(options.set("unit_scale", "10"), SssbakeStatus::Ok);
+    assert!(options.bake(&scene).is_err());
+    assert!(last_error().contains("unit_scale"), "{}", last_error());
+    // Null and freed handles are refused, never freed twice.
+    let key = CString::new("resolution").unwrap();
+    refused(
+        unsafe { sssbake_options_set(null_mut(), key.as_ptr(), key.as_ptr()) },
+        "options",
+    );
+    let mut freed = null_mut();
+    assert_eq!(
+        unsafe { sssbake_options_new(&mut freed) },
+        SssbakeStatus::Ok
+    );
+    assert_eq!(sssbake_options_free(freed), SssbakeStatus::Ok);
+    refused(sssbake_options_free(freed), "options");
+}

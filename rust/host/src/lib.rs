@@ -12,6 +12,7 @@
 pub mod lights;
 pub mod material;
 pub mod mesh;
+pub mod options;
 pub mod scene;
 pub mod slots;
 pub mod unwrap;
@@ -19,6 +20,7 @@ pub mod unwrap;
 pub use lights::{HostLight, LightShape};
 pub use material::{HostImage, HostMaterial, HostMaterialKind, HostPrincipled};
 pub use mesh::HostMesh;
+pub use options::{HOST_SCENE, host_options, object_request, scene_request};
 pub use scene::{HostScene, SceneFile};
 pub use slots::{Composite, PartRunner, bake_materials};
 pub use unwrap::unwrap_corners;

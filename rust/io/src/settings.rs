@@ -377,6 +377,36 @@ impl BakeOptions {
 }
 
 impl Setting {
+    /// `text` (as a flag or a C host writes it: `1024`, `0.5`, `octree`,
+    /// `subsurface,diffuse`, `16G`, `true`) as this setting's value,
+    /// checked against what it takes.
+    pub fn parse(&self, text: &str) -> Result<Value, String> {
+        let value = match self.kind {
+            Kind::Count { .. } => match (text.parse::<u64>(), text.parse::<i64>()) {
+                (Ok(v), _) => Value::from(v),
+                (_, Ok(v)) => Value::from(v),
+                _ => return Err(format!("`{text}` is not a whole number")),
+            },
+            Kind::Number { .. } => text
+                .parse::<f64>()
+                .map(Value::from)
+                .map_err(|_| format!("`{text}` is not a number"))?,
+            Kind::Switch => match text {
+                "true" | "1" => Value::Bool(true),
+                "false" | "0" => Value::Bool(false),
+                _ => return Err(format!("`{text}` is not true or false")),
+            },
+            Kind::Choices { .. } | Kind::Names => Value::Array(
+                text.split(',')
+                    .map(|item| Value::String(item.trim().to_string()))
+                    .collect(),
+            ),
+            _ => Value::String(text.to_string()),
+        };
+        self.check(&value)?;
+        Ok(value)
+    }
+
     /// Whether `value` is one this setting takes; if not, why.
     pub fn check(&self, value: &Value) -> Result<(), String> {
         let unknown = |name: &str, names: &[&str]| {

@@ -10,19 +10,16 @@ use pyo3::prelude::*;
 use serde_json::Value;
 use sssbake::colour::Wrap;
 use sssbake::control::Control;
-use sssbake::{BakeRequest, Error, Output, UvPolicy};
+use sssbake::{BakeRequest, Error, Output};
 use sssbake_host::{
-    Composite, HostImage, HostLight, HostMaterial, HostMaterialKind, HostMesh, HostPrincipled,
-    HostScene, PartRunner, bake_materials, unwrap_corners,
+    Composite, HOST_SCENE, HostImage, HostLight, HostMaterial, HostMaterialKind, HostMesh,
+    HostPrincipled, HostScene, PartRunner, bake_materials, host_options, object_request,
+    scene_request, unwrap_corners,
 };
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
 use sssbake_io::{BakeOptions, bake_to_folder};
 use std::path::{Path, PathBuf};
-
-/// The name a host's scene goes by in summaries and errors: no file has it,
-/// so a folder bake writes the maps alone.
-const HOST_SCENE: &str = "host scene";
 
 /// A contiguous float32 or uint32 array's values, or an error naming it.
 fn values<'a, T: numpy::Element>(
@@ -150,7 +147,10 @@ impl PyScene {
             .map(|(i, (spec, pixels))| host_material(spec, *pixels, i))
             .collect::<Result<Vec<_>, _>>();
         let materials = or_raise(py, materials)?;
-        let request = or_raise(py, object_request(options_json, &self.host))?;
+        let request = or_raise(
+            py,
+            options_of(options_json).and_then(|o| object_request(o, &self.host)),
+        )?;
         let mut runner = WatchedParts {
             py,
             progress: progress.clone(),
@@ -187,7 +187,7 @@ impl PyScene {
         progress: Option<Bound<'_, PyAny>>,
         cancel: Option<Bound<'_, PyAny>>,
     ) -> PyResult<String> {
-        let options = or_raise(py, host_options(options_json))?;
+        let options = or_raise(py, options_of(options_json).and_then(host_options))?;
         let folder = options.folder(&out, force);
         let control = Control::new();
         let watchers = Watchers {
@@ -197,7 +197,7 @@ impl PyScene {
         };
         let host = &self.host;
         let summary = run_watched(py, &control, &watchers, || {
-            let request = request_for(&options, host)?;
+            let request = scene_request(&options, host)?;
             let plan = sssbake::plan(&host.scene, &request)?;
             bake_to_folder(Path::new(HOST_SCENE), &host.scene, &plan, &folder, &control)
         })?;
@@ -205,63 +205,6 @@ impl PyScene {
         finish(&watchers, "done")?;
         Ok(serde_json::to_string(&summary).unwrap_or_else(|_| "null".into()))
     }
-}
-
-/// The options of a bake of a host's scene: a `BakeOptions` without the
-/// ones that read a file's scene (its units and UV set are the host's).
-fn host_options(options_json: &str) -> Result<BakeOptions, Error> {
-    let options: BakeOptions =
-        serde_json::from_str(options_json).map_err(|e| Error::field("options", e.to_string()))?;
-    if options.unit_scale.is_some() {
-        return Err(Error::field(
-            "unit_scale",
-            "a host's scene has the units it was made with (millimetres_per_unit)",
-        ));
-    }
-    if options.uv_set.is_some() {
-        return Err(Error::field(
-            "uv_set",
-            "a host's scene bakes into each mesh's `uvs`",
-        ));
-    }
-    Ok(options)
-}
-
-/// The request for one object's bake: `options` (without materials, which
-/// come per face slot), the object's own UVs kept as they are unless the
-/// options say otherwise (the host shows the maps through them).
-fn object_request(options_json: &str, host: &HostScene) -> Result<BakeRequest, Error> {
-    let mut options = host_options(options_json)?;
-    for (given, field) in [
-        (options.preset.is_some(), "preset"),
-        (options.material.is_some(), "material"),
-        (options.materials.is_some(), "materials"),
-        (options.objects.is_some(), "objects"),
-    ] {
-        if given {
-            return Err(Error::field(
-                field,
-                "an object's bake takes its materials (and the object) as arguments",
-            ));
-        }
-    }
-    options
-        .uvs
-        .get_or_insert_with(|| UvPolicy::Keep.to_string());
-    request_for(&options, host)
-}
-
-/// The request `options` make for the host's scene. Only the request is
-/// wanted of `BakeOptions::load_with`, and the one thing it reads of the
-/// scene is its lights (a host's scene names no environment file), so it
-/// gets a scene of those alone rather than a copy of the meshes.
-fn request_for(options: &BakeOptions, host: &HostScene) -> Result<BakeRequest, Error> {
-    let lights = sssbake::Scene {
-        lights: host.scene.lights.clone(),
-        ..sssbake::Scene::default()
-    };
-    let (_, request) = options.load_with(Path::new(HOST_SCENE), |_| Ok(lights))?;
-    Ok(request)
 }
 
 /// The library's material of `spec` (a JSON object: `kind`, `name`, `toml`,
@@ -567,4 +510,9 @@ pub fn defaults() -> String {
             .collect::<Vec<_>>(),
     })
     .to_string()
+}
+
+/// The options a Python caller gave, as JSON.
+fn options_of(options_json: &str) -> Result<BakeOptions, Error> {
+    serde_json::from_str(options_json).map_err(|e| Error::field("options", e.to_string()))
 }
