@@ -183,6 +183,31 @@ def test_bad_settings_give_a_report_not_an_exception(addon, tmp_path, capfd):
     assert len(bpy.data.images) == 0
 
 
+def test_without_a_usable_library_the_panel_says_why_and_offers_no_bake(addon, monkeypatch):
+    """The settings, their defaults and ranges are the library's alone: without a package
+    of this release there are none to show, so the panel says what is wrong instead; the
+    artist's settings are still there once the library is."""
+    import bpy
+
+    bpy.context.scene.sssbake.resolution = 333
+    addon.unregister()
+    monkeypatch.setattr(addon.binding, "VERSION", "0.0.0")
+    addon.binding.settings.cache_clear()
+    addon.register()
+    try:
+        assert not hasattr(bpy.types.Scene, "sssbake")
+        assert not hasattr(bpy.types, "SSSBAKE_OT_bake")
+        assert "this add-on is 0.0.0" in addon.panels.MISSING
+        assert hasattr(bpy.types, "SSSBAKE_PT_missing_properties")
+    finally:
+        addon.unregister()
+        monkeypatch.undo()
+        addon.binding.settings.cache_clear()
+        addon.register()
+    assert not hasattr(bpy.types, "SSSBAKE_PT_missing_properties")
+    assert bpy.context.scene.sssbake.resolution == 333
+
+
 def test_a_package_of_another_release_is_refused(addon, monkeypatch):
     import sssbake
 

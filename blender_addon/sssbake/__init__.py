@@ -4,7 +4,7 @@ installs with the extension). No physics lives here: the add-on moves Blender's 
 
 import bpy
 
-from . import operators, panels, properties
+from . import binding, operators, panels, properties
 
 CLASSES = (
     properties.SSSBAKE_PG_settings,
@@ -13,13 +13,27 @@ CLASSES = (
     panels.SSSBAKE_PT_sidebar,
 )
 
+# What register() registered: CLASSES, or, without a usable library, the panels that say why.
+_registered = ()
+
 
 def register():
-    # The preset list and the defaults are the library's when it loads; read here
-    # rather than at import.
-    presets, defaults = properties.preset_items(), properties.library_defaults()
-    properties.SSSBAKE_PG_settings.__annotations__ = properties.bake_properties(presets, defaults)
-    operators.SSSBAKE_OT_bake.__annotations__ = properties.operator_properties(presets, defaults)
+    global _registered
+    # The settings, their defaults and ranges are the library's, read here rather than at
+    # import; without the library the panel says what is missing and offers no bake.
+    try:
+        settings, defaults = properties.library()
+    except binding.Error as error:
+        panels.MISSING = str(error)
+        _registered = panels.MISSING_PANELS
+        for cls in _registered:
+            bpy.utils.register_class(cls)
+        return
+    definitions = properties.bake_properties(settings, defaults)
+    properties.SSSBAKE_PG_settings.__annotations__ = definitions
+    properties.SETTING_NAMES = tuple(definitions)
+    operators.SSSBAKE_OT_bake.__annotations__ = properties.operator_properties(settings, defaults)
+    _registered = CLASSES
     for cls in CLASSES:
         bpy.utils.register_class(cls)
     bpy.types.Scene.sssbake = bpy.props.PointerProperty(type=properties.SSSBAKE_PG_settings)
@@ -27,8 +41,11 @@ def register():
 
 
 def unregister():
-    operators.cancel_running()
-    bpy.types.VIEW3D_MT_object.remove(operators.menu_entry)
-    del bpy.types.Scene.sssbake
-    for cls in reversed(CLASSES):
+    global _registered
+    if _registered == CLASSES:
+        operators.cancel_running()
+        bpy.types.VIEW3D_MT_object.remove(operators.menu_entry)
+        del bpy.types.Scene.sssbake
+    for cls in reversed(_registered):
         bpy.utils.unregister_class(cls)
+    _registered = ()

@@ -56,6 +56,12 @@ def defaults():
     return package().defaults()
 
 
+@functools.cache
+def settings():
+    """Every bake setting of the library (`sssbake.settings()`) by name, read once."""
+    return {setting["name"]: setting for setting in package().settings()}
+
+
 def outputs():
     """The outputs' names in the library's order."""
     return tuple(defaults()["all_outputs"])

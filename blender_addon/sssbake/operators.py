@@ -8,9 +8,8 @@ import types
 
 import bpy
 
-from . import binding, report
+from . import binding, properties, report
 from .job import Job
-from .properties import SETTING_NAMES, operator_properties
 
 _running = []
 
@@ -37,7 +36,7 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
     bl_idname = "sssbake.bake"
     bl_label = "Bake Subsurface"
     bl_options = {"UNDO"}  # noqa: RUF012 (Blender reads a set)
-    __annotations__ = operator_properties()
+    # Its properties are the panel's settings, given by register() from the library.
 
     @classmethod
     def poll(cls, context):
@@ -58,7 +57,10 @@ class SSSBAKE_OT_bake(bpy.types.Operator):
         panel = context.scene.sssbake
         given = self.properties.is_property_set
         settings = types.SimpleNamespace(
-            **{name: getattr(self, name) if given(name) else getattr(panel, name) for name in SETTING_NAMES}
+            **{
+                name: getattr(self, name) if given(name) else getattr(panel, name)
+                for name in properties.SETTING_NAMES
+            }
         )
         if not given("material_source"):
             if given("preset"):

@@ -1,5 +1,7 @@
 """The panel, in the Properties editor (Object tab) and in the 3-D view's sidebar."""
 
+import textwrap
+
 import bpy
 
 
@@ -62,3 +64,36 @@ class SSSBAKE_PT_sidebar(SubsurfacePanel, bpy.types.Panel):
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "sssbake"
+
+
+# Why the library cannot be used, when register() found it so.
+MISSING = ""
+
+
+class MissingLibraryPanel:
+    """In place of the settings when the sssbake package cannot be used: what is wrong."""
+
+    bl_label = "Subsurface Bake"
+
+    def draw(self, _context):
+        column = self.layout.column()
+        column.label(text="The sssbake library cannot be used:", icon="ERROR")
+        for line in textwrap.wrap(MISSING, 60):
+            column.label(text=line)
+
+
+class SSSBAKE_PT_missing_properties(MissingLibraryPanel, bpy.types.Panel):
+    bl_idname = "SSSBAKE_PT_missing_properties"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+
+
+class SSSBAKE_PT_missing_sidebar(MissingLibraryPanel, bpy.types.Panel):
+    bl_idname = "SSSBAKE_PT_missing_sidebar"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "sssbake"
+
+
+MISSING_PANELS = (SSSBAKE_PT_missing_properties, SSSBAKE_PT_missing_sidebar)

@@ -4,24 +4,6 @@ import bpy
 
 from . import binding
 
-# The presets offered when the library cannot be loaded, so the panel still registers
-# and the bake reports the missing library; with the library, its own list is used.
-PRESETS = [
-    ("skin1", "Skin 1", "Jensen et al. 2001, measured skin"),
-    ("skin2", "Skin 2", "Jensen et al. 2001, measured skin"),
-    ("skin3layer", "Skin, three layers", "Donner & Jensen 2005"),
-    ("deon-skin", "Skin, six Gaussians", "d'Eon & Luebke 2007"),
-    ("marble", "Marble", "Jensen et al. 2001"),
-    ("apple", "Apple", "Jensen et al. 2001"),
-    ("potato", "Potato", "Jensen et al. 2001"),
-    ("ketchup", "Ketchup", "Jensen et al. 2001"),
-    ("wholemilk", "Whole milk", "Jensen et al. 2001"),
-    ("skimmilk", "Skim milk", "Jensen et al. 2001"),
-    ("cream", "Cream", "Jensen et al. 2001"),
-    ("chicken1", "Chicken 1", "Jensen et al. 2001"),
-    ("chicken2", "Chicken 2", "Jensen et al. 2001"),
-    ("spectralon", "Spectralon", "Jensen et al. 2001"),
-]
 SOURCES = [
     ("PRINCIPLED", "From Principled BSDF", "Base Color and the subsurface inputs, read as Cycles reads them"),
     ("PRESET", "Preset", "A measured material"),
@@ -35,29 +17,9 @@ ALBEDO_MAPPINGS = [
         "Colour to albedo by the dipole: under uniform light the bake shows exactly the colour",
     ),
 ]
-METHODS = [
-    ("AUTO", "Auto", "Let the library choose, and say why"),
-    ("BRUTE", "Exact", "The exact sum: the reference, slowest"),
-    ("OCTREE", "Octree", "Hierarchical: near-exact, fast"),
-    ("TEXTURE", "Texture space", "Separable blurs: fastest, a few percent off"),
-    ("IMPORTANCE", "Monte Carlo", "Probe rays: noisy at low quality"),
-    (
-        "WALK",
-        "Random walk",
-        "Light walked through the mesh itself, as Cycles' Random Walk: the truth for the model, noisy and slow",
-    ),
-]
 QUALITY_SAMPLES = {"DRAFT": 4, "GOOD": 16, "FINAL": 64}
 QUALITIES = [
     (key, key.title(), f"{samples} light samples per texel") for key, samples in QUALITY_SAMPLES.items()
-]
-OUTPUTS = [
-    ("SUBSURFACE", "Subsurface", "Exitance, W/m²"),
-    ("IRRADIANCE", "Irradiance", "Transmitted irradiance, W/m²"),
-    ("DIFFUSE", "Diffuse", "Diffuse radiance through the exit Fresnel"),
-    ("THICKNESS", "Thickness", "Distance through the object, mm"),
-    ("STRETCH", "Stretch", "Surface length per texel along u and v, mm"),
-    ("AREA", "Area", "Surface area per texel, mm²"),
 ]
 UNWRAP_METHODS = [
     (
@@ -73,42 +35,23 @@ DESTINATIONS = [
 ]
 
 
-def preset_items():
-    """The library's presets as enum items, or PRESETS when it cannot be loaded."""
-    try:
-        return [(name, name, description) for name, description in binding.presets()]
-    except binding.Error:
-        return PRESETS
-
-
-# The defaults when the library cannot be loaded; with the library, its own are used
-# (sssbake.defaults()), so each default is defined once, in the library.
-FALLBACK_DEFAULTS = {
-    "resolution": 1024,
-    "margin": 8,
-    "outputs": {"SUBSURFACE", "IRRADIANCE", "DIFFUSE"},
-    "quality": "GOOD",
-    "max_memory": 16.0,
-}
-
 GIB = 1 << 30
 
 
-def library_defaults():
-    """The library's defaults for the settings the panel shows, or FALLBACK_DEFAULTS."""
-    try:
-        library = binding.defaults()
-    except binding.Error:
-        return FALLBACK_DEFAULTS
-    samples = library["light_samples"]
-    quality = next((q for q, count in QUALITY_SAMPLES.items() if count == samples), "GOOD")
-    return {
-        "resolution": library["resolution"],
-        "margin": library["margin"],
-        "outputs": {name.upper() for name in library["outputs"]},
-        "quality": quality,
-        "max_memory": library["max_memory_bytes"] / GIB,
-    }
+def library():
+    """What the panel reads of the library: every setting (`sssbake.settings()`) by name and
+    its other defaults (`sssbake.defaults()`). Raises binding.Error when the package cannot be
+    used; then register() shows why instead of the settings."""
+    return binding.settings(), binding.defaults()
+
+
+def _items(setting):
+    """A choice setting's names as enum items: the identifier in capitals, the name as the
+    label, the library's line on it as the tooltip."""
+    return [
+        (name.upper(), name.replace("-", " ").title(), note)
+        for name, note in zip(setting["names"], setting["notes"], strict=True)
+    ]
 
 
 def _path_options():
@@ -116,10 +59,11 @@ def _path_options():
     return {"PATH_SUPPORTS_BLEND_RELATIVE"} if bpy.app.version >= (4, 5, 0) else set()
 
 
-def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
-    """The settings as property definitions, shared by the panel and the operator;
-    `presets` are the preset enum's items and `defaults` the library's defaults
-    (register() passes both from the library)."""
+def bake_properties(settings, defaults):
+    """The settings as property definitions, shared by the panel and the operator, from
+    the library's `settings` (by name) and `defaults` (see library())."""
+    samples = settings["light_samples"]["default"]
+    quality = next((q for q, count in QUALITY_SAMPLES.items() if count == samples), "GOOD")
     return {
         "material_source": bpy.props.EnumProperty(
             name="Material",
@@ -128,7 +72,13 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
             default="PRINCIPLED",
         ),
         "preset": bpy.props.EnumProperty(
-            name="Preset", description="A measured material from the library", items=presets, default="skin1"
+            name="Preset",
+            description="A measured material from the library",
+            items=[
+                (name, name, note)
+                for name, note in zip(settings["preset"]["names"], settings["preset"]["notes"], strict=True)
+            ],
+            default=defaults["preset"],
         ),
         "layers_file": bpy.props.StringProperty(
             name="Layers",
@@ -146,9 +96,9 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
         "resolution": bpy.props.IntProperty(
             name="Resolution",
             description="Size of each baked image, in texels per side (the images are square)",
-            default=defaults["resolution"],
-            min=1,
-            max=16384,
+            default=settings["resolution"]["default"],
+            min=settings["resolution"]["min"],
+            max=settings["resolution"]["max"],
             soft_min=64,
             soft_max=8192,
             subtype="PIXEL",
@@ -156,8 +106,8 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
         "method": bpy.props.EnumProperty(
             name="Method",
             description="How the light under the skin is summed over the surface",
-            items=METHODS,
-            default="AUTO",
+            items=_items(settings["method"]),
+            default=settings["method"]["default"].upper(),
         ),
         "quality": bpy.props.EnumProperty(
             name="Quality",
@@ -165,14 +115,14 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
             + ", ".join(f"{key.title()} {n}" for key, n in QUALITY_SAMPLES.items())
             + ")",
             items=QUALITIES,
-            default=defaults["quality"],
+            default=quality,
         ),
         "outputs": bpy.props.EnumProperty(
             name="Outputs",
             description="The maps to bake, each an image `<object>_<output>`",
-            items=OUTPUTS,
+            items=_items(settings["outputs"]),
             options={"ENUM_FLAG"},
-            default=defaults["outputs"],
+            default={name.upper() for name in settings["outputs"]["default"]},
         ),
         "uv_map": bpy.props.StringProperty(
             name="UV Map",
@@ -226,9 +176,9 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
             name="Margin",
             description="Texels grown around each UV island, in pixels, so filtering at the "
             "island's edge does not show the background",
-            default=defaults["margin"],
-            min=0,
-            max=64,
+            default=settings["margin"]["default"],
+            min=settings["margin"]["min"],
+            soft_max=64,
             subtype="PIXEL",
         ),
         "max_memory": bpy.props.FloatProperty(
@@ -236,7 +186,7 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
             description="Memory each object's bake may hold, in GiB (2³⁰ bytes); the library "
             "estimates it before the bake starts and refuses a bake that would need more, "
             "saying what drives it, rather than running out of memory",
-            default=defaults["max_memory"],
+            default=defaults["max_memory_bytes"] / GIB,
             min=0.001,
             max=1024.0,
             soft_min=0.25,
@@ -247,20 +197,21 @@ def bake_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
     }
 
 
-def operator_properties(presets=PRESETS, defaults=FALLBACK_DEFAULTS):
+def operator_properties(settings, defaults):
     """The settings as the operator's properties: as the panel's, but never remembered from
     one call to the next (SKIP_SAVE), so a bake from the interface takes the panel's
     settings and a script's keywords apply to its own call only."""
     properties = {}
-    for name, definition in bake_properties(presets, defaults).items():
+    for name, definition in bake_properties(settings, defaults).items():
         keywords = dict(definition.keywords)
         keywords["options"] = set(keywords.get("options", {"ANIMATABLE"})) | {"SKIP_SAVE"}
         properties[name] = definition.function(**keywords)
     return properties
 
 
-SETTING_NAMES = tuple(bake_properties())
+# The settings' names, set by register() with the properties themselves.
+SETTING_NAMES = ()
 
 
 class SSSBAKE_PG_settings(bpy.types.PropertyGroup):
-    __annotations__ = bake_properties()
+    """The panel's settings; register() gives it its properties, read from the library."""

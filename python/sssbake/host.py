@@ -199,7 +199,8 @@ def unwrap(
 
 def defaults() -> dict[str, Any]:
     """The library's defaults a host shows in its settings (`resolution`, `margin`,
-    `light_samples`, `tolerance`, `max_memory_bytes`, `method`, `outputs`), every output's and method's
+    `light_samples`, `tolerance`, `max_memory_bytes`, `method`, `outputs`, and `preset`, the one a
+    bake falls back on), every output's and method's
     name (`all_outputs`, `all_methods`), and the presets a bake can use (`presets`, pairs of
     name and description)."""
     return json.loads(_native.defaults())

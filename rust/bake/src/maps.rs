@@ -36,6 +36,7 @@ use sssbake_profile::boundary::surface::Surface;
     strum::IntoStaticStr,
     strum::VariantArray,
     strum::VariantNames,
+    strum::EnumMessage,
 )]
 #[serde(rename_all = "lowercase")]
 #[strum(serialize_all = "lowercase")]

@@ -49,6 +49,9 @@ pub const MAX_RESOLUTION: u32 = 16384;
     strum::Display,
     strum::EnumString,
     strum::VariantNames,
+    strum::EnumMessage,
+    strum::VariantArray,
+    strum::IntoStaticStr,
 )]
 #[serde(rename_all = "lowercase")]
 #[strum(serialize_all = "lowercase")]

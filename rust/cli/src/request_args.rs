@@ -115,10 +115,10 @@ fn flag(setting: &'static Setting) -> Arg {
         .help(format!("{doc}{default}"));
     match &setting.kind {
         Kind::Switch => arg.action(ArgAction::SetTrue),
-        Kind::Choice { names } => arg
+        Kind::Choice { names, .. } => arg
             .value_name(setting.name.to_uppercase())
             .value_parser(choices(names)),
-        Kind::Choices { names } => arg
+        Kind::Choices { names, .. } => arg
             .value_name(setting.name.to_uppercase())
             .value_parser(choices(names))
             .value_delimiter(',')

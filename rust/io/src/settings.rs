@@ -10,6 +10,7 @@ use crate::FolderOptions;
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 use sssbake::limits::size_text;
+use sssbake::materials::FALLBACK_PRESET;
 use sssbake::request::{BakeRequest, MAX_RESOLUTION};
 use sssbake::transport::light_check::MOST_TEXELS;
 use sssbake::transport::texture_space::MAX_GAUSSIANS;
@@ -19,7 +20,6 @@ use sssbake_profile::boundary::rough::MAX_ROUGHNESS;
 use sssbake_profile::model::Model;
 use std::path::PathBuf;
 use std::sync::LazyLock;
-use strum::VariantNames;
 
 /// What values a setting takes.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -47,11 +47,15 @@ pub enum Kind {
     Choice {
         /// The names it takes.
         names: Vec<&'static str>,
+        /// What each name means, one line each (the library's own words).
+        notes: Vec<&'static str>,
     },
     /// Any of `names`, as a list.
     Choices {
         /// The names it takes.
         names: Vec<&'static str>,
+        /// What each name means, one line each.
+        notes: Vec<&'static str>,
     },
     /// A list of free names (objects).
     Names,
@@ -125,19 +129,33 @@ fn number(min: Option<f64>, min_exclusive: bool, max: Option<f64>) -> Kind {
     }
 }
 
-fn choice(names: &'static [&'static str]) -> Kind {
-    Kind::Choice {
-        names: names.to_vec(),
-    }
+/// Every name of the enum `T` with its variant's doc.
+fn described<T>() -> (Vec<&'static str>, Vec<&'static str>)
+where
+    T: strum::VariantArray + strum::EnumMessage + Copy + Into<&'static str>,
+{
+    T::VARIANTS
+        .iter()
+        .map(|&v| (v.into(), v.get_documentation().unwrap_or_default().trim()))
+        .unzip()
 }
 
-/// The presets a bake can name (not those that only describe angles).
-fn preset_names() -> Vec<&'static str> {
-    sssbake_profile::presets::list()
+fn choice<T>() -> Kind
+where
+    T: strum::VariantArray + strum::EnumMessage + Copy + Into<&'static str>,
+{
+    let (names, notes) = described::<T>();
+    Kind::Choice { names, notes }
+}
+
+/// The presets a bake can name (not those that only describe angles), with
+/// what each is.
+fn presets() -> Kind {
+    let (names, notes) = sssbake_profile::presets::list()
         .into_iter()
-        .map(|(name, _)| name)
-        .filter(|name| !sssbake_profile::presets::ANGULAR_ONLY.contains(name))
-        .collect()
+        .filter(|(name, _)| !sssbake_profile::presets::ANGULAR_ONLY.contains(name))
+        .unzip();
+    Kind::Choice { names, notes }
 }
 
 /// A default stated as a value, and the same in words (as a flag takes it).
@@ -223,15 +241,15 @@ settings! {
     objects: Vec<String> => (Kind::Names, "", Part::Scene, unstated("every object")),
     /// A material preset for every object the sidecar does not name.
     preset: String => (
-        Kind::Choice { names: preset_names() }, "", Part::Scene,
-        unstated("the object's own material in the file, else skin1")
+        presets(), "", Part::Scene,
+        (None, format!("the object's own material in the file, else {FALLBACK_PRESET}"))
     ),
     /// A TOML material file for every object the sidecar does not name.
     material: PathBuf => (Kind::File, "", Part::Scene, unstated("none")),
     /// A TOML sidecar naming each object's preset or material file.
     materials: PathBuf => (Kind::File, "", Part::Scene, unstated("none")),
     /// The profile model.
-    model: String => (choice(Model::VARIANTS), "", Part::Bake, unstated("chosen for the material")),
+    model: String => (choice::<Model>(), "", Part::Bake, unstated("chosen for the material")),
     /// Texels per side of each map.
     resolution: u32 => (
         count(1, MAX_RESOLUTION.into()), "texels", Part::Bake,
@@ -244,7 +262,7 @@ settings! {
     /// What to do with the objects' UVs: `auto` unwraps with xatlas where
     /// they are not usable, `unwrap` always, `keep` bakes into them as they
     /// are.
-    uvs: String => (choice(UvPolicy::VARIANTS), "", Part::Bake, stated(json!(request().uvs))),
+    uvs: String => (choice::<UvPolicy>(), "", Part::Bake, stated(json!(request().uvs))),
     /// Texels filled beyond each chart's edge, and between the charts of an
     /// unwrap.
     margin: u32 => (
@@ -253,11 +271,16 @@ settings! {
     ),
     /// The maps to make.
     outputs: Vec<String> => (
-        Kind::Choices { names: Output::VARIANTS.to_vec() }, "", Part::Bake,
+        {
+            let (names, notes) = described::<Output>();
+            Kind::Choices { names, notes }
+        },
+        "",
+        Part::Bake,
         stated(json!(request().outputs))
     ),
     /// The integrator, or `auto` to let the library choose and say why.
-    method: String => (choice(Method::VARIANTS), "", Part::Bake, stated(json!(request().method))),
+    method: String => (choice::<Method>(), "", Part::Bake, stated(json!(request().method))),
     /// Octree: the solid angle below which a node is taken whole.
     octree_epsilon: f32 => (
         number(Some(0.0), false, None), "sr", Part::Integrator(Method::Octree),
@@ -457,13 +480,13 @@ impl Setting {
                     });
                 }
             }
-            Kind::Choice { names } => {
+            Kind::Choice { names, .. } => {
                 let name = value.as_str().unwrap_or_default();
                 if !names.contains(&name) {
                     return Err(unknown(name, names));
                 }
             }
-            Kind::Choices { names } => {
+            Kind::Choices { names, .. } => {
                 for item in value.as_array().into_iter().flatten() {
                     let name = item.as_str().unwrap_or_default();
                     if !names.contains(&name) {

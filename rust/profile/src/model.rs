@@ -23,6 +23,7 @@ use crate::profile::Profile;
     strum::IntoStaticStr,
     strum::VariantArray,
     strum::VariantNames,
+    strum::EnumMessage,
 )]
 #[strum(serialize_all = "lowercase")]
 pub enum Model {

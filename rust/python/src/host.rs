@@ -501,6 +501,7 @@ pub fn defaults() -> String {
         "tolerance": request.tolerance,
         "max_memory_bytes": request.limits.max_memory_bytes,
         "method": request.method.name(),
+        "preset": sssbake::materials::FALLBACK_PRESET,
         "outputs": request.outputs.iter().map(|o| o.name()).collect::<Vec<_>>(),
         "all_outputs": Output::ALL.map(Output::name),
         "all_methods": <sssbake::Method as strum::VariantNames>::VARIANTS,
