@@ -43,6 +43,22 @@ def draw_settings(layout, context, settings):
     layout.operator("sssbake.bake", icon="RENDER_STILL")
 
 
+class InObjectProperties:
+    """Placed in the Properties editor's Object tab (each panel's id is its class name)."""
+
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+
+
+class InSidebar:
+    """Placed in the 3-D view's sidebar, in a tab of its own."""
+
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "sssbake"
+
+
 class SubsurfacePanel:
     """The panel's content, wherever it is shown."""
 
@@ -52,18 +68,12 @@ class SubsurfacePanel:
         draw_settings(self.layout, context, context.scene.sssbake)
 
 
-class SSSBAKE_PT_properties(SubsurfacePanel, bpy.types.Panel):
-    bl_idname = "SSSBAKE_PT_properties"
-    bl_space_type = "PROPERTIES"
-    bl_region_type = "WINDOW"
-    bl_context = "object"
+class SSSBAKE_PT_properties(SubsurfacePanel, InObjectProperties, bpy.types.Panel):
+    pass
 
 
-class SSSBAKE_PT_sidebar(SubsurfacePanel, bpy.types.Panel):
-    bl_idname = "SSSBAKE_PT_sidebar"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "sssbake"
+class SSSBAKE_PT_sidebar(SubsurfacePanel, InSidebar, bpy.types.Panel):
+    pass
 
 
 # Why the library cannot be used, when register() found it so.
@@ -82,18 +92,12 @@ class MissingLibraryPanel:
             column.label(text=line)
 
 
-class SSSBAKE_PT_missing_properties(MissingLibraryPanel, bpy.types.Panel):
-    bl_idname = "SSSBAKE_PT_missing_properties"
-    bl_space_type = "PROPERTIES"
-    bl_region_type = "WINDOW"
-    bl_context = "object"
+class SSSBAKE_PT_missing_properties(MissingLibraryPanel, InObjectProperties, bpy.types.Panel):
+    pass
 
 
-class SSSBAKE_PT_missing_sidebar(MissingLibraryPanel, bpy.types.Panel):
-    bl_idname = "SSSBAKE_PT_missing_sidebar"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "sssbake"
+class SSSBAKE_PT_missing_sidebar(MissingLibraryPanel, InSidebar, bpy.types.Panel):
+    pass
 
 
 MISSING_PANELS = (SSSBAKE_PT_missing_properties, SSSBAKE_PT_missing_sidebar)
