@@ -2,8 +2,9 @@
 (examples/make_examples.py) is rendered by Cycles with its subsurface scattering (Random
 Walk), and the head's glTF copy, baked by sssbake, is drawn by three.js and by
 model-viewer in headless Chromium from the same camera. Writes docs/viewing_cycles.png,
-docs/viewing_three.png and docs/viewing_model_viewer.png, and prints how far the baked
-look is from Cycles over the lit pixels:
+docs/viewing_three.png and docs/viewing_model_viewer.png, the ear's and the marble's copies in
+three.js as docs/viewing_three_ear.png and docs/viewing_three_marble.png, and prints how far
+the baked look is from Cycles over the lit pixels:
 
     cargo build --release -p sssbake-cli
     .venv/bin/python scripts/viewer_pictures.py            # --samples 256 --resolution 1024
@@ -30,7 +31,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT / "examples"))
 
 from conftest import exr
-from web_shot import SIZE, camera, missing_browser, shoot
+from web_shot import EXAMPLES, SIZE, camera, missing_browser, shoot
 
 
 def write_png(path: pathlib.Path, display: np.ndarray):
@@ -132,6 +133,17 @@ def main():
         viewer = shoot("model-viewer", out, "head", exposure, work)
         shutil.copy(three["png"], ROOT / "docs" / "viewing_three.png")
         shutil.copy(viewer["png"], ROOT / "docs" / "viewing_model_viewer.png")
+        for name in ("ear", "marble"):
+            scene, object_name, *_ = EXAMPLES[name]
+            folder = work / name
+            subprocess.run(
+                [str(binary), "bake", str(ROOT / scene), "--out", str(folder)]
+                + ["--resolution", str(args.resolution), "--light-check", "0"],
+                check=True,
+            )
+            shown = 1.0 / float(exr(folder / f"{object_name}_diffuse.exr").max())
+            shot = shoot("three", folder, name, shown, work)
+            shutil.copy(shot["png"], ROOT / "docs" / f"viewing_three_{name}.png")
         cycles = render_cycles(camera(out / "head.gltf", "head"), args.samples, work)
         write_png(ROOT / "docs" / "viewing_cycles.png", np.clip(exposure * cycles["radiance"], 0, 1))
 
@@ -143,7 +155,8 @@ def main():
     inside = box(both[..., None].astype(float))[..., 0] > 0.999
     chosen = inside & lit
     print("baked look in three.js against Cycles: " + compare(ours, cycles["radiance"], chosen))
-    print("wrote docs/viewing_cycles.png, docs/viewing_three.png, docs/viewing_model_viewer.png")
+    print("wrote docs/viewing_cycles.png, docs/viewing_three.png, docs/viewing_model_viewer.png,")
+    print("      docs/viewing_three_ear.png, docs/viewing_three_marble.png")
 
 
 if __name__ == "__main__":
