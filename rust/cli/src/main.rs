@@ -7,19 +7,13 @@
 //! which some assets failed (the others were baked); 70 an internal error
 //! (a bug: please report it).
 
-mod angle_plot;
 mod bake_command;
 mod batch_command;
-mod error_map;
 mod plan_command;
-mod plot;
 mod profile_command;
 mod progress;
 mod report_command;
-mod report_plot;
 mod request_args;
-mod stam_contact_report;
-mod stam_report;
 
 use clap::{Parser, Subcommand};
 use sssbake::Error;

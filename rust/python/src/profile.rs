@@ -6,8 +6,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sssbake::Error;
 use sssbake::scattering::Scattering;
+use sssbake_analysis::profile_report::material as material_of;
 use sssbake_profile::profile::default_radii;
-use sssbake_profile::{Material, Model, Rgb};
+use sssbake_profile::{Model, Rgb};
 use std::path::PathBuf;
 
 /// The profile of a preset or TOML material under `model` (the
@@ -25,7 +26,7 @@ pub fn profile<'py>(
     epsilon: f64,
     gaussians: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let material = or_raise(py, load(preset.as_deref(), material.as_ref()))?;
+    let material = or_raise(py, material_of(preset.as_deref(), material.as_deref()))?;
     let model = match model {
         Some(name) => Some(or_raise(
             py,
@@ -85,16 +86,4 @@ pub fn profile<'py>(
     out.set_item("d_max_mm", rgb(profile.d_max(epsilon)))?;
     out.set_item("epsilon", epsilon)?;
     Ok(out)
-}
-
-fn load(preset: Option<&str>, material: Option<&PathBuf>) -> Result<Material, Error> {
-    match (preset, material) {
-        (Some(_), Some(_)) => Err(Error::field(
-            "preset",
-            "give a preset or a material file, not both",
-        )),
-        (Some(name), None) => sssbake_profile::presets::named(name).map_err(Error::input),
-        (None, Some(path)) => Material::from_file(path).map_err(Error::from),
-        (None, None) => Err(Error::field("preset", "give a preset or a material file")),
-    }
 }

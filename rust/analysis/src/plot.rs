@@ -307,3 +307,25 @@ pub fn render_png(svg: &str) -> Result<Vec<u8>, String> {
     );
     pixmap.encode_png().map_err(|e| e.to_string())
 }
+
+/// The extension of `path`, in lower case.
+fn extension(path: &std::path::Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+}
+
+/// True when `path` names a plot this module writes: `.svg` or `.png`.
+pub fn is_plot_file(path: &std::path::Path) -> bool {
+    matches!(extension(path).as_deref(), Some("svg" | "png"))
+}
+
+/// `svg` as the bytes of a file named `path`: as it is for `.svg`,
+/// rasterised for `.png`; any other name is refused, saying so.
+pub fn file_bytes(path: &std::path::Path, svg: String) -> Result<Vec<u8>, String> {
+    match extension(path).as_deref() {
+        Some("svg") => Ok(svg.into_bytes()),
+        Some("png") => render_png(&svg),
+        _ => Err("the file must end in .svg or .png".into()),
+    }
+}
