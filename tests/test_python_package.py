@@ -5,6 +5,7 @@ stage in memory; progress rises to 1; cancellation, Ctrl-C-like callback errors 
 arrive as the package's exceptions; the GIL is free while the library works; profiles are
 numpy arrays whose integral is the profile's total reflectance."""
 
+import json
 import os
 import pathlib
 import re
@@ -236,6 +237,33 @@ def test_a_profiles_arrays_integrate_to_its_total_reflectance():
     default = sssbake.profile("skin1")
     assert default["radii_mm"].shape == (60,)
     assert default["radii_mm"][-1] == pytest.approx(default["d_max_mm"].max())
+
+
+def test_a_profile_plot_and_a_report_come_to_python_as_to_the_command_line(sssbake, tmp_path):
+    """The analysis is the library's: Python gets the plot `sssbake profile --plot` draws,
+    and the error-against-time report `sssbake report` writes, run for run."""
+    import sssbake as package  # the fixture's name shadows the module
+
+    binary = sssbake
+    svg = package.profile_plot("skin1", radii=[0.1, 1.0, 3.0])
+    drawn = tmp_path / "skin1.svg"
+    result = run(binary, "profile", "--preset", "skin1", "--radii", "0.1,1,3", "--plot", str(drawn))
+    assert result.returncode == 0, result.stderr
+    assert svg.startswith("<svg") and svg == drawn.read_text()
+
+    report = package.report(MARBLE, tmp_path / "python", resolution=12, light_samples=2)
+    cli = tmp_path / "cli"
+    result = run(
+        binary, "report", str(MARBLE), "--out", str(cli), "--resolution", "12", "--light-samples", "2"
+    )
+    assert result.returncode == 0, result.stderr
+    written = json.loads((cli / "report.json").read_text())
+    same = lambda runs: [(r["method"], r["setting"], round(r["relative_rmse"], 9)) for r in runs]
+    assert same(report["runs"]) == same(written["runs"])
+    assert report["runs"][0]["method"] == "brute" and any(r["pareto"] for r in report["runs"])
+    assert {p.name for p in (tmp_path / "python").iterdir()} >= {"report.json", "report.png", "report.csv"}
+    with pytest.raises(package.OutputError, match="exists"):
+        package.report(MARBLE, tmp_path / "python", resolution=12)
 
 
 def test_a_batch_from_python_reports_each_asset_and_skips_on_a_rerun(tmp_path):

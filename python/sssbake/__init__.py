@@ -53,6 +53,8 @@ __all__ = [
     "plan",
     "presets",
     "profile",
+    "profile_plot",
+    "report",
     "settings",
     "unwrap",
 ]
@@ -143,6 +145,57 @@ def plan(scene: SceneFile, **options: Unpack[Options]) -> dict[str, Any]:
     method and why, and the estimated cost; nothing is baked."""
     name, stage = _source(scene, options)
     return json.loads(_native.plan(name, options_json(options), _contents(stage, options)))
+
+
+def report(
+    scene: SceneFile,
+    out: str | os.PathLike[str],
+    *,
+    force: bool = False,
+    progress: Progress | None = None,
+    cancel: CancelEvent | None = None,
+    **options: Unpack[Options],
+) -> dict[str, Any]:
+    """Runs every integrator on `scene` across a ladder of settings, each against the exact
+    sum, as `sssbake report` does: writes report.json, report.csv, report.svg and
+    report.png (error against run time) and an error map per method into the folder `out`,
+    and returns report.json as a dict (`runs`: method, setting, seconds, relative_rmse,
+    max_error, and `pareto` for the runs no other beats on both time and error). A report
+    already in `out` is kept unless `force`."""
+    name, stage = _source(scene, options)
+    return json.loads(
+        _native.report(
+            name, os.fspath(out), options_json(options), force, _contents(stage, options), progress, cancel
+        )
+    )
+
+
+def profile_plot(
+    preset: str | None = None,
+    *,
+    material: str | os.PathLike[str] | None = None,
+    model: str | None = None,
+    radii: Iterable[float] | None = None,
+    epsilon: float = 1e-3,
+    gaussians: int = 6,
+    compare_montecarlo: bool = False,
+    photons: int = 100_000,
+    seed: int = 1,
+) -> str:
+    """The plot of `profile`'s R(r) and r·R(r) per channel as SVG text, as `sssbake profile
+    --plot` draws it; with `compare_montecarlo`, the Monte Carlo reference (`photons` per
+    channel, `seed`) beside it."""
+    return _native.profile_plot(
+        preset,
+        None if material is None else os.fspath(material),
+        model,
+        None if radii is None else [float(r) for r in radii],
+        epsilon,
+        gaussians,
+        compare_montecarlo,
+        photons,
+        seed,
+    )
 
 
 def profile(

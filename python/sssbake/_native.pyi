@@ -28,6 +28,26 @@ def batch(
 ) -> str: ...
 def presets() -> list[tuple[str, str]]: ...
 def settings() -> str: ...
+def report(
+    input: str,
+    out: str,
+    options_json: str,
+    force: bool,
+    stage_json: str | None = None,
+    progress: Callable[[float, str], object] | None = None,
+    cancel: Any | None = None,
+) -> str: ...
+def profile_plot(
+    preset: str | None = None,
+    material: str | None = None,
+    model: str | None = None,
+    radii: list[float] | None = None,
+    epsilon: float = 1e-3,
+    gaussians: int = 6,
+    compare_montecarlo: bool = False,
+    photons: int = 100_000,
+    seed: int = 1,
+) -> str: ...
 def uv_primvars(uv_set: int) -> list[str]: ...
 def profile(
     preset: str | None = None,

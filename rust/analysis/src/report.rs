@@ -13,7 +13,9 @@ use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::brute::BruteIntegrator;
 use sssbake::transport::integrator::{Integrator, IntegratorSettings};
 use sssbake::{BakeRequest, Error, Method, Scene, plan};
+use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::png_bytes;
+use std::path::{Path, PathBuf};
 
 /// One run of the ladder.
 #[derive(Clone, Debug, Serialize)]
@@ -70,6 +72,21 @@ pub struct Report {
     pub runs: Vec<Run>,
 }
 
+/// The files a report writes into a folder, its error maps aside.
+pub const FILES: [&str; 4] = ["report.json", "report.csv", "report.svg", "report.png"];
+
+/// Refuses a folder that holds a report already, unless `force`: checked
+/// before the runs, which take minutes.
+pub fn check_folder(out: &Path, force: bool) -> Result<(), Error> {
+    match FILES.map(|f| out.join(f)).into_iter().find(|p| p.exists()) {
+        Some(existing) if !force => Err(Error::output(
+            existing.display(),
+            "exists (use --force to replace it)",
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// A report and the files that show it.
 pub struct ReportFiles {
     /// The report (report.json).
@@ -113,6 +130,29 @@ fn ladder(base: &IntegratorSettings) -> Vec<(Method, String, IntegratorSettings)
         });
     }
     runs
+}
+
+impl ReportFiles {
+    /// Writes every file into `out` (made if missing), each whole; returns
+    /// their paths, the error maps first.
+    pub fn write(&self, out: &Path) -> Result<Vec<PathBuf>, Error> {
+        std::fs::create_dir_all(out)
+            .map_err(|e| Error::output(out.display(), format!("cannot create: {e}")))?;
+        let json = serde_json::to_string_pretty(&self.report).unwrap_or_default() + "\n";
+        let whole: [&[u8]; 4] = [json.as_bytes(), &self.csv, self.svg.as_bytes(), &self.png];
+        let maps = self
+            .error_maps
+            .iter()
+            .map(|(f, b)| (f.as_str(), b.as_slice()));
+        let mut written = Vec::new();
+        for (file, bytes) in maps.chain(FILES.into_iter().zip(whole)) {
+            let path = out.join(file);
+            write_atomically(&path, bytes)
+                .map_err(|e| Error::output(path.display(), format!("cannot write: {e}")))?;
+            written.push(path);
+        }
+        Ok(written)
+    }
 }
 
 /// Runs every integrator of the ladder on `scene` (named `name`) as

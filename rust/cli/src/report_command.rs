@@ -4,8 +4,7 @@
 
 use crate::request_args::RequestArgs;
 use sssbake::Error;
-use sssbake_analysis::report::error_against_time;
-use sssbake_io::atomic_write::write_atomically;
+use sssbake_analysis::report::{check_folder, error_against_time};
 use std::path::PathBuf;
 
 /// Options of `sssbake report`.
@@ -24,35 +23,10 @@ pub struct ReportArgs {
 /// Runs the command.
 pub fn run(args: &ReportArgs) -> Result<(), Error> {
     let (scene, request) = args.request.load()?;
-    let outputs =
-        ["report.json", "report.csv", "report.svg", "report.png"].map(|f| args.out.join(f));
-    if !args.force
-        && let Some(existing) = outputs.iter().find(|p| p.exists())
-    {
-        return Err(Error::output(
-            existing.display(),
-            "exists (use --force to replace it)",
-        ));
-    }
+    check_folder(&args.out, args.force)?;
     let name = args.request.input.display().to_string();
     let files = error_against_time(&name, &scene, &request, &mut |line| eprintln!("{line}"))?;
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| Error::output(args.out.display(), format!("cannot create: {e}")))?;
-    let json_text = serde_json::to_string_pretty(&files.report).unwrap_or_default() + "\n";
-    let maps = files
-        .error_maps
-        .iter()
-        .map(|(file, bytes)| (args.out.join(file), bytes.as_slice()));
-    let whole = outputs.iter().cloned().zip([
-        json_text.as_bytes(),
-        &files.csv,
-        files.svg.as_bytes(),
-        &files.png,
-    ]);
-    for (path, bytes) in maps.chain(whole) {
-        write_atomically(&path, bytes)
-            .map_err(|e| Error::output(path.display(), format!("cannot write: {e}")))?;
-    }
+    files.write(&args.out)?;
     println!("Pareto front (no run is both faster and more accurate):");
     for &i in &files.front {
         let r = &files.report.runs[i];

@@ -20,11 +20,13 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("WRITE_LAYER", sssbake_io::usd_writer::WRITE_LAYER)?;
     module.add_function(wrap_pyfunction!(run::bake, module)?)?;
     module.add_function(wrap_pyfunction!(run::plan, module)?)?;
+    module.add_function(wrap_pyfunction!(run::report, module)?)?;
     module.add_function(wrap_pyfunction!(run::batch, module)?)?;
     module.add_function(wrap_pyfunction!(run::presets, module)?)?;
     module.add_function(wrap_pyfunction!(run::settings, module)?)?;
     module.add_function(wrap_pyfunction!(stage::uv_primvars, module)?)?;
     module.add_function(wrap_pyfunction!(profile::profile, module)?)?;
+    module.add_function(wrap_pyfunction!(profile::profile_plot, module)?)?;
     module.add_function(wrap_pyfunction!(host::unwrap, module)?)?;
     module.add_function(wrap_pyfunction!(host::defaults, module)?)?;
     module.add_class::<host::PyScene>()?;

@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sssbake::Error;
 use sssbake::scattering::Scattering;
-use sssbake_analysis::profile_report::material as material_of;
+use sssbake_analysis::profile_report::{ProfileRequest, analyse, material as material_of};
 use sssbake_profile::profile::default_radii;
 use sssbake_profile::{Model, Rgb};
 use std::path::PathBuf;
@@ -86,4 +86,44 @@ pub fn profile<'py>(
     out.set_item("d_max_mm", rgb(profile.d_max(epsilon)))?;
     out.set_item("epsilon", epsilon)?;
     Ok(out)
+}
+
+/// The profile's plot as SVG (R(r) and r·R(r) per channel), as `sssbake
+/// profile --plot` draws it; `compare_montecarlo` simulates the reference
+/// beside it with `photons` per channel.
+#[pyfunction]
+#[pyo3(signature = (preset=None, material=None, model=None, radii=None, epsilon=1e-3, gaussians=6, compare_montecarlo=false, photons=100_000, seed=1))]
+#[allow(clippy::too_many_arguments)]
+pub fn profile_plot(
+    py: Python<'_>,
+    preset: Option<String>,
+    material: Option<PathBuf>,
+    model: Option<String>,
+    radii: Option<Vec<f64>>,
+    epsilon: f64,
+    gaussians: usize,
+    compare_montecarlo: bool,
+    photons: u64,
+    seed: u64,
+) -> PyResult<String> {
+    let material = or_raise(py, material_of(preset.as_deref(), material.as_deref()))?;
+    let model = match model.as_deref() {
+        Some(name) => or_raise(
+            py,
+            name.parse::<Model>()
+                .map_err(|_| Error::field("model", format!("unknown name `{name}`"))),
+        )?,
+        None => Model::default_for(&material),
+    };
+    let request = ProfileRequest {
+        model,
+        radii,
+        epsilon,
+        gaussians,
+        compare_montecarlo,
+        photons,
+        seed,
+    };
+    let analysis = py.detach(|| analyse(&material, &request));
+    Ok(or_raise(py, analysis)?.svg())
 }

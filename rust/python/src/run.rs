@@ -8,6 +8,7 @@ use crate::watch::{Watchers, finish, run_watched};
 use pyo3::prelude::*;
 use sssbake::control::Control;
 use sssbake::{BakeRequest, Error, Scene};
+use sssbake_analysis::report::{check_folder, error_against_time};
 use sssbake_io::batch::{BatchOptions, Manifest, run_batch};
 use sssbake_io::{BakeOptions, bake_to_folder};
 use std::path::{Path, PathBuf};
@@ -143,6 +144,42 @@ pub fn batch(
     }
     let report = report.map_err(|e| to_python(py, e))?;
     Ok(to_json(&report))
+}
+
+/// Runs every integrator on the scene across the ladder of settings, each
+/// against the exact sum, and writes the report into `out` as `sssbake
+/// report` does; returns report.json's JSON.
+#[pyfunction]
+#[pyo3(signature = (input, out, options_json, force, stage_json=None, progress=None, cancel=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn report(
+    py: Python<'_>,
+    input: PathBuf,
+    out: PathBuf,
+    options_json: &str,
+    force: bool,
+    stage_json: Option<String>,
+    progress: Option<Bound<'_, PyAny>>,
+    cancel: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let options = or_raise(py, parse_options(options_json))?;
+    or_raise(py, check_folder(&out, force))?;
+    let control = Control::new();
+    let watchers = Watchers {
+        progress,
+        cancel,
+        part: (0, 1),
+    };
+    let files = run_watched(py, &control, &watchers, || {
+        let (scene, request) = load(&input, stage_json.as_deref(), &options)?;
+        let name = input.display().to_string();
+        let files = error_against_time(&name, &scene, &request, &mut |_| {})?;
+        files.write(&out)?;
+        Ok(files)
+    })?;
+    let files = or_raise(py, files)?;
+    finish(&watchers, "done")?;
+    Ok(to_json(&files.report))
 }
 
 /// Every bake setting (`sssbake_io::settings::SETTINGS`) as JSON: name, doc,
