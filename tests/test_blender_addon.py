@@ -183,6 +183,35 @@ def test_bad_settings_give_a_report_not_an_exception(addon, tmp_path, capfd):
     assert len(bpy.data.images) == 0
 
 
+def test_every_setting_of_a_bake_is_in_the_panel_with_the_librarys_default(addon):
+    """A setting the library adds appears in the panel by itself: each setting of a bake or
+    an integrator is a property (under Advanced) with the library's doc, default and range,
+    unless the panel shows it in its own terms; and what the panel holds is what the bake
+    gets, in the library's terms."""
+    import bpy
+    import sssbake
+
+    panel = bpy.context.scene.sssbake
+    rna = panel.bl_rna.properties
+    offered = 0
+    for setting in sssbake.settings():
+        if setting["part"] in ("scene", "writing") or setting["default"] is None:
+            continue
+        if setting["name"] in addon.properties.OWN_TERMS:
+            continue
+        offered += 1
+        name = setting["name"]
+        assert setting["doc"].rstrip(".") in rna[name].description, name
+        value = getattr(panel, name)
+        assert value == pytest.approx(setting["default"], rel=1e-6), name
+        if setting["kind"] == "count":
+            assert rna[name].hard_min == setting["min"], name
+    assert offered >= 8 and set(addon.panels.ADVANCED) >= {"octree_epsilon", "tolerance", "light_check"}
+    panel.octree_epsilon, panel.tolerance, panel.light_check = 0.25, 0.003, 0
+    options = addon.job._options(panel)
+    assert (options["octree_epsilon"], options["tolerance"], options["light_check"]) == (0.25, 0.003, 0)
+
+
 def test_without_a_usable_library_the_panel_says_why_and_offers_no_bake(addon, monkeypatch):
     """The settings, their defaults and ranges are the library's alone: without a package
     of this release there are none to show, so the panel says what is wrong instead; the

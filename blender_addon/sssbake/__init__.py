@@ -32,6 +32,7 @@ def register():
     definitions = properties.bake_properties(settings, defaults)
     properties.SSSBAKE_PG_settings.__annotations__ = definitions
     properties.SETTING_NAMES = tuple(definitions)
+    panels.ADVANCED = tuple(s["name"] for s in properties.advanced_settings(settings))
     operators.SSSBAKE_OT_bake.__annotations__ = properties.operator_properties(settings, defaults)
     _registered = CLASSES
     for cls in CLASSES:

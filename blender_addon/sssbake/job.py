@@ -10,7 +10,7 @@ import bpy
 
 from . import binding, changes, folder, images, report, scene_export, unwrap, wiring
 from .binding import SettingError
-from .properties import GIB, QUALITY_SAMPLES
+from .properties import GIB, QUALITY_SAMPLES, advanced_settings
 
 
 class Job:
@@ -206,7 +206,16 @@ def _options(settings):
         "outputs": [o for o in binding.outputs() if o.upper() in settings.outputs],
         "max_memory": str(round(settings.max_memory * GIB)),
         "uvs": "keep",
+        **{s["name"]: _value(s, getattr(settings, s["name"])) for s in advanced_settings(binding.settings())},
     }
+
+
+def _value(setting, value):
+    """A panel value as the library takes it: a choice's name in its own case, a number
+    to the seven digits a Blender float holds (0.01, not 0.0099999998)."""
+    if setting["kind"] == "choice":
+        return value.lower()
+    return float(f"{value:.7g}") if setting["kind"] == "number" else value
 
 
 def _planned(result, name):

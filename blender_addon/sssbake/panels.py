@@ -38,6 +38,11 @@ def draw_settings(layout, context, settings):
     layout.prop(settings, "wire_material")
     if settings.wire_material:
         layout.prop(settings, "copy_shared_materials")
+    header, body = layout.panel("sssbake_advanced", default_closed=True)
+    header.label(text="Advanced")
+    if body is not None:
+        for name in ADVANCED:
+            body.prop(settings, name)
     selected = [o.name for o in context.selected_objects if o.type == "MESH"]
     layout.label(text=f"Targets: {', '.join(selected) or 'select mesh objects'}")
     layout.operator("sssbake.bake", icon="RENDER_STILL")
@@ -75,6 +80,9 @@ class SSSBAKE_PT_properties(SubsurfacePanel, InObjectProperties, bpy.types.Panel
 class SSSBAKE_PT_sidebar(SubsurfacePanel, InSidebar, bpy.types.Panel):
     pass
 
+
+# The library's settings offered as they are (properties.advanced_settings), set by register().
+ADVANCED = ()
 
 # Why the library cannot be used, when register() found it so.
 MISSING = ""

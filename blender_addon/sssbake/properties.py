@@ -45,6 +45,48 @@ def library():
     return binding.settings(), binding.defaults()
 
 
+# The library's settings the panel shows in its own terms (Quality for light samples, GiB
+# for the memory limit, Unwrap for the UV policy), which a host's scene decides, or which
+# would state no default; every other setting of a bake or an integrator is offered as it
+# is under Advanced, so a setting the library adds appears there by itself.
+OWN_TERMS = frozenset({"resolution", "margin", "method", "outputs", "light_samples", "max_memory", "uvs"})
+# Blender's integer properties are 32-bit.
+INT_LIMIT = (1 << 31) - 1
+
+
+def advanced_settings(settings):
+    """The library's settings offered as they are, in the library's order."""
+    return [
+        s
+        for s in settings.values()
+        if s["part"] not in ("scene", "writing")
+        and s["default"] is not None
+        and s["name"] not in OWN_TERMS
+        and s["kind"] in ("count", "number", "switch", "choice")
+    ]
+
+
+def _label(name):
+    return name.replace("_", " ").title()
+
+
+def setting_property(setting):
+    """A property for one of the library's settings: its doc (with its unit) as the
+    tooltip, its default and its range."""
+    unit = f" ({setting['unit']})" if setting["unit"] else ""
+    common = {"name": _label(setting["name"]), "description": setting["doc"].rstrip(".") + unit}
+    kind = setting["kind"]
+    if kind == "count":
+        low, high = max(setting["min"], -INT_LIMIT), min(setting["max"], INT_LIMIT)
+        return bpy.props.IntProperty(default=setting["default"], min=low, max=high, **common)
+    if kind == "number":
+        bounds = {k: setting[k] for k in ("min", "max") if setting[k] is not None}
+        return bpy.props.FloatProperty(default=setting["default"], precision=4, **bounds, **common)
+    if kind == "switch":
+        return bpy.props.BoolProperty(default=setting["default"], **common)
+    return bpy.props.EnumProperty(items=_items(setting), default=setting["default"].upper(), **common)
+
+
 def _items(setting):
     """A choice setting's names as enum items: the identifier in capitals, the name as the
     label, the library's line on it as the tooltip."""
@@ -194,6 +236,7 @@ def bake_properties(settings, defaults):
             step=100,
             precision=2,
         ),
+        **{s["name"]: setting_property(s) for s in advanced_settings(settings)},
     }
 
 
