@@ -72,8 +72,9 @@ def test_a_limit_the_user_lowers_refuses_and_names_the_method(sssbake, tmp_path)
     assert not out.exists()
     # Raised, the same request is planned.
     assert run(sssbake, "plan", scene, "--method", "brute", "--max-evaluations", "1e13").returncode == 0
+    # A size that is none is refused as the flag's value, before the scene is read.
     bad = run(sssbake, "plan", scene, "--max-memory", "12 parsecs")
-    assert bad.returncode == 1 and "`parsecs`" in bad.stderr
+    assert bad.returncode == 2 and "`parsecs`" in bad.stderr and "--max-memory" in bad.stderr
 
 
 def test_a_batch_asset_over_its_limit_fails_alone(sssbake, tmp_path):
