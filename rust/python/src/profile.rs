@@ -28,18 +28,7 @@ pub fn profile<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let material = or_raise(py, material_of(preset.as_deref(), material.as_deref()))?;
     let model = match model {
-        Some(name) => Some(or_raise(
-            py,
-            name.parse::<Model>().map_err(|_| {
-                Error::field(
-                    "model",
-                    format!(
-                        "unknown name `{name}` (one of {})",
-                        <Model as strum::VariantNames>::VARIANTS.join(", ")
-                    ),
-                )
-            }),
-        )?),
+        Some(name) => Some(or_raise(py, model_named(&name))?),
         None => None,
     };
     if !(epsilon > 0.0 && epsilon < 1.0) {
@@ -108,11 +97,7 @@ pub fn profile_plot(
 ) -> PyResult<String> {
     let material = or_raise(py, material_of(preset.as_deref(), material.as_deref()))?;
     let model = match model.as_deref() {
-        Some(name) => or_raise(
-            py,
-            name.parse::<Model>()
-                .map_err(|_| Error::field("model", format!("unknown name `{name}`"))),
-        )?,
+        Some(name) => or_raise(py, model_named(name))?,
         None => Model::default_for(&material),
     };
     let request = ProfileRequest {
@@ -126,4 +111,17 @@ pub fn profile_plot(
     };
     let analysis = py.detach(|| analyse(&material, &request));
     Ok(or_raise(py, analysis)?.svg())
+}
+
+/// The model called `name`, or an error naming the models there are.
+fn model_named(name: &str) -> Result<Model, Error> {
+    name.parse::<Model>().map_err(|_| {
+        Error::field(
+            "model",
+            format!(
+                "unknown name `{name}` (one of {})",
+                <Model as strum::VariantNames>::VARIANTS.join(", ")
+            ),
+        )
+    })
 }
