@@ -251,6 +251,18 @@ def test_a_profile_plot_and_a_report_come_to_python_as_to_the_command_line(sssba
     assert result.returncode == 0, result.stderr
     assert svg.startswith("<svg") and svg == drawn.read_text()
 
+    # The arrays are the profile `sssbake profile` prints, model for model.
+    for model in ("dipole", "multipole", "burley"):
+        table = package.profile("skin1", model=model, radii=[0.1, 1.0, 3.0])
+        result = run(binary, "profile", "--preset", "skin1", "--model", model, "--radii", "0.1,1,3", "--json")
+        assert result.returncode == 0, result.stderr
+        printed = json.loads(result.stdout)
+        assert table["model"] == printed["model"] == model
+        for key in ("radii_mm", "reflectance", "transmittance", "total_reflectance", "d_max_mm"):
+            np.testing.assert_allclose(table[key], printed[key], rtol=1e-12, err_msg=f"{model} {key}")
+    with pytest.raises(package.SettingError, match="increase"):
+        package.profile("skin1", radii=[1.0, 0.5])
+
     report = package.report(MARBLE, tmp_path / "python", resolution=12, light_samples=2)
     cli = tmp_path / "cli"
     result = run(

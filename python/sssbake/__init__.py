@@ -206,13 +206,17 @@ def profile(
     radii: Iterable[float] | None = None,
     epsilon: float = 1e-3,
     gaussians: int = 6,
+    photons: int = 100_000,
+    seed: int = 1,
 ) -> dict[str, Any]:
     """A material's reflectance profile (a preset by name, or a TOML
     material file) under `model` (the material's own by default), as numpy
     arrays: `radii_mm` (N,), `reflectance` and `transmittance` (N, 3) in
     1/mm², `total_reflectance`, `total_transmittance` and `d_max_mm` (3,),
-    d_max keeping all but `epsilon` of the reflectance. Without `radii`,
-    sixty radii spaced evenly in ln r over the profile's reach."""
+    d_max keeping all but `epsilon` of the reflectance. `radii` (mm) must
+    increase; without them, sixty radii spaced evenly in ln r over the
+    profile's reach. The `montecarlo` model simulates `photons` per channel
+    from `seed`. The same profile `sssbake profile` prints."""
     return _native.profile(
         preset,
         None if material is None else os.fspath(material),
@@ -220,6 +224,8 @@ def profile(
         None if radii is None else [float(r) for r in radii],
         epsilon,
         gaussians,
+        photons,
+        seed,
     )
 
 

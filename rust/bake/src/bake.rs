@@ -197,13 +197,18 @@ fn scatter(
         seconds += elapsed;
         let epsilon = (method == Method::Octree).then_some(integrators.octree.epsilon);
         let missed = chosen && estimate.relative_rmse > request.tolerance;
-        let finer = epsilon
-            .filter(|_| missed && !refined)
-            .and_then(|e| choice::finer_epsilon(e, estimate.relative_rmse, request.tolerance));
-        let next = match finer {
-            Some(_) => Some(Method::Octree),
-            None => choice::more_exact(method, texels, neighbours).filter(|_| missed),
-        };
+        // A method that missed refines its own settings once, then hands
+        // over to the next more exact one.
+        let mut next = None;
+        if missed {
+            let runs = integrators.get_mut(method);
+            next = if !refined && runs.refine(estimate.relative_rmse, request.tolerance) {
+                refined = true;
+                Some(method)
+            } else {
+                choice::more_exact(&*runs, texels, neighbours)
+            };
+        }
         match next {
             Some(next) => {
                 set_aside.push(SetAside {
@@ -212,10 +217,6 @@ fn scatter(
                     estimated_error: estimate.relative_rmse,
                     seconds: elapsed,
                 });
-                if let Some(finer) = finer {
-                    integrators.octree.epsilon = finer;
-                    refined = true;
-                }
                 method = next;
             }
             None => {
@@ -235,7 +236,7 @@ fn scatter(
                 seconds += light.map_or(0.0, |l| l.seconds);
                 let corrected = scattering
                     .local_slab()
-                    .filter(|_| method != Method::Walk)
+                    .filter(|_| method.carries().profile)
                     .map(|slab| Corrected {
                         level: slab.level(),
                         thin_texels: prepared
@@ -252,8 +253,12 @@ fn scatter(
                     seconds,
                     sources: integration.sources,
                     accuracy: Accuracy {
-                        kernel: ExitanceKernel::of(method, oblique, directions),
-                        reference_kernel: ExitanceKernel::of(Method::Brute, oblique, directions),
+                        kernel: ExitanceKernel::of(method.carries(), oblique, directions),
+                        reference_kernel: ExitanceKernel::of(
+                            Method::Brute.carries(),
+                            oblique,
+                            directions,
+                        ),
                         method,
                         octree_epsilon: epsilon,
                         estimated_error: estimate.relative_rmse,

@@ -11,8 +11,7 @@ use crate::error::Error;
 use crate::maps::Output;
 use crate::mesh::Mesh;
 use crate::request::UvPolicy;
-use crate::transport::Method;
-use crate::transport::choice::neighbours;
+use crate::transport::integrator::{Integrator, Work};
 use serde::Serialize;
 
 /// The default memory limit, bytes (16 GiB).
@@ -138,45 +137,32 @@ impl ObjectCost {
         }
     }
 
-    /// This cost with the lighting and scattering work of `method` over
-    /// texels of mean area `texel_area_mm2` under a profile reaching
-    /// `d_max_mm`: at most `rays_per_texel` shadow rays each, and
-    /// `samples` probes each for the importance integrator, and
-    /// `walk_events_per_texel` ray casts each for the walk (walks ×
-    /// expected events, all channels).
+    /// This cost with the lighting and scattering work of `integrator`
+    /// (none when nothing scatters) over `work`: at most `rays_per_texel`
+    /// shadow rays each, and the integrator's own evaluations.
     pub fn with_work(
         mut self,
-        method: Option<Method>,
-        texel_area_mm2: f64,
-        d_max_mm: f64,
+        integrator: Option<&dyn Integrator>,
+        work: &Work,
         rays_per_texel: f64,
-        samples: u32,
-        walk_events_per_texel: f64,
     ) -> ObjectCost {
-        let n = self.texels;
-        self.rays = n * rays_per_texel;
-        self.evaluations = match method {
-            None => 0.0,
-            Some(Method::Brute) => n * neighbours(texel_area_mm2, d_max_mm),
-            Some(Method::Importance) => n * f64::from(samples),
-            Some(Method::Walk) => n * walk_events_per_texel,
-            // Hierarchical and separable: their order, n log n, never
-            // more than the exact sum; never the bake's bound in practice.
-            Some(Method::Octree | Method::Texture | Method::Auto) => {
-                (n * n.max(2.0).log2()).min(n * neighbours(texel_area_mm2, d_max_mm))
-            }
-        };
+        self.rays = self.texels * rays_per_texel;
+        self.evaluations = integrator.map_or(0.0, |i| i.evaluations(work));
         self
     }
 }
 
 impl ObjectCost {
     /// This cost when the corrected model raises the sums where the
-    /// surface within reach ends (`raises`, for a profile method): the
-    /// integrator runs a second time under a unit light, on a copy of the
-    /// light, colour and faces behind, and holds its sums.
-    pub fn with_uniform_pass(mut self, raises: bool, method: Option<Method>) -> ObjectCost {
-        if raises && method.is_some_and(|m| m != Method::Walk) {
+    /// surface within reach ends (`raises`, for an integrator of the
+    /// profile): the integrator runs a second time under a unit light, on
+    /// a copy of the light, colour and faces behind, and holds its sums.
+    pub fn with_uniform_pass(
+        mut self,
+        raises: bool,
+        integrator: Option<&dyn Integrator>,
+    ) -> ObjectCost {
+        if raises && integrator.is_some_and(|i| i.carries().profile) {
             self.evaluations *= 2.0;
             self.memory_bytes += self.texels * UNIFORM_PASS_BYTES_PER_TEXEL as f64;
         }
@@ -185,25 +171,24 @@ impl ObjectCost {
 
     /// This cost when an oblique kernel reads the light split by incidence
     /// (`split`): its light samples are traced a second time, the split is
-    /// held per texel, and each pair of the exact sum or probe of
-    /// importance sampling reads every component of a node
-    /// ([`crate::irradiance::incidence::COMPONENTS`]) instead of one value.
-    /// Importance sampling also maps each of the `resolution`² map texels
-    /// to its surfel (4 bytes each).
+    /// held per texel, and each pair or probe of an integrator that takes
+    /// the oblique kernel reads every component of a node
+    /// ([`crate::irradiance::incidence::COMPONENTS`]) instead of one value,
+    /// with what the integrator holds for it over maps of `resolution`².
     pub fn with_incidence_split(
         mut self,
         split: bool,
-        method: Option<Method>,
+        integrator: Option<&dyn Integrator>,
         resolution: u32,
     ) -> ObjectCost {
         if split {
             self.rays *= 2.0;
             self.memory_bytes += self.texels * INCIDENCE_BYTES_PER_TEXEL as f64;
-            if matches!(method, Some(Method::Brute | Method::Importance)) {
-                self.evaluations *= crate::irradiance::incidence::COMPONENTS as f64;
-            }
-            if method == Some(Method::Importance) {
-                self.memory_bytes += 4.0 * f64::from(resolution).powi(2);
+            if let Some(integrator) = integrator {
+                if integrator.carries().oblique {
+                    self.evaluations *= crate::irradiance::incidence::COMPONENTS as f64;
+                }
+                self.memory_bytes += integrator.extra_memory_bytes(resolution, split);
             }
         }
         self

@@ -14,7 +14,6 @@ use crate::rays::RayScene;
 use crate::request::{BakeRequest, Lighting};
 use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
-use crate::transport::Method;
 use crate::transport::integrator::Integrator;
 use crate::transport::local_slab::LocalSlab;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -201,7 +200,7 @@ impl Prepared {
             return Ok(Arc::clone(raised));
         }
         let uniform = integrator.integrate(&self.uniformly_lit(), scattering, control)?;
-        let summed_across = integrator.method() != Method::Texture;
+        let summed_across = integrator.carries().across;
         let (gains, count) = slab.gains(self.opposites(), &uniform.exitance, summed_across);
         let raised = Arc::new(Raised {
             key,
@@ -227,9 +226,9 @@ impl Prepared {
         }
         let start = Instant::now();
         // Every profile method bakes the corrected model; the walk is light.
-        let method = integrator.method();
-        let slab = scattering.local_slab().filter(|_| method != Method::Walk);
-        let summed_across = method != Method::Texture;
+        let carries = integrator.carries();
+        let slab = scattering.local_slab().filter(|_| carries.profile);
+        let summed_across = carries.across;
         // The light entering is raised where the surface within reach ends
         // (not for an oblique kernel, which reads the light split by
         // incidence).

@@ -15,7 +15,8 @@ use crate::scattering::Scattering;
 use crate::scene::Scene;
 use crate::surface::topology::{TopologyReport, topology_report};
 use crate::transport::Method;
-use crate::transport::choice::{Choice, avoid_thin_parts, choose};
+use crate::transport::choice::{Choice, avoid_thin_parts, choose, neighbours};
+use crate::transport::integrator::Work;
 use crate::transport::light_check;
 use crate::transport::local_slab::LocalSlab;
 use crate::transport::thin::crossing_share;
@@ -357,20 +358,18 @@ fn plan_object(
         _ => 0.0,
     };
     let method = integrator.as_ref().map(|i| i.method);
-    // The walk needs one homogeneous medium; say why before any work.
-    let walk_events = if method == Some(Method::Walk) {
-        let medium = WalkMedium::of_material(&scattering.material).map_err(|reason| {
+    let runs = method.map(|m| request.integrators.get(m));
+    // An integrator that cannot bake the material says why before any work.
+    if let Some(runs) = runs {
+        runs.accepts(&scattering.material).map_err(|reason| {
             Error::Input(InputError {
                 file: Some(scene.source.clone()),
                 object: Some(name.clone()),
                 field: Some("method".into()),
-                message: format!("`walk` cannot bake it: {reason}"),
+                message: format!("`{}` cannot bake it: {reason}", runs.method()),
             })
         })?;
-        request.integrators.walk.expected_events(&medium)
-    } else {
-        0.0
-    };
+    }
     // The check against light walks a few hundred texels, when the walk can
     // follow the material.
     let light_check = match (method, WalkMedium::of_material(&scattering.material)) {
@@ -383,17 +382,18 @@ fn plan_object(
     // An oblique kernel splits the light of the scene's lights by incidence
     // (not an irradiance image's, which has no direction).
     let splits = scattering.oblique.is_some() && rays_per_texel > 0.0 && method.is_some();
-    let cost = ObjectCost::memory(texels as f64, request.resolution, &request.outputs)
-        .with_work(
-            method,
+    let work = Work {
+        texels: texels as f64,
+        neighbours: neighbours(
             texel_area_mm2 / texels.max(1) as f64,
             f64::from(scattering.kernel.d_max),
-            rays_per_texel,
-            request.integrators.importance.samples,
-            walk_events,
-        )
-        .with_incidence_split(splits, method, request.resolution)
-        .with_uniform_pass(LocalSlab::applies(&scattering), method);
+        ),
+        material: &scattering.material,
+    };
+    let cost = ObjectCost::memory(texels as f64, request.resolution, &request.outputs)
+        .with_work(runs, &work, rays_per_texel)
+        .with_incidence_split(splits, runs, request.resolution)
+        .with_uniform_pass(LocalSlab::applies(&scattering), runs);
     let cost = ObjectCost {
         light_check,
         ..cost

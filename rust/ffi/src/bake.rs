@@ -7,10 +7,10 @@ use crate::handles::{self, Handles};
 use crate::material::{SssbakeMaterial, host_material};
 use crate::scene::{SCENES, SssbakeScene, reading};
 use sssbake::control::{Control, watch_while};
-use sssbake::limits::Limits;
-use sssbake::transport::integrator::IntegratorSettings;
-use sssbake::{BakeRequest, Method, Output, UvPolicy};
-use sssbake_host::{Composite, HostScene, PartRunner, bake_materials};
+use sssbake::limits::size_text;
+use sssbake::{BakeRequest, Method, Output};
+use sssbake_host::{Composite, HostScene, PartRunner, bake_materials, object_request};
+use sssbake_io::BakeOptions;
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::{Precision, exr_bytes};
 use std::ffi::{CString, c_char, c_void};
@@ -57,15 +57,9 @@ pub struct SssbakeSettings {
     pub walk_samples: u32,
 }
 
-/// The method of number `code` (the order of [`SssbakeSettings::method`]).
-pub(crate) const METHODS: [Method; 6] = [
-    Method::Auto,
-    Method::Brute,
-    Method::Octree,
-    Method::Texture,
-    Method::Importance,
-    Method::Walk,
-];
+/// The method of number `code` (the numbers of
+/// [`SssbakeSettings::method`]): the order the library declares them in.
+pub(crate) const METHODS: &[Method] = Method::EVERY;
 
 /// The library's defaults for a host bake.
 ///
@@ -130,13 +124,12 @@ pub(crate) struct UserData(pub(crate) *mut c_void);
 unsafe impl Send for UserData {}
 unsafe impl Sync for UserData {}
 
-/// The request for a host's `settings`: the host's own UVs, kept as they
-/// are (`keep_uvs`) or unwrapped where unusable.
-pub(crate) fn request_from_host(
-    settings: &SssbakeSettings,
-    keep_uvs: bool,
-) -> Result<BakeRequest, Failure> {
-    let method = *METHODS.get(settings.method as usize).ok_or_else(|| {
+/// The options a host's `settings` give, each under its name in the
+/// library's schema (`sssbake_io::settings`): the struct is one more way to
+/// write [`BakeOptions`], which check and make the request as for every
+/// door. A zero limit is the library's default.
+pub(crate) fn host_options(settings: &SssbakeSettings) -> Result<BakeOptions, Failure> {
+    let method = METHODS.get(settings.method as usize).ok_or_else(|| {
         Failure::argument(format!(
             "method {} is not 0 to {}",
             settings.method,
@@ -150,44 +143,27 @@ pub(crate) fn request_from_host(
             Output::ALL.len()
         )));
     }
-    let mut integrators = IntegratorSettings::default();
-    integrators.octree.epsilon = settings.octree_epsilon;
-    integrators.texture.gaussians = settings.gaussians as usize;
-    integrators.importance.samples = settings.samples;
-    integrators.walk.samples = settings.walk_samples;
-    integrators.seed(settings.seed);
-    // 0 is the default; any other value is the library's to check.
-    let defaults = Limits::default();
-    let limits = Limits {
-        max_memory_bytes: match settings.max_memory_bytes {
-            0 => defaults.max_memory_bytes,
-            bytes => bytes,
-        },
-        max_evaluations: match settings.max_evaluations {
-            0.0 => defaults.max_evaluations,
-            count => count,
-        },
-    };
-    Ok(BakeRequest {
-        resolution: settings.resolution,
-        method,
-        margin: settings.margin,
-        light_samples: settings.light_samples,
-        integrators,
-        tolerance: f64::from(settings.tolerance),
-        outputs: Output::ALL
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| settings.outputs & (1 << i) != 0)
-            .map(|(_, &o)| o)
-            .collect(),
-        uvs: if keep_uvs {
-            UvPolicy::Keep
-        } else {
-            UvPolicy::Auto
-        },
-        limits,
-        ..BakeRequest::default()
+    let outputs = Output::ALL
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| settings.outputs & (1 << i) != 0)
+        .map(|(_, o)| o.name().to_string())
+        .collect();
+    Ok(BakeOptions {
+        resolution: Some(settings.resolution),
+        method: Some(method.name().to_string()),
+        margin: Some(settings.margin),
+        light_samples: Some(settings.light_samples),
+        seed: Some(settings.seed),
+        octree_epsilon: Some(settings.octree_epsilon),
+        gaussians: Some(settings.gaussians as usize),
+        samples: Some(settings.samples),
+        walk_samples: Some(settings.walk_samples),
+        outputs: Some(outputs),
+        tolerance: Some(f64::from(settings.tolerance)),
+        max_memory: (settings.max_memory_bytes != 0).then(|| size_text(settings.max_memory_bytes)),
+        max_evaluations: (settings.max_evaluations != 0.0).then_some(settings.max_evaluations),
+        ..BakeOptions::default()
     })
 }
 
@@ -259,7 +235,8 @@ pub unsafe extern "C" fn sssbake_bake_materials(
     guarded(|| {
         // SAFETY: forwarded from the caller.
         let (settings, cancel) = unsafe { host_arguments(settings, cancel) }?;
-        let request = |_: &HostScene| request_from_host(settings, true);
+        let options = host_options(settings)?;
+        let request = |host: &HostScene| Ok(object_request(options, host)?);
         let watch = (progress, UserData(user), cancel);
         // SAFETY: forwarded from the caller.
         unsafe {

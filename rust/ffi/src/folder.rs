@@ -3,7 +3,7 @@
 //! library's name tables, so a host does not restate them.
 
 use crate::bake::{
-    METHODS, SssbakeProgress, SssbakeSettings, UserData, clear, host_arguments, request_from_host,
+    METHODS, SssbakeProgress, SssbakeSettings, UserData, clear, host_arguments, host_options,
     watched,
 };
 use crate::errors::{Failure, SssbakeStatus, guarded, text};
@@ -12,7 +12,7 @@ use crate::material::{SssbakeMaterial, host_material};
 use crate::scene::{SCENES, SssbakeScene, reading};
 use sssbake::Output;
 use sssbake::control::Control;
-use sssbake_host::HostScene;
+use sssbake_host::{HostScene, scene_request};
 use sssbake_io::image_writer::Precision;
 use sssbake_io::{FolderOptions, ReadOptions, bake_to_folder, read_scene, scene_lighting};
 use std::ffi::{c_char, c_void};
@@ -136,9 +136,9 @@ pub unsafe extern "C" fn sssbake_bake_to_folder(
         }
         // SAFETY: forwarded from the caller.
         let out_dir = unsafe { text(out_dir, "out_dir") }?;
+        let mut request = scene_request(&host_options(settings)?, &scene)?;
         let scene_file = &file.path;
         let scene = &scene.scene;
-        let mut request = request_from_host(settings, false)?;
         request.lighting = scene_lighting(scene, scene_file, None, None)?;
         // SAFETY: forwarded from the caller.
         request.materials =
@@ -192,7 +192,7 @@ pub unsafe extern "C" fn sssbake_names(kind: u32, out: *mut *mut c_char) -> Sssb
         }
         let names = match kind {
             SSSBAKE_NAMES_OUTPUTS => serde_json::json!(Output::ALL.map(Output::name)),
-            SSSBAKE_NAMES_METHODS => serde_json::json!(METHODS.map(|m| m.name())),
+            SSSBAKE_NAMES_METHODS => serde_json::json!(METHODS.iter().map(|m| m.name()).collect::<Vec<_>>()),
             SSSBAKE_NAMES_PRESETS => sssbake_profile::presets::list()
                 .into_iter()
                 .filter(|(name, _)| !sssbake_profile::presets::ANGULAR_ONLY.contains(name))

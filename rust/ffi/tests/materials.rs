@@ -404,13 +404,20 @@ fn malformed_images_and_indices_are_refused_with_a_message() {
     let object = CString::new("Bad").unwrap();
     let mut result = null_mut();
     let two = [flat, flat];
+    // The settings are the library's defaults: settings out of range are
+    // refused before the materials are read.
+    let mut settings = std::mem::MaybeUninit::uninit();
+    assert_eq!(
+        unsafe { sssbake_settings_default(settings.as_mut_ptr()) },
+        SssbakeStatus::Ok
+    );
     let status = unsafe {
         sssbake_bake_materials(
             scene.0,
             object.as_ptr(),
             two.as_ptr(),
             2,
-            &std::mem::zeroed(),
+            settings.as_ptr(),
             None,
             null_mut(),
             null(),

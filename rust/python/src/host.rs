@@ -159,14 +159,7 @@ impl PyScene {
         let (composite, summary) =
             bake_materials(&self.host, object, &materials, &request, &mut runner)
                 .map_err(|stop| stop.into_py(py))?;
-        finish(
-            &Watchers {
-                progress,
-                cancel: None,
-                part: (0, 1),
-            },
-            "done",
-        )?;
+        finish(&Watchers::whole(progress, None), "done")?;
         Ok(PyBakeResult {
             composite,
             summary: summary.to_string(),
@@ -190,11 +183,7 @@ impl PyScene {
         let options = or_raise(py, options_of(options_json).and_then(host_options))?;
         let folder = options.folder(&out, force);
         let control = Control::new();
-        let watchers = Watchers {
-            progress,
-            cancel,
-            part: (0, 1),
-        };
+        let watchers = Watchers::whole(progress, cancel);
         let host = &self.host;
         let summary = run_watched(py, &control, &watchers, || {
             let request = scene_request(&options, host)?;

@@ -5,18 +5,18 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sssbake::Error;
-use sssbake::scattering::Scattering;
 use sssbake_analysis::profile_report::{ProfileRequest, analyse, material as material_of};
-use sssbake_profile::profile::default_radii;
-use sssbake_profile::{Model, Rgb};
+use sssbake_profile::{Material, Model, Rgb};
 use std::path::PathBuf;
 
 /// The profile of a preset or TOML material under `model` (the
-/// material's own when `None`), sampled at `radii` (mm; sixty radii over
-/// its reach when `None`): a dict of numpy arrays, R(r) and T(r) in 1/mm²
-/// per channel, with the totals and d_max (mm) at `epsilon`.
+/// material's own when `None`), sampled at `radii` (mm, increasing; sixty
+/// radii over its reach when `None`): a dict of numpy arrays, R(r) and
+/// T(r) in 1/mm² per channel, with the totals and d_max (mm) at `epsilon`.
+/// The `montecarlo` model simulates `photons` per channel from `seed`.
 #[pyfunction]
-#[pyo3(signature = (preset=None, material=None, model=None, radii=None, epsilon=1e-3, gaussians=6))]
+#[pyo3(signature = (preset=None, material=None, model=None, radii=None, epsilon=1e-3, gaussians=6, photons=100_000, seed=1))]
+#[allow(clippy::too_many_arguments)]
 pub fn profile<'py>(
     py: Python<'py>,
     preset: Option<String>,
@@ -25,48 +25,26 @@ pub fn profile<'py>(
     radii: Option<Vec<f64>>,
     epsilon: f64,
     gaussians: usize,
+    photons: u64,
+    seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let material = or_raise(py, material_of(preset.as_deref(), material.as_deref()))?;
-    let model = match model {
-        Some(name) => Some(or_raise(py, model_named(&name))?),
-        None => None,
+    let (material, request) = request(py, preset, material, model, radii, epsilon, gaussians)?;
+    let request = ProfileRequest {
+        photons,
+        seed,
+        ..request
     };
-    if !(epsilon > 0.0 && epsilon < 1.0) {
-        return or_raise(
-            py,
-            Err(Error::field(
-                "epsilon",
-                format!("{epsilon} must lie strictly between 0 and 1"),
-            )),
-        );
-    }
-    if let Some(r) = radii
-        .iter()
-        .flatten()
-        .find(|r| !(r.is_finite() && **r >= 0.0))
-    {
-        return or_raise(
-            py,
-            Err(Error::field(
-                "radii",
-                format!("{r} is not a finite, non-negative radius in mm"),
-            )),
-        );
-    }
-    let scattering = or_raise(
-        py,
-        py.detach(|| Scattering::new(material, model, gaussians, epsilon)),
-    )?;
-    let profile = scattering.profile.as_ref();
-    let radii = radii.unwrap_or_else(|| default_radii(profile, epsilon));
+    let analysis = or_raise(py, py.detach(|| analyse(&material, &request)))?;
+    let profile = analysis.profile.as_ref();
+    let radii = &analysis.radii;
     let table = |f: &dyn Fn(f64) -> Rgb| -> PyResult<Bound<'py, PyArray2<f64>>> {
         let flat: Vec<f64> = radii.iter().flat_map(|&r| f(r)).collect();
         PyArray1::from_vec(py, flat).reshape([radii.len(), 3])
     };
     let rgb = |v: Rgb| PyArray1::from_vec(py, v.to_vec());
     let out = PyDict::new(py);
-    out.set_item("material", &scattering.material.name)?;
-    out.set_item("model", scattering.model.name())?;
+    out.set_item("material", &analysis.material.name)?;
+    out.set_item("model", analysis.model.name())?;
     out.set_item("radii_mm", PyArray1::from_vec(py, radii.clone()))?;
     out.set_item("reflectance", table(&|r| profile.reflectance(r))?)?;
     out.set_item("transmittance", table(&|r| profile.transmittance(r))?)?;
@@ -95,6 +73,29 @@ pub fn profile_plot(
     photons: u64,
     seed: u64,
 ) -> PyResult<String> {
+    let (material, request) = request(py, preset, material, model, radii, epsilon, gaussians)?;
+    let request = ProfileRequest {
+        compare_montecarlo,
+        photons,
+        seed,
+        ..request
+    };
+    let analysis = py.detach(|| analyse(&material, &request));
+    Ok(or_raise(py, analysis)?.svg())
+}
+
+/// The material and the library's request for a profile of it, as both
+/// functions take them (the request's checks are the library's, in
+/// [`analyse`]).
+fn request(
+    py: Python<'_>,
+    preset: Option<String>,
+    material: Option<PathBuf>,
+    model: Option<String>,
+    radii: Option<Vec<f64>>,
+    epsilon: f64,
+    gaussians: usize,
+) -> PyResult<(Material, ProfileRequest)> {
     let material = or_raise(py, material_of(preset.as_deref(), material.as_deref()))?;
     let model = match model.as_deref() {
         Some(name) => or_raise(py, model_named(name))?,
@@ -105,12 +106,11 @@ pub fn profile_plot(
         radii,
         epsilon,
         gaussians,
-        compare_montecarlo,
-        photons,
-        seed,
+        compare_montecarlo: false,
+        photons: 0,
+        seed: 0,
     };
-    let analysis = py.detach(|| analyse(&material, &request));
-    Ok(or_raise(py, analysis)?.svg())
+    Ok((material, request))
 }
 
 /// The model called `name`, or an error naming the models there are.

@@ -55,11 +55,7 @@ pub fn bake(
     let mut folder = options.folder(&out, force);
     folder.layer_writer = layer_writer_callable.map(layer_writer);
     let control = Control::new();
-    let watchers = Watchers {
-        progress,
-        cancel,
-        part: (0, 1),
-    };
+    let watchers = Watchers::whole(progress, cancel);
     let summary = run_watched(py, &control, &watchers, || {
         let (scene, request) = load(&input, stage_json.as_deref(), &options)?;
         let plan = sssbake::plan(&scene, &request)?;
@@ -82,11 +78,7 @@ pub fn plan(
 ) -> PyResult<String> {
     let options = or_raise(py, parse_options(options_json))?;
     let control = Control::new();
-    let watchers = Watchers {
-        progress: None,
-        cancel: None,
-        part: (0, 1),
-    };
+    let watchers = Watchers::whole(None, None);
     let plan = run_watched(py, &control, &watchers, || {
         let (scene, request) = load(&input, stage_json.as_deref(), &options)?;
         sssbake::plan(&scene, &request)
@@ -116,11 +108,7 @@ pub fn batch(
         ..BatchOptions::default()
     };
     let control = Control::new();
-    let watchers = Watchers {
-        progress: None,
-        cancel: None,
-        part: (0, 1),
-    };
+    let watchers = Watchers::whole(None, None);
     // The callback runs on the batch's threads, taking the GIL for the call;
     // its first exception is kept and raised when the batch ends.
     let failed_callback = std::sync::Mutex::new(None::<PyErr>);
@@ -165,11 +153,7 @@ pub fn report(
     let options = or_raise(py, parse_options(options_json))?;
     or_raise(py, check_folder(&out, force))?;
     let control = Control::new();
-    let watchers = Watchers {
-        progress,
-        cancel,
-        part: (0, 1),
-    };
+    let watchers = Watchers::whole(progress, cancel);
     let files = run_watched(py, &control, &watchers, || {
         let (scene, request) = load(&input, stage_json.as_deref(), &options)?;
         let name = input.display().to_string();

@@ -26,6 +26,17 @@ pub struct Watchers<'py> {
     pub part: (usize, usize),
 }
 
+impl<'py> Watchers<'py> {
+    /// `progress` and `cancel` following the whole call.
+    pub fn whole(progress: Option<Bound<'py, PyAny>>, cancel: Option<Bound<'py, PyAny>>) -> Self {
+        Watchers {
+            progress,
+            cancel,
+            part: (0, 1),
+        }
+    }
+}
+
 /// Runs `work` (which checks `control`) on a thread of its own while this
 /// thread, holding the GIL only between waits, watches it. A Python error
 /// from a watcher, or Ctrl-C, cancels the work and is returned once the

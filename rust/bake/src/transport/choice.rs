@@ -1,6 +1,7 @@
 //! `--method auto`: which integrator suits this object and profile, and why.
 
 use super::Method;
+use super::integrator::Integrator;
 use super::texture_space::MAX_REACH;
 
 /// Pairs the exact sum may visit before it stops being the cheap choice:
@@ -27,19 +28,15 @@ pub fn neighbours(texel_area_mm2: f64, d_max_mm: f64) -> f64 {
 /// minute on two cores); beyond, the octree is as exact as a bake gets.
 const FALLBACK_PAIRS: f64 = 10.0 * BRUTE_PAIRS;
 
-/// The next more exact method after `method` missed its tolerance: the
-/// octree (over the texels, its error set by ε alone, and cheaper than the
-/// exact sum wherever the sum is not cheap), then the exact sum where it
-/// stays affordable; `None` when nothing more exact is affordable.
-pub fn more_exact(method: Method, texels: usize, neighbours: f64) -> Option<Method> {
+/// The method `auto` moves to after `integrator` missed its tolerance:
+/// the one its integrator names, but the exact sum only where it stays
+/// affordable (`texels` × `neighbours` pairs); `None` when nothing more
+/// exact is affordable.
+pub fn more_exact(integrator: &dyn Integrator, texels: usize, neighbours: f64) -> Option<Method> {
     let brute_affordable = texels as f64 * neighbours <= FALLBACK_PAIRS;
-    match method {
-        // The walk is not an integrator of the profile to be refined.
-        Method::Brute | Method::Auto | Method::Walk => None,
-        Method::Texture | Method::Importance => Some(Method::Octree),
-        Method::Octree if brute_affordable => Some(Method::Brute),
-        Method::Octree => None,
-    }
+    integrator
+        .more_exact()
+        .filter(|&next| next != Method::Brute || brute_affordable)
 }
 
 /// Chooses for `texels` surfels of mean area `texel_area_mm2` under a
@@ -97,38 +94,21 @@ pub fn avoid_thin_parts(choice: Choice, crossing: f64, tolerance: f64) -> Choice
     }
 }
 
-/// The octree's next solid-angle threshold after it missed `tolerance`
-/// with relative error `error` at `epsilon` (sr): its error falls at least
-/// in proportion to ε (on the bundled ear at 512², 1.8% at 0.5, 0.26% at
-/// 0.2, 0.12% at 0.1), so ε scaled by the tolerance over the error, with a
-/// margin, at most 16 times finer. `None` when ε cannot usefully shrink.
-pub fn finer_epsilon(epsilon: f32, error: f64, tolerance: f64) -> Option<f32> {
-    const MARGIN: f64 = 0.7;
-    if !(epsilon > 0.0 && error.is_finite() && error > tolerance) {
-        return None;
-    }
-    let finer = (f64::from(epsilon) * MARGIN * tolerance / error) as f32;
-    Some(finer.max(epsilon / 16.0))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::transport::integrator::IntegratorSettings;
 
     #[test]
     fn falling_back_stays_affordable() {
-        assert_eq!(
-            more_exact(Method::Texture, 1000, 100.0),
-            Some(Method::Octree)
-        );
-        assert_eq!(
-            more_exact(Method::Importance, 1000, 100.0),
-            Some(Method::Octree)
-        );
-        assert_eq!(more_exact(Method::Octree, 1000, 100.0), Some(Method::Brute));
-        let huge = FALLBACK_PAIRS;
-        assert_eq!(more_exact(Method::Octree, 1_000_000, huge), None);
-        assert_eq!(more_exact(Method::Brute, 10, 1.0), None);
+        let all = IntegratorSettings::default();
+        let next = |method, texels, neighbours| more_exact(all.get(method), texels, neighbours);
+        assert_eq!(next(Method::Texture, 1000, 100.0), Some(Method::Octree));
+        assert_eq!(next(Method::Importance, 1000, 100.0), Some(Method::Octree));
+        assert_eq!(next(Method::Octree, 1000, 100.0), Some(Method::Brute));
+        assert_eq!(next(Method::Octree, 1_000_000, FALLBACK_PAIRS), None);
+        assert_eq!(next(Method::Brute, 10, 1.0), None);
+        assert_eq!(next(Method::Walk, 10, 1.0), None);
     }
 
     #[test]
@@ -150,15 +130,5 @@ mod tests {
             reason: String::new(),
         };
         assert_eq!(avoid_thin_parts(brute, 0.5, 0.01).method, Method::Brute);
-    }
-
-    #[test]
-    fn a_finer_epsilon_is_finer_and_bounded() {
-        let finer = finer_epsilon(0.5, 0.0176, 0.01).unwrap();
-        assert!(finer < 0.5 * 0.01 / 0.0176 && finer > 0.15, "{finer}");
-        assert_eq!(finer_epsilon(0.5, 10.0, 0.01), Some(0.5 / 16.0));
-        assert_eq!(finer_epsilon(0.5, 0.005, 0.01), None);
-        assert_eq!(finer_epsilon(0.0, 0.5, 0.01), None);
-        assert_eq!(finer_epsilon(0.5, f64::NAN, 0.01), None);
     }
 }

@@ -1,15 +1,10 @@
-//! The one interface every integrator implements, and the settings of all
-//! of them. Each integrator is a struct holding its own settings, with
-//! their defaults and their checks (`validate`), so every front door gets
-//! the same meaning for the same knob.
-//!
-//! | method | settings (default) |
-//! |---|---|
-//! | `brute` | none |
-//! | `octree` | `epsilon` (0.5 sr) |
-//! | `texture` | `gaussians` (6) |
-//! | `importance` | `samples` (64), `seed` (1) |
-//! | `walk` | `samples` (256), `seed` (1), `max_events` (1024) |
+//! The one interface every integrator implements, and the registry of
+//! them. Each integrator is a folder of `transport/` whose `mod.rs` is its
+//! face: its settings with their defaults and checks (a table at the top),
+//! what it carries of the model, its cost model and how it refines; the
+//! plan, `auto`, the limits and the corrected model read those here
+//! instead of knowing every method. A new integrator is its folder, a
+//! variant of [`Method`] and a field of [`IntegratorSettings`].
 
 use super::Method;
 use super::brute::BruteIntegrator;
@@ -22,6 +17,7 @@ use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use serde::{Deserialize, Serialize};
+use sssbake_profile::Material;
 
 /// An integrator's result before the colour after scattering.
 #[derive(Clone, Debug)]
@@ -34,12 +30,81 @@ pub struct Integrated {
     pub walk: Option<WalkNoise>,
 }
 
+/// What an integrator carries of the model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Carries {
+    /// It integrates the material's profile, so it bakes the corrected
+    /// model (light shared through thin parts by the local slab, sums
+    /// raised where the surface ends) and its error against the exact sum
+    /// is an integrator's error. `false` for the walk, which follows light
+    /// itself.
+    pub profile: bool,
+    /// Its sums reach across thin parts to the far face in 3-D (texture
+    /// space blurs within the charts and carries none across).
+    pub across: bool,
+    /// It integrates an oblique kernel at each light's own incidence (the
+    /// others take the kernel's azimuthal mean at normal incidence).
+    pub oblique: bool,
+}
+
+/// The size of one object's scattering, for an integrator's cost model.
+#[derive(Clone, Copy, Debug)]
+pub struct Work<'a> {
+    /// Texels (surfels) of the object.
+    pub texels: f64,
+    /// Texels within the profile's reach of a texel, on average.
+    pub neighbours: f64,
+    /// The object's material.
+    pub material: &'a Material,
+}
+
+impl Work<'_> {
+    /// The order of a hierarchical or separable method, n log₂ n, never
+    /// more than the exact sum's pairs.
+    pub fn n_log_n(&self) -> f64 {
+        let n = self.texels;
+        (n * n.max(2.0).log2()).min(n * self.neighbours)
+    }
+}
+
 /// M(x) = ∫ P(|x − x_i|) E_t(x_i) dA at every texel of a prepared object.
 /// Its `Debug` form names it with its settings (what a result found by it
 /// is kept under).
 pub trait Integrator: Send + Sync + std::fmt::Debug {
     /// Which method this is.
     fn method(&self) -> Method;
+
+    /// What it carries of the model.
+    fn carries(&self) -> Carries;
+
+    /// Kernel evaluations, probes or ray casts it takes for `work`: the
+    /// plan's bound on a bake, checked before any work.
+    fn evaluations(&self, work: &Work) -> f64;
+
+    /// Bytes it holds beyond the bake's own per texel, for maps of
+    /// `resolution`² texels when the light is split by incidence (`split`).
+    fn extra_memory_bytes(&self, _resolution: u32, _split: bool) -> f64 {
+        0.0
+    }
+
+    /// Why it cannot bake `material`, before any work (the walk needs one
+    /// homogeneous medium).
+    fn accepts(&self, _material: &Material) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// Its settings made more exact, after it missed `tolerance` with
+    /// relative error `error`: `true` when they changed (the octree's ε),
+    /// so `auto` runs it once more before a more exact method.
+    fn refine(&mut self, _error: f64, _tolerance: f64) -> bool {
+        false
+    }
+
+    /// The method `auto` moves to when this one misses its tolerance and
+    /// cannot refine; `None` at the top of the ladder.
+    fn more_exact(&self) -> Option<Method> {
+        None
+    }
 
     /// The exitance of `prepared` under `scattering`'s profile (the
     /// irradiance entering after the colour split's first part).
@@ -55,6 +120,9 @@ pub trait Integrator: Send + Sync + std::fmt::Debug {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct IntegratorSettings {
+    /// The exact sum (no settings).
+    #[serde(skip)]
+    pub brute: BruteIntegrator,
     /// The Jensen–Buhler hierarchy.
     pub octree: OctreeIntegrator,
     /// Texture-space Gaussian blurs.
@@ -66,14 +134,25 @@ pub struct IntegratorSettings {
 }
 
 impl IntegratorSettings {
-    /// The integrator of `method` (`auto` must be chosen first).
+    /// The integrator of `method` (`auto` is the exact sum until chosen).
     pub fn get(&self, method: Method) -> &dyn Integrator {
         match method {
-            Method::Auto | Method::Brute => &BruteIntegrator,
+            Method::Auto | Method::Brute => &self.brute,
             Method::Octree => &self.octree,
             Method::Texture => &self.texture,
             Method::Importance => &self.importance,
             Method::Walk => &self.walk,
+        }
+    }
+
+    /// The integrator of `method`, to refine.
+    pub fn get_mut(&mut self, method: Method) -> &mut dyn Integrator {
+        match method {
+            Method::Auto | Method::Brute => &mut self.brute,
+            Method::Octree => &mut self.octree,
+            Method::Texture => &mut self.texture,
+            Method::Importance => &mut self.importance,
+            Method::Walk => &mut self.walk,
         }
     }
 
@@ -89,5 +168,13 @@ impl IntegratorSettings {
         self.texture.validate()?;
         self.importance.validate()?;
         self.walk.validate()
+    }
+}
+
+impl Method {
+    /// What this method's integrator carries of the model (`auto`: the
+    /// exact sum's, until it is chosen).
+    pub fn carries(self) -> Carries {
+        IntegratorSettings::default().get(self).carries()
     }
 }

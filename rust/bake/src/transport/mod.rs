@@ -1,5 +1,8 @@
 //! Integrators: the radiant exitance M(x) = ∫ P(|x − x_i|) E_t(x_i) dA at
-//! every texel, by four methods with the same inputs and output.
+//! every texel, by several methods with the same inputs and output. Each
+//! method is a folder (`brute`, `octree`, `texture_space`, `importance`,
+//! `walk`) behind the one interface of [`integrator`]; the other modules
+//! are what they share.
 
 pub mod accuracy;
 pub mod brute;
@@ -35,6 +38,7 @@ pub(crate) fn stored_exitance(value: f64) -> f32 {
     }
 }
 
+use integrator::Carries;
 use serde::{Deserialize, Serialize};
 
 /// How the exitance is integrated.
@@ -86,6 +90,10 @@ impl Method {
         Method::Importance,
     ];
 
+    /// Every method, `auto` first, in the order they are declared (the C
+    /// ABI numbers them so).
+    pub const EVERY: &'static [Method] = <Method as strum::VariantArray>::VARIANTS;
+
     /// The name the command line, file names and summaries use.
     pub fn name(self) -> &'static str {
         self.into()
@@ -112,24 +120,18 @@ pub enum ExitanceKernel {
 }
 
 impl ExitanceKernel {
-    /// The kernel `method` integrates with, for a model with an oblique
-    /// kernel or not (`oblique`) under light with directions or not
-    /// (`directions`).
-    pub fn of(method: Method, oblique: bool, directions: bool) -> Self {
-        if method == Method::Walk {
+    /// The kernel an integrator that `carries` so much integrates with,
+    /// for a model with an oblique kernel or not (`oblique`) under light
+    /// with directions or not (`directions`).
+    pub fn of(carries: Carries, oblique: bool, directions: bool) -> Self {
+        if !carries.profile {
             return ExitanceKernel::Volumetric;
         }
-        match (oblique, directions && Self::takes_oblique(method)) {
+        match (oblique, directions && carries.oblique) {
             (false, _) => ExitanceKernel::Radial,
             (true, true) => ExitanceKernel::Oblique,
             (true, false) => ExitanceKernel::AzimuthalMean,
         }
-    }
-
-    /// Methods that integrate an oblique kernel per light: the exact sum
-    /// and importance sampling.
-    pub fn takes_oblique(method: Method) -> bool {
-        matches!(method, Method::Brute | Method::Importance)
     }
 
     /// In words, for the summary.

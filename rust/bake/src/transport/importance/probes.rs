@@ -22,24 +22,17 @@
 //! With an oblique kernel (the empirical model under scene lights) a hit
 //! reads the light of the texel under it split by incidence and weighs it
 //! by each light's kernel from there to the target
-//! ([`super::oblique_sum::light_at`]); the probes are still drawn from the
+//! ([`crate::transport::oblique_sum::light_at`]); the probes are still drawn from the
 //! radial profile, which is positive wherever the kernel is.
 
-use super::Method;
-use super::integrator::{Integrated, Integrator};
-use super::kernel::{Kernel, Separation};
-use super::oblique_sum::light_at;
 use crate::control::{Cancelled, Control, parallel_fill};
-use crate::error::Error;
 use crate::irradiance::incidence::{IncidentHarmonics, frame};
 use crate::irradiance::sequence::basis;
 use crate::mesh::Mesh;
-use crate::prepared::Prepared;
 use crate::rays::RayScene;
-use crate::scattering::Scattering;
-use crate::surface::topology::triangle_pieces;
+use crate::transport::kernel::{Kernel, Separation};
+use crate::transport::oblique_sum::light_at;
 use glam::{Vec2, Vec3};
-use serde::{Deserialize, Serialize};
 use sssbake_profile::models::empirical::kernel::ObliqueKernel;
 use sssbake_profile::models::empirical::oblique::HARMONICS_KEPT;
 use sssbake_profile::numerics::rng::Rng;
@@ -171,7 +164,7 @@ pub fn integrate(
         }
         // A truncated oblique kernel may dip below zero behind an entry
         // point, and the probes' noise with it; exitance does not.
-        sum.map(|s| super::stored_exitance(s / count as f64))
+        sum.map(|s| crate::transport::stored_exitance(s / count as f64))
     })?;
     Ok(out)
 }
@@ -352,99 +345,6 @@ fn bilinear(image: &[[f32; 3]], n: u32, uv: Vec2) -> [f32; 3] {
     [0, 1, 2].map(|k| {
         (a[k] * (1.0 - fx) + b[k] * fx) * (1.0 - fy) + (c[k] * (1.0 - fx) + d[k] * fx) * fy
     })
-}
-
-/// Mertens et al.'s Monte Carlo: radii drawn from the profile, probe rays
-/// along the normal and both tangents, weighed by the balance heuristic.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct ImportanceIntegrator {
-    /// Probes per texel.
-    pub samples: u32,
-    /// Seed of the probes (stream = texel, so any thread count agrees).
-    pub seed: u64,
-}
-
-impl Default for ImportanceIntegrator {
-    fn default() -> Self {
-        ImportanceIntegrator {
-            samples: 512,
-            seed: 1,
-        }
-    }
-}
-
-impl ImportanceIntegrator {
-    /// Refuses settings it cannot run with.
-    pub fn validate(&self) -> Result<(), Error> {
-        if self.samples == 0 {
-            return Err(Error::field("importance.samples", "must be at least 1"));
-        }
-        Ok(())
-    }
-}
-
-impl Integrator for ImportanceIntegrator {
-    fn method(&self) -> Method {
-        Method::Importance
-    }
-
-    fn integrate(
-        &self,
-        prepared: &Prepared,
-        scattering: &Scattering,
-        control: &Control,
-    ) -> Result<Integrated, Error> {
-        let probes = RayScene::new(&[&prepared.mesh]);
-        let texture = prepared.entering_texture();
-        let incidence = match &scattering.oblique {
-            Some(_) => prepared.incidence(control)?,
-            None => None,
-        };
-        let texels = if incidence.is_some() {
-            prepared.surfel_texture()
-        } else {
-            Vec::new()
-        };
-        let oblique = scattering
-            .oblique
-            .as_ref()
-            .zip(incidence)
-            .map(|(kernel, incidence)| Oblique {
-                kernel,
-                incidence,
-                normal: &prepared.surfels.normal,
-                texels: &texels,
-            });
-        let triangle_pieces = triangle_pieces(&prepared.mesh);
-        let surface = Surface {
-            mesh: &prepared.mesh,
-            uvs: &prepared.uvs,
-            probes: &probes,
-            irradiance: &texture,
-            resolution: prepared.surfels.resolution,
-            oblique,
-            pieces: Some(Pieces {
-                triangle: &triangle_pieces,
-                target: &prepared.surfels.piece,
-            }),
-        };
-        let exitance = integrate(
-            &scattering.kernel,
-            scattering.profile.as_ref(),
-            &surface,
-            &prepared.surfels.position,
-            &prepared.surfels.normal,
-            self.samples,
-            self.seed,
-            control,
-        )?;
-        Ok(Integrated {
-            exitance,
-            sources: 0,
-            walk: None,
-        })
-    }
 }
 
 #[cfg(test)]

@@ -8,21 +8,26 @@
 //! | `samples` | 256 | walks per texel and channel |
 //! | `seed` | 1 | seed of the walks (stream = texel) |
 //! | `max_events` | 1024 | bound on scatterings and boundary meetings per walk (Cycles stops at 256) |
+//!
+//! It follows light, not the profile: the corrected model is not applied
+//! to it, and its distance from the exact sum measures the model. It needs
+//! one homogeneous medium (a layered material is refused before any
+//! work). Its cost is its expected walk events per texel.
+
+mod surfels;
+
+pub use surfels::walk_surfels;
 
 use super::Method;
-use super::integrator::{Integrated, Integrator};
-use crate::control::Cancelled;
+use super::integrator::{Carries, Integrated, Integrator, Work};
 use crate::control::Control;
 use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use crate::walk::path::ROULETTE_WEIGHT;
-use crate::walk::{
-    Enclosure, ExitLight, StartDirection, WalkEstimate, WalkMedium, WalkSettings, WalkTargets,
-    walk_exitance,
-};
-use glam::Vec3;
+use crate::walk::{StartDirection, WalkMedium, WalkSettings};
 use serde::{Deserialize, Serialize};
+use sssbake_profile::Material;
 
 /// The most walks per texel a request may ask for.
 pub const MOST_SAMPLES: u32 = 1 << 20;
@@ -109,49 +114,26 @@ impl WalkIntegrator {
     }
 }
 
-/// The walks' exitance (before the colour after scattering) at the
-/// surfels `picked` of `prepared` (every surfel when `None`), leaving into
-/// the light entering it.
-pub fn walk_surfels(
-    prepared: &Prepared,
-    medium: &WalkMedium,
-    picked: Option<&[usize]>,
-    settings: &WalkSettings,
-    control: &Control,
-) -> Result<WalkEstimate, Cancelled> {
-    let surfels = &prepared.surfels;
-    let all: Vec<usize>;
-    let picked = match picked {
-        Some(picked) => picked,
-        None => {
-            all = (0..surfels.len()).collect();
-            &all
-        }
-    };
-    let position: Vec<Vec3> = picked.iter().map(|&i| surfels.position[i]).collect();
-    let normal: Vec<Vec3> = picked.iter().map(|&i| surfels.normal[i]).collect();
-    let triangle: Vec<u32> = picked.iter().map(|&i| surfels.triangle[i]).collect();
-    let texture = prepared.entering_texture();
-    walk_exitance(
-        &Enclosure::new(&prepared.mesh, &prepared.uvs),
-        &ExitLight {
-            irradiance: &texture,
-            resolution: surfels.resolution,
-        },
-        medium,
-        &WalkTargets {
-            position: &position,
-            normal: &normal,
-            triangle: &triangle,
-        },
-        settings,
-        control,
-    )
-}
-
 impl Integrator for WalkIntegrator {
     fn method(&self) -> Method {
         Method::Walk
+    }
+
+    fn carries(&self) -> Carries {
+        Carries {
+            profile: false,
+            across: true,
+            oblique: false,
+        }
+    }
+
+    fn evaluations(&self, work: &Work) -> f64 {
+        WalkMedium::of_material(work.material)
+            .map_or(0.0, |medium| work.texels * self.expected_events(&medium))
+    }
+
+    fn accepts(&self, material: &Material) -> Result<(), String> {
+        WalkMedium::of_material(material).map(|_| ())
     }
 
     fn integrate(

@@ -13,20 +13,11 @@
 //! cannot cross thin parts (ears, nostrils) to the far face; the 3-D
 //! integrators do that.
 
-use super::Method;
-use super::integrator::{Integrated, Integrator};
-use super::sources::{OwnSource, Targets};
-use super::{brute, choice};
 use crate::control::{Cancelled, Control};
-use crate::error::Error;
-use crate::prepared::Prepared;
-use crate::scattering::Scattering;
 use crate::surface::dilation::{ImageSides, SeamAwareDilation};
 use crate::surface::texels::{EMPTY, TexelSurfels};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 use sssbake_profile::models::gaussians::SumOfGaussians;
-use sssbake_profile::models::gaussians::fit_gaussians;
 
 /// Blurs whose σ is below this many texels are skipped (a Gaussian that
 /// narrow leaves a texel grid unchanged to within its sampling).
@@ -36,12 +27,12 @@ pub use crate::surface::dilation::MAX_REACH;
 
 /// Texels within this many steps (in any of the 8 directions) of a texel
 /// the layout leaves empty take the exact sum.
-const EDGE_RING: usize = 2;
+pub(super) const EDGE_RING: usize = 2;
 
 /// Source visits the exact sum at those texels may take (a few seconds on
 /// two cores); beyond (a long reach at a fine resolution) the blurs stand
 /// there too, and the error check says what that costs.
-const EDGE_VISITS: f64 = 3e8;
+pub(super) const EDGE_VISITS: f64 = 3e8;
 
 /// Radiant exitance (W/m²) at each surfel by texture-space blurs of its
 /// irradiance. `dilation` lists (empty texel, covered texel it copies) and
@@ -140,7 +131,7 @@ pub fn integrate(
 
 /// The surfels within `ring` texel steps of an empty texel or of the
 /// image's edge, in surfel order.
-fn near_chart_edges(surfels: &TexelSurfels, ring: usize) -> Vec<usize> {
+pub(super) fn near_chart_edges(surfels: &TexelSurfels, ring: usize) -> Vec<usize> {
     let n = surfels.resolution as usize;
     let empty = |x: isize, y: isize| {
         x < 0
@@ -421,92 +412,5 @@ impl Taps {
             sum_known[i] /= norm[i];
         }
         (sum, sum_known)
-    }
-}
-
-/// d'Eon & Luebke's texture-space diffusion: the profile fitted by a sum
-/// of Gaussians, each a separable blur of the irradiance texture.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct TextureIntegrator {
-    /// Gaussians in the fit, 1 to [`MAX_GAUSSIANS`].
-    pub gaussians: usize,
-}
-
-/// The most Gaussians a fit takes.
-pub const MAX_GAUSSIANS: usize = 16;
-
-impl Default for TextureIntegrator {
-    fn default() -> Self {
-        TextureIntegrator { gaussians: 6 }
-    }
-}
-
-impl TextureIntegrator {
-    /// Refuses settings it cannot run with.
-    pub fn validate(&self) -> Result<(), Error> {
-        if !(1..=MAX_GAUSSIANS).contains(&self.gaussians) {
-            return Err(Error::field(
-                "texture.gaussians",
-                format!("{} must be between 1 and {MAX_GAUSSIANS}", self.gaussians),
-            ));
-        }
-        Ok(())
-    }
-}
-
-impl Integrator for TextureIntegrator {
-    fn method(&self) -> Method {
-        Method::Texture
-    }
-
-    fn integrate(
-        &self,
-        prepared: &Prepared,
-        scattering: &Scattering,
-        control: &Control,
-    ) -> Result<Integrated, Error> {
-        let fit = fit_gaussians(scattering.profile.as_ref(), self.gaussians);
-        let mut exitance = integrate(
-            &fit.gaussians,
-            &prepared.surfels,
-            &prepared.entering(),
-            prepared.dilation(),
-            control,
-        )?;
-        // Where a chart's edge is near, a texel's blur reads copies across
-        // the seam or nothing past an open border, and its own texel is only
-        // partly surface: most of the blurs' error lives in those few
-        // texels, so they take the exact sum instead.
-        let edge = near_chart_edges(&prepared.surfels, EDGE_RING);
-        let texels = prepared.surfels.len().max(1);
-        let neighbours = choice::neighbours(
-            prepared.surfels.total_area() / texels as f64,
-            f64::from(scattering.kernel.d_max),
-        );
-        let affordable = edge.len() as f64 * neighbours <= EDGE_VISITS;
-        let mut sources = 0;
-        if !edge.is_empty() && affordable {
-            let texels = prepared.texel_sources();
-            let position: Vec<_> = edge.iter().map(|&s| prepared.surfels.position[s]).collect();
-            let normal: Vec<_> = edge.iter().map(|&s| prepared.surfels.normal[s]).collect();
-            let piece: Vec<_> = edge.iter().map(|&s| prepared.surfels.piece[s]).collect();
-            let targets = Targets {
-                position: &position,
-                normal: &normal,
-                own: OwnSource::Listed(&edge),
-                piece: &piece,
-            };
-            let exact = brute::integrate(&scattering.kernel, &texels, targets, control)?;
-            for (&s, m) in edge.iter().zip(exact) {
-                exitance[s] = m;
-            }
-            sources = texels.len();
-        }
-        Ok(Integrated {
-            exitance,
-            sources,
-            walk: None,
-        })
     }
 }

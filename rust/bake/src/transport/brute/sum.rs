@@ -1,17 +1,14 @@
 //! The reference: the exact discrete sum M(x) = Σ_j P(|x − x_j|) E_j A_j
 //! over every source within d_max, in parallel over targets.
 
-use super::Method;
-use super::disk_kernel::{DiskKernel, split_place};
-use super::integrator::{Integrated, Integrator};
-use super::kernel::Kernel;
-use super::source_table::{Apart, SourceTable, texel_disks};
-use super::sources::{Grid, OwnSource, Sources, Targets};
-use super::through_medium::{may_cross_air, path_length};
 use crate::control::{Cancelled, Control, parallel_fill};
-use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::scattering::Scattering;
+use crate::transport::disk_kernel::{DiskKernel, split_place};
+use crate::transport::kernel::Kernel;
+use crate::transport::source_table::{Apart, SourceTable, texel_disks};
+use crate::transport::sources::{Grid, Sources, Targets};
+use crate::transport::through_medium::{may_cross_air, path_length};
 use glam::{DVec3, Vec3, Vec4};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -212,7 +209,7 @@ pub fn integrate(
 
 /// The exact sum of `prepared`'s texels at `targets` under `scattering`:
 /// with its oblique kernel and each light's incidence where it has one
-/// and the light has directions ([`super::oblique_sum`]), else with its
+/// and the light has directions ([`crate::transport::oblique_sum`]), else with its
 /// radially symmetric kernel. `true` with the exitance when the oblique
 /// kernel was used.
 pub fn exact_sum(
@@ -226,7 +223,7 @@ pub fn exact_sum(
         && let Some(incidence) = prepared.incidence(control)?
     {
         let reach = scattering.kernel.d_max;
-        let exitance = super::oblique_sum::integrate(
+        let exitance = crate::transport::oblique_sum::integrate(
             kernel,
             reach,
             sources,
@@ -241,35 +238,4 @@ pub fn exact_sum(
         integrate(&scattering.kernel, sources, targets, control)?,
         false,
     ))
-}
-
-/// The exact discrete sum over every texel within d_max: the reference
-/// every other method is measured against. It has no settings.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct BruteIntegrator;
-
-impl Integrator for BruteIntegrator {
-    fn method(&self) -> Method {
-        Method::Brute
-    }
-
-    fn integrate(
-        &self,
-        prepared: &Prepared,
-        scattering: &Scattering,
-        control: &Control,
-    ) -> Result<Integrated, Error> {
-        let sources = prepared.texel_sources();
-        // The targets are the texels the sources were made from, in order.
-        let targets = Targets {
-            own: OwnSource::Same,
-            ..prepared.targets()
-        };
-        let (exitance, _) = exact_sum(prepared, scattering, &sources, targets, control)?;
-        Ok(Integrated {
-            exitance,
-            sources: sources.len(),
-            walk: None,
-        })
-    }
 }

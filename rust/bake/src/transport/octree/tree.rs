@@ -10,19 +10,13 @@
 //! exactly as the exact sum does, so at ε = 0 every node is opened and the
 //! sum is the exact sum's, and ε alone sets the error.
 
-use super::Method;
-use super::disk_kernel::{DiskKernel, Slot};
-use super::integrator::{Integrated, Integrator};
-use super::kernel::{Kernel, Separation};
-use super::source_table::{Apart, SourceTable, texel_disks};
-use super::sources::{OwnSource, Sources, Target, Targets};
-use super::through_medium::may_cross_air;
 use crate::control::{Cancelled, Control, parallel_fill};
-use crate::error::Error;
-use crate::prepared::Prepared;
-use crate::scattering::Scattering;
+use crate::transport::disk_kernel::{DiskKernel, Slot};
+use crate::transport::kernel::{Kernel, Separation};
+use crate::transport::source_table::{Apart, SourceTable, texel_disks};
+use crate::transport::sources::{Sources, Target, Targets};
+use crate::transport::through_medium::may_cross_air;
 use glam::{DVec3, Vec3};
-use serde::{Deserialize, Serialize};
 
 /// Sources per leaf.
 const LEAF: usize = 8;
@@ -298,57 +292,4 @@ pub fn integrate(
             .map(|v| v as f32)
     })?;
     Ok(out)
-}
-
-/// The octree integrator over the texels.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct OctreeIntegrator {
-    /// Solid angle (sr) below which a node is taken whole; 0 is exact.
-    pub epsilon: f32,
-}
-
-impl Default for OctreeIntegrator {
-    fn default() -> Self {
-        OctreeIntegrator { epsilon: 0.5 }
-    }
-}
-
-impl OctreeIntegrator {
-    /// Refuses settings it cannot run with.
-    pub fn validate(&self) -> Result<(), Error> {
-        if !(self.epsilon.is_finite() && self.epsilon >= 0.0) {
-            return Err(Error::field(
-                "octree.epsilon",
-                format!("{} must be a non-negative solid angle", self.epsilon),
-            ));
-        }
-        Ok(())
-    }
-}
-
-impl Integrator for OctreeIntegrator {
-    fn method(&self) -> Method {
-        Method::Octree
-    }
-
-    fn integrate(
-        &self,
-        prepared: &Prepared,
-        scattering: &Scattering,
-        control: &Control,
-    ) -> Result<Integrated, Error> {
-        let sources = prepared.texel_sources();
-        // The targets are the texels the sources were made from, in order.
-        let targets = Targets {
-            own: OwnSource::Same,
-            ..prepared.targets()
-        };
-        let exitance = integrate(&scattering.kernel, &sources, targets, self.epsilon, control)?;
-        Ok(Integrated {
-            exitance,
-            sources: sources.len(),
-            walk: None,
-        })
-    }
 }
