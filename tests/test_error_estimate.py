@@ -50,6 +50,25 @@ def test_auto_holds_the_head_to_its_tolerance_without_the_exact_sum(sssbake, tmp
     final = (accuracy["method"], accuracy["octree_epsilon"])
     for aside in accuracy["set_aside"]:
         assert aside["estimated_error"] > tolerance and (aside["method"], aside["octree_epsilon"]) != final
+    # A pilot at a few texels predicted the octree's error first; a predicted miss refined
+    # the threshold before the whole map, so the piloted threshold never ran whole.
+    pilot = accuracy["pilot"]
+    assert pilot["method"] == "octree" and pilot["texels"] >= 64
+    assert pilot["refined"] == (pilot["predicted_error"] > tolerance)
+    if pilot["refined"]:
+        assert accuracy["octree_epsilon"] < pilot["octree_epsilon"]
+        assert all(aside["octree_epsilon"] != pilot["octree_epsilon"] for aside in accuracy["set_aside"])
+
+
+def test_the_pilot_predicts_the_error_of_the_octree_it_pilots(sssbake, tmp_path, exact):
+    """The pilot's prediction is the error the piloted octree makes over the whole map."""
+    accuracy, _ = subsurface(sssbake, tmp_path / "auto", "--tolerance", "0.001")
+    pilot = accuracy["pilot"]
+    assert pilot["refined"], pilot
+    epsilon = str(pilot["octree_epsilon"])
+    _, got = subsurface(sssbake, tmp_path / "octree", "--method", "octree", "--octree-epsilon", epsilon)
+    truth = true_error(got, exact)
+    assert truth / 1.5 <= pilot["predicted_error"] <= truth * 1.5, (pilot, truth)
 
 
 def test_auto_takes_the_thin_ear_to_a_3d_sum_and_meets_its_tolerance(sssbake, tmp_path):

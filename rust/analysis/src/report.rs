@@ -11,7 +11,6 @@ use sssbake::control::Control;
 use sssbake::pipeline::prepare;
 use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::brute::BruteIntegrator;
-use sssbake::transport::integrator::{Integrator, IntegratorSettings};
 use sssbake::{BakeRequest, Error, Method, Scene, plan};
 use sssbake_io::atomic_write::write_atomically;
 use sssbake_io::image_writer::png_bytes;
@@ -105,33 +104,6 @@ pub struct ReportFiles {
     pub front: Vec<usize>,
 }
 
-/// The settings each integrator is run with, cheapest first, starting from
-/// the request's own.
-fn ladder(base: &IntegratorSettings) -> Vec<(Method, String, IntegratorSettings)> {
-    let mut runs = Vec::new();
-    let mut with = |method: Method, setting: String, change: &dyn Fn(&mut IntegratorSettings)| {
-        let mut settings = base.clone();
-        change(&mut settings);
-        runs.push((method, setting, settings));
-    };
-    for epsilon in [2.0f32, 1.0, 0.5, 0.2, 0.05] {
-        with(Method::Octree, format!("ε {epsilon}"), &|s| {
-            s.octree.epsilon = epsilon
-        });
-    }
-    for gaussians in [1, 2, 3, 4, 6, 8] {
-        with(Method::Texture, format!("{gaussians} G"), &|s| {
-            s.texture.gaussians = gaussians
-        });
-    }
-    for samples in [16, 64, 256, 512] {
-        with(Method::Importance, format!("{samples} spp"), &|s| {
-            s.importance.samples = samples
-        });
-    }
-    runs
-}
-
 impl ReportFiles {
     /// Writes every file into `out` (made if missing), each whole; returns
     /// their paths, the error maps first.
@@ -200,12 +172,20 @@ pub fn error_against_time(
             sources: reference.sources,
             pareto: false,
         });
-        for (method, setting, settings) in ladder(&plan.request.integrators) {
-            let integrator: &dyn Integrator = settings.get(method);
-            let result = prepared.integrate(scattering, integrator, &control)?;
+        // Each integrator of the profile across its own ladder of settings.
+        let rungs = Method::ALL.iter().flat_map(|&method| {
+            let own = plan.request.integrators.get(method);
+            let own_name = format!("{own:?}");
+            own.ladder()
+                .into_iter()
+                .map(move |(setting, rung)| (method, setting, rung, own_name.clone()))
+        });
+        for (method, setting, integrator, own) in rungs {
+            let result = prepared.integrate(scattering, integrator.as_ref(), &control)?;
             let (rmse, max_error) = relative_errors(&result.exitance, &reference.exitance);
-            // The run with the request's own settings gets a map of where it errs.
-            if settings == plan.request.integrators {
+            // The run with the request's own settings gets a map of where it
+            // errs (an integrator's `Debug` form names it with its settings).
+            if format!("{integrator:?}") == own {
                 let map = error_map(&prepared.surfels, &result.exitance, &reference.exitance);
                 let file = format!("error_{}_{}.png", object.file_stem, method.name());
                 let bytes = png_bytes(&map).map_err(|e| Error::output(&file, e))?;

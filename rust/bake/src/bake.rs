@@ -10,12 +10,14 @@ use crate::pipeline::prepare;
 use crate::plan::{ObjectPlan, Plan};
 use crate::prepared::Prepared;
 use crate::request::BakeRequest;
+use crate::scattering::Scattering;
 use crate::scene::Scene;
 use crate::transport::ExitanceKernel;
 use crate::transport::Method;
 use crate::transport::choice;
+use crate::transport::integrator::IntegratorSettings;
 use crate::transport::light_check::{LightCheck, NoCheck, check_against_light, event_budget};
-use crate::transport::verify::{ErrorEstimate, estimate_error};
+use crate::transport::verify::{ErrorEstimate, estimate_error, predict_error};
 use crate::transport::walk::WalkNoise;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -80,6 +82,11 @@ pub struct Accuracy {
     pub octree_epsilon: Option<f32>,
     /// Methods `auto` ran and set aside for missing the tolerance.
     pub set_aside: Vec<SetAside>,
+    /// `auto`'s pilot of the first method, when it had one: the error its
+    /// first settings were predicted to make, from its sums at a few
+    /// texels, and whether that refined them before the whole map ran.
+    #[serde(default)]
+    pub pilot: Option<Pilot>,
     /// The kernel the maps' exitance was integrated with.
     #[serde(default)]
     pub kernel: ExitanceKernel,
@@ -142,6 +149,25 @@ pub struct SetAside {
     pub seconds: f64,
 }
 
+/// `auto`'s prediction of a method's error before it runs
+/// ([`crate::transport::verify::predict_error`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pilot {
+    /// The method piloted.
+    pub method: Method,
+    /// The octree's solid-angle threshold (sr) piloted, for the octree.
+    pub octree_epsilon: Option<f32>,
+    /// The predicted relative RMSE against the exact sum.
+    pub predicted_error: f64,
+    /// Texels the pilot summed.
+    pub texels: usize,
+    /// Whether the prediction, above the tolerance, refined the settings
+    /// before the whole map ran.
+    pub refined: bool,
+    /// Seconds it took.
+    pub seconds: f64,
+}
+
 /// The exitance of one object and how it was reached.
 struct Scattered {
     exitance: Vec<[f32; 3]>,
@@ -173,6 +199,23 @@ fn scatter(
     let (oblique, directions) = (scattering.oblique.is_some(), prepared.splits_by_incidence());
     let mut integrators = request.integrators.clone();
     let mut refined = false;
+    // Under `auto`, a pilot at a few texels predicts the first method's
+    // error; settings that would miss the tolerance are refined before the
+    // whole map is integrated, not after.
+    let pilot = if chosen {
+        run_pilot(
+            prepared,
+            scattering,
+            &mut integrators,
+            method,
+            neighbours,
+            request,
+            control,
+        )?
+    } else {
+        None
+    };
+    seconds += pilot.map_or(0.0, |p| p.seconds);
     loop {
         let start = Instant::now();
         let integration = prepared.integrate(scattering, integrators.get(method), control)?;
@@ -265,6 +308,7 @@ fn scatter(
                         texels_checked: estimate.texels,
                         tolerance: chosen.then_some(request.tolerance),
                         set_aside,
+                        pilot,
                         walk: integration.walk,
                         light,
                         light_unchecked,
@@ -274,6 +318,38 @@ fn scatter(
             }
         }
     }
+}
+
+/// Pilots `method` under `integrators` and refines its settings there when
+/// the prediction is above the request's tolerance.
+fn run_pilot(
+    prepared: &Prepared,
+    scattering: &Scattering,
+    integrators: &mut IntegratorSettings,
+    method: Method,
+    neighbours: f64,
+    request: &BakeRequest,
+    control: &Control,
+) -> Result<Option<Pilot>, Error> {
+    let start = Instant::now();
+    let seed = request.integrators.importance.seed;
+    let piloted = integrators.get(method);
+    let Some(predicted) = predict_error(prepared, scattering, piloted, neighbours, seed, control)?
+    else {
+        return Ok(None);
+    };
+    let octree_epsilon = (method == Method::Octree).then_some(integrators.octree.epsilon);
+    let refined = integrators
+        .get_mut(method)
+        .refine(predicted.relative_rmse, request.tolerance);
+    Ok(Some(Pilot {
+        method,
+        octree_epsilon,
+        predicted_error: predicted.relative_rmse,
+        texels: predicted.texels,
+        refined,
+        seconds: start.elapsed().as_secs_f64(),
+    }))
 }
 
 /// What a bake did: each object's decisions and timings, and the scene's
@@ -484,6 +560,23 @@ impl fmt::Display for Summary {
                 o.seconds.scattering,
             )?;
             if let Some(a) = &o.accuracy {
+                if let Some(pilot) = &a.pilot {
+                    let then = if pilot.refined {
+                        "above the tolerance: refined before the whole map"
+                    } else {
+                        "kept"
+                    };
+                    writeln!(
+                        f,
+                        "{}: pilot: {}{} predicted {:.2}% at {} texels, {then} ({:.2} s)",
+                        p.name,
+                        pilot.method,
+                        at_epsilon(pilot.octree_epsilon),
+                        100.0 * pilot.predicted_error,
+                        pilot.texels,
+                        pilot.seconds
+                    )?;
+                }
                 for aside in &a.set_aside {
                     writeln!(
                         f,

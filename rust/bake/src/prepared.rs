@@ -87,6 +87,26 @@ impl std::ops::Deref for Prepared {
     }
 }
 
+/// Some texels of a prepared object as targets ([`Prepared::listed`]).
+pub struct Listed<'a> {
+    position: Vec<Vec3>,
+    normal: Vec<Vec3>,
+    piece: Vec<u32>,
+    listed: &'a [usize],
+}
+
+impl Listed<'_> {
+    /// The targets, in the order listed.
+    pub fn targets(&self) -> Targets<'_> {
+        Targets {
+            position: &self.position,
+            normal: &self.normal,
+            own: OwnSource::Listed(self.listed),
+            piece: &self.piece,
+        }
+    }
+}
+
 impl Prepared {
     /// Seconds spent lighting.
     pub fn seconds(&self) -> f64 {
@@ -105,6 +125,26 @@ impl Prepared {
             normal: &self.surfels.normal,
             own: OwnSource::None,
             piece: &self.surfels.piece,
+        }
+    }
+
+    /// The texels `listed` alone as targets of a gather, each its own
+    /// source (its light is its own texel's).
+    pub fn listed<'a>(&self, listed: &'a [usize]) -> Listed<'a> {
+        fn copy<T: Copy>(list: &[T], listed: &[usize]) -> Vec<T> {
+            listed.iter().map(|&i| list[i]).collect()
+        }
+        let surfels = &self.surfels;
+        Listed {
+            position: copy(&surfels.position, listed),
+            normal: copy(&surfels.normal, listed),
+            // No pieces: every target gathers from every piece.
+            piece: if surfels.piece.is_empty() {
+                Vec::new()
+            } else {
+                copy(&surfels.piece, listed)
+            },
+            listed,
         }
     }
 

@@ -1220,3 +1220,75 @@ fn options_refuse_unknown_names_and_values_out_of_range_naming_them() {
     assert_eq!(sssbake_options_free(freed), SssbakeStatus::Ok);
     refused(sssbake_options_free(freed), "options");
 }
+
+#[test]
+fn the_settings_struct_refuses_what_the_options_refuse_with_the_same_words() {
+    let scene = lit_sphere();
+    let (skin, ball) = (
+        CString::new("skin1").unwrap(),
+        CString::new("Ball").unwrap(),
+    );
+    let base = settings(8, 1);
+    for (key, value, bad) in [
+        (
+            "resolution",
+            "0",
+            SssbakeSettings {
+                resolution: 0,
+                ..base
+            },
+        ),
+        (
+            "gaussians",
+            "99",
+            SssbakeSettings {
+                gaussians: 99,
+                ..base
+            },
+        ),
+        (
+            "light_samples",
+            "0",
+            SssbakeSettings {
+                light_samples: 0,
+                ..base
+            },
+        ),
+        (
+            "walk_samples",
+            "1",
+            SssbakeSettings {
+                walk_samples: 1,
+                ..base
+            },
+        ),
+        (
+            "tolerance",
+            "-1",
+            SssbakeSettings {
+                tolerance: -1.0,
+                ..base
+            },
+        ),
+    ] {
+        let options = Options::new(&[]);
+        assert_eq!(options.set(key, value), SssbakeStatus::InvalidArgument);
+        let by_name = last_error();
+        let mut result = null_mut();
+        let status = unsafe {
+            sssbake_bake(
+                scene.0,
+                ball.as_ptr(),
+                &preset(&skin),
+                &bad,
+                None,
+                null_mut(),
+                null(),
+                &mut result,
+            )
+        };
+        assert_eq!(status, SssbakeStatus::InvalidArgument, "{key}");
+        assert!(result.is_null());
+        assert_eq!(last_error(), by_name, "{key}");
+    }
+}

@@ -106,6 +106,28 @@ pub trait Integrator: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// Its sums at the texels `listed` alone, before any correction, where
+    /// it can find them without the whole map: a cheap pilot from which
+    /// `auto` predicts its error before running it. `None` for a method
+    /// that integrates the whole map at once (texture-space blurs) or that
+    /// has nothing to refine.
+    fn pilot(
+        &self,
+        _prepared: &Prepared,
+        _scattering: &Scattering,
+        _listed: &[usize],
+        _control: &Control,
+    ) -> Result<Option<Vec<[f32; 3]>>, Error> {
+        Ok(None)
+    }
+
+    /// Itself across its settings from cheap to exact, each named as the
+    /// error-against-time report shows it; empty where there is no setting
+    /// that trades time for error (the exact sum).
+    fn ladder(&self) -> Vec<(String, Box<dyn Integrator>)> {
+        Vec::new()
+    }
+
     /// The exitance of `prepared` under `scattering`'s profile (the
     /// irradiance entering after the colour split's first part).
     fn integrate(

@@ -4,12 +4,12 @@
 //! everywhere.
 
 use super::brute;
-use super::sources::{OwnSource, Targets};
 use crate::control::Control;
 use crate::error::Error;
 use crate::prepared::{Prepared, Raised};
 use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
+use crate::transport::integrator::Integrator;
 use crate::transport::local_slab::LocalSlab;
 use sssbake_profile::numerics::rng::Rng;
 
@@ -57,9 +57,7 @@ pub fn estimate_error(
     control: &Control,
 ) -> Result<ErrorEstimate, Error> {
     let texels = prepared.surfels.position.len();
-    let affordable = (VISIT_BUDGET / neighbours.max(1.0)) as usize;
-    let count = affordable.clamp(FEWEST_CHECKED, MOST_CHECKED).min(texels);
-    let picked = pick(texels, count, seed);
+    let picked = pick(texels, checked(texels, neighbours), seed);
     // The corrected model reads the sum behind a thin part too: those
     // texels are gathered as well.
     let slab = scattering.local_slab();
@@ -72,28 +70,8 @@ pub fn estimate_error(
         .copied()
         .chain(behind.iter().flatten().copied())
         .collect();
-    let position: Vec<_> = gathered
-        .iter()
-        .map(|&i| prepared.surfels.position[i])
-        .collect();
-    let normal: Vec<_> = gathered
-        .iter()
-        .map(|&i| prepared.surfels.normal[i])
-        .collect();
-    let piece: Vec<_> = if prepared.surfels.piece.is_empty() {
-        Vec::new()
-    } else {
-        gathered
-            .iter()
-            .map(|&i| prepared.surfels.piece[i])
-            .collect()
-    };
-    let targets = Targets {
-        position: &position,
-        normal: &normal,
-        own: OwnSource::Listed(&gathered),
-        piece: &piece,
-    };
+    let listed = prepared.listed(&gathered);
+    let targets = listed.targets();
     let mut sources = prepared.texel_sources();
     // The exact gains at the checked texels, from the exact sums under a
     // unit light (the integration's gains were found under it too).
@@ -166,6 +144,45 @@ pub fn estimate_error(
         relative_rmse,
         texels: picked.len(),
     })
+}
+
+/// How many of `texels` texels the estimate checks when `neighbours` lie
+/// within the profile's reach of each.
+fn checked(texels: usize, neighbours: f64) -> usize {
+    let affordable = (VISIT_BUDGET / neighbours.max(1.0)) as usize;
+    affordable.clamp(FEWEST_CHECKED, MOST_CHECKED).min(texels)
+}
+
+/// The relative RMSE `integrator` would make against the exact sum,
+/// predicted before it runs: its pilot sums ([`Integrator::pilot`]) at a
+/// quarter of the texels the estimate checks (at least
+/// [`FEWEST_CHECKED`]), against the exact sums there. Both are the sums
+/// before the corrections, which would change both alike. `None` when the
+/// integrator has no pilot.
+pub fn predict_error(
+    prepared: &Prepared,
+    scattering: &Scattering,
+    integrator: &dyn Integrator,
+    neighbours: f64,
+    seed: u64,
+    control: &Control,
+) -> Result<Option<ErrorEstimate>, Error> {
+    let texels = prepared.surfels.position.len();
+    let count = (checked(texels, neighbours) / 4)
+        .max(FEWEST_CHECKED)
+        .min(texels);
+    let picked = pick(texels, count, seed);
+    let Some(got) = integrator.pilot(prepared, scattering, &picked, control)? else {
+        return Ok(None);
+    };
+    let sources = prepared.texel_sources();
+    let listed = prepared.listed(&picked);
+    let (exact, _) = brute::exact_sum(prepared, scattering, &sources, listed.targets(), control)?;
+    let (relative_rmse, _) = relative_errors(&got, &exact);
+    Ok(Some(ErrorEstimate {
+        relative_rmse,
+        texels: picked.len(),
+    }))
 }
 
 /// `count` distinct indices below `n`, drawn by a seeded Fisher–Yates

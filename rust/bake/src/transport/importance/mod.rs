@@ -85,6 +85,19 @@ impl Integrator for ImportanceIntegrator {
         Some(Method::Octree)
     }
 
+    fn ladder(&self) -> Vec<(String, Box<dyn Integrator>)> {
+        [16, 64, 256, 512]
+            .into_iter()
+            .map(|samples| {
+                let rung: Box<dyn Integrator> = Box::new(ImportanceIntegrator {
+                    samples,
+                    ..self.clone()
+                });
+                (format!("{samples} spp"), rung)
+            })
+            .collect()
+    }
+
     fn integrate(
         &self,
         prepared: &Prepared,

@@ -95,6 +95,35 @@ impl Integrator for OctreeIntegrator {
         Some(Method::Brute)
     }
 
+    fn pilot(
+        &self,
+        prepared: &Prepared,
+        scattering: &Scattering,
+        listed: &[usize],
+        control: &Control,
+    ) -> Result<Option<Vec<[f32; 3]>>, Error> {
+        let sources = prepared.texel_sources();
+        let listed = prepared.listed(listed);
+        let sums = integrate(
+            &scattering.kernel,
+            &sources,
+            listed.targets(),
+            self.epsilon,
+            control,
+        )?;
+        Ok(Some(sums))
+    }
+
+    fn ladder(&self) -> Vec<(String, Box<dyn Integrator>)> {
+        [2.0f32, 1.0, 0.5, 0.2, 0.05]
+            .into_iter()
+            .map(|epsilon| {
+                let rung: Box<dyn Integrator> = Box::new(OctreeIntegrator { epsilon });
+                (format!("ε {epsilon}"), rung)
+            })
+            .collect()
+    }
+
     fn integrate(
         &self,
         prepared: &Prepared,

@@ -15,7 +15,6 @@ mod blur;
 pub use blur::{MAX_REACH, integrate};
 
 use super::integrator::{Carries, Integrated, Integrator, Work};
-use super::sources::{OwnSource, Targets};
 use super::{Method, brute, choice};
 use crate::control::Control;
 use crate::error::Error;
@@ -77,6 +76,16 @@ impl Integrator for TextureIntegrator {
         Some(Method::Octree)
     }
 
+    fn ladder(&self) -> Vec<(String, Box<dyn Integrator>)> {
+        [1, 2, 3, 4, 6, 8]
+            .into_iter()
+            .map(|gaussians| {
+                let rung: Box<dyn Integrator> = Box::new(TextureIntegrator { gaussians });
+                (format!("{gaussians} G"), rung)
+            })
+            .collect()
+    }
+
     fn integrate(
         &self,
         prepared: &Prepared,
@@ -105,16 +114,8 @@ impl Integrator for TextureIntegrator {
         let mut sources = 0;
         if !edge.is_empty() && affordable {
             let texels = prepared.texel_sources();
-            let position: Vec<_> = edge.iter().map(|&s| prepared.surfels.position[s]).collect();
-            let normal: Vec<_> = edge.iter().map(|&s| prepared.surfels.normal[s]).collect();
-            let piece: Vec<_> = edge.iter().map(|&s| prepared.surfels.piece[s]).collect();
-            let targets = Targets {
-                position: &position,
-                normal: &normal,
-                own: OwnSource::Listed(&edge),
-                piece: &piece,
-            };
-            let exact = brute::integrate(&scattering.kernel, &texels, targets, control)?;
+            let listed = prepared.listed(&edge);
+            let exact = brute::integrate(&scattering.kernel, &texels, listed.targets(), control)?;
             for (&s, m) in edge.iter().zip(exact) {
                 exitance[s] = m;
             }
