@@ -8,15 +8,19 @@ error measured against the exact sum: relative RMSE over covered texels and chan
 the 99.9th percentile of |M - M_brute| over the 99th percentile of M_brute. `--scaling`
 adds the default bake of the head from 256² up, with its time over N log N;
 `--first-command` the README's first command timed against the same bake by the exact sum
-(at skin's reach, hours on two cores).
+(at skin's reach, hours on two cores); `--speed` the head in skin1 and in marble and the ear
+from 1024² up, with peak memory and the ratio to the bake of the irradiance alone
+(`--resolution 0` leaves the first table out).
 
     cargo build --release -p sssbake-cli
-    .venv/bin/python scripts/bench_assets.py [--resolution 512] [--scaling 2048] [--first-command]
+    .venv/bin/python scripts/bench_assets.py [--resolution 512] [--scaling 2048] [--speed 4096]
+        [--first-command]
 """
 
 import argparse
 import json
 import math
+import os
 import pathlib
 import subprocess
 import sys
@@ -108,6 +112,61 @@ def scaling(largest):
         resolution *= 2
 
 
+SPEED_CASES = [
+    ("examples/head/head.gltf", "skin1"),
+    ("examples/head/head.gltf", "marble"),
+    ("examples/ear/ear.gltf", None),
+]
+
+
+def timed(command):
+    """Runs `command`; returns (wall seconds, peak resident memory in bytes, stdout)."""
+    start = time.perf_counter()
+    child = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    out = child.stdout.read()
+    _, status, usage = os.wait4(child.pid, 0)
+    seconds = time.perf_counter() - start
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"{' '.join(command)} failed")
+    return seconds, usage.ru_maxrss * 1024, out
+
+
+def speed(largest):
+    """The default bake at skin's and marble's reach from 1024² up: seconds, peak memory, the
+    estimate, and the ratio to the bake of the irradiance alone (the lighting pass)."""
+    print(f"\nthe default bake (subsurface map) against the irradiance alone, 1024² to {largest}²")
+    print(
+        "| asset | material | resolution | method | estimate | seconds | peak memory | irradiance s | ratio |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for scene, preset in SPEED_CASES:
+        resolution = 1024
+        while resolution <= largest:
+            with tempfile.TemporaryDirectory() as folder:
+                runs = []
+                for outputs in ("subsurface", "irradiance"):
+                    command = [
+                        str(BINARY),
+                        "bake",
+                        str(ROOT / scene),
+                        "--out",
+                        f"{folder}/{outputs}",
+                        "--json",
+                    ]
+                    command += ["--resolution", str(resolution), "--margin", "0", "--outputs", outputs]
+                    command += ["--preset", preset] if preset else []
+                    runs.append(timed(command))
+            (seconds, memory, out), (lit, _, _) = runs
+            obj = json.loads(out)["objects"][0]
+            accuracy = obj["accuracy"]
+            print(
+                f"| {pathlib.Path(scene).stem} | {preset or 'own'} | {resolution}² | {accuracy['method']} "
+                f"| {100 * accuracy['estimated_error']:.2f}% | {seconds:.1f} | {memory / 2**30:.2f} GiB "
+                f"| {lit:.1f} | {seconds / lit:.0f}× |"
+            )
+            resolution *= 2
+
+
 def first_command():
     """The README's first command (the head at the defaults: 1024², auto, every default output),
     and the same bake by the exact sum."""
@@ -136,10 +195,14 @@ def main():
     parser.add_argument("--resolution", type=int, default=512)
     parser.add_argument("--scaling", type=int, default=0, help="largest resolution of the scaling table")
     parser.add_argument("--first-command", action="store_true", help="time the README's first command")
+    parser.add_argument("--speed", type=int, default=0, help="largest resolution of the speed table")
     args = parser.parse_args()
     if not BINARY.exists():
         sys.exit(f"{BINARY} is missing: cargo build --release -p sssbake-cli")
-    compare(args.resolution)
+    if args.resolution:
+        compare(args.resolution)
+    if args.speed:
+        speed(args.speed)
     if args.scaling:
         scaling(args.scaling)
     if args.first_command:
