@@ -6,9 +6,11 @@
 //! | `epsilon` | 0.5 sr | solid angle below which a node is taken whole; 0 is the exact sum |
 //!
 //! It carries thin parts (its 3-D sum reaches the far face) but takes an
-//! oblique kernel's azimuthal mean. Its cost grows as n log n. Above
-//! `auto`'s tolerance it refines once, to an ε scaled by the tolerance
-//! over the error, then hands over to the exact sum.
+//! oblique kernel's azimuthal mean. Its cost grows as n log n. Under
+//! `auto` its pilot (its sums at a few texels against the exact sums
+//! there) predicts its error before the whole map; above the tolerance it
+//! refines once, to an ε scaled by the tolerance over the error, then
+//! hands over to the exact sum.
 
 mod tree;
 
