@@ -238,7 +238,7 @@ fn scatter(
         };
         let elapsed = start.elapsed().as_secs_f64();
         seconds += elapsed;
-        let epsilon = (method == Method::Octree).then_some(integrators.octree.epsilon);
+        let epsilon = integrators.octree_epsilon(method);
         let missed = chosen && estimate.relative_rmse > request.tolerance;
         // A method that missed refines its own settings once, then hands
         // over to the next more exact one.
@@ -338,7 +338,7 @@ fn run_pilot(
     else {
         return Ok(None);
     };
-    let octree_epsilon = (method == Method::Octree).then_some(integrators.octree.epsilon);
+    let octree_epsilon = integrators.octree_epsilon(method);
     let refined = integrators
         .get_mut(method)
         .refine(predicted.relative_rmse, request.tolerance);

@@ -178,6 +178,12 @@ impl IntegratorSettings {
         }
     }
 
+    /// The octree's solid-angle threshold (sr) when `method` is the
+    /// octree, as summaries report it.
+    pub fn octree_epsilon(&self, method: Method) -> Option<f32> {
+        (method == Method::Octree).then_some(self.octree.epsilon)
+    }
+
     /// Sets the seed of every integrator that draws random numbers.
     pub fn seed(&mut self, seed: u64) {
         self.importance.seed = seed;
