@@ -10,7 +10,8 @@ the share of our light on texels where Cycles has under a hundredth of its brigh
     .venv/bin/python scripts/against_cycles.py [--resolution 256] [--samples 256] [METHOD ...]
 
 METHOD is a method of the add-on (AUTO, BRUTE, WALK, ...; AUTO when none). `--ior`,
-`--roughness`, `--sun-only` and `--scale` change the scene to tell causes apart."""
+`--roughness`, `--sun-only`, `--scale` and `--bounces` change the scene or the bake to tell
+causes apart."""
 
 import argparse
 import pathlib
@@ -99,6 +100,9 @@ def main():
     parser.add_argument("--ior", type=float, default=1.4)
     parser.add_argument("--roughness", type=float, default=0.5)
     parser.add_argument("--sun-only", action="store_true", help="leave the point light out")
+    parser.add_argument(
+        "--bounces", type=int, help="bounces of the head's light onto itself (the add-on's own)"
+    )
     args = parser.parse_args()
     sys.path.insert(0, str(ROOT / "tests"))
     import bpy
@@ -117,6 +121,8 @@ def main():
         module.register()
         for method in args.methods:
             bpy.context.scene.sssbake.method = method
+            if args.bounces is not None:
+                bpy.context.scene.sssbake.bounces = args.bounces
             result = bpy.ops.sssbake.bake(resolution=args.resolution, uv_map="UVMap", outputs={"DIFFUSE"})
             if result != {"FINISHED"}:
                 sys.exit("the bake failed; its report is above")

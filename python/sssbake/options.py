@@ -79,6 +79,8 @@ class Options(TypedDict, total=False):
     """α of the colour split (Mikkelsen §3.5): 0 colours after scattering only, 1 before only (0 to 1; default: 0.5)."""
     light_samples: int
     """Samples per soft light and for the environment, per texel (at least 1 samples per texel; default: 16)."""
+    bounces: int
+    """Bounces of the light each object sends onto itself across air (an eye socket, a fold, an ear), as a path tracer's diffuse bake carries it; 0 bakes the direct light alone (0 to 16 bounces; default: 3)."""
     roughness: float
     """RMS facet slope of every material's surface (Donner & Jensen 2005 §2.4) (0 to 1 RMS slope; default: each material's own)."""
     tolerance: float

@@ -115,7 +115,8 @@ pub struct ObjectCost {
     pub memory_bytes: f64,
     /// Memory of its layout, held until the bake ends, bytes.
     pub layout_bytes: f64,
-    /// Shadow rays of its lighting.
+    /// Rays of its lighting: shadow rays, and the rays that gather the
+    /// light the object sends onto itself.
     pub rays: f64,
     /// Kernel evaluations (or probes) of its scattering.
     pub evaluations: f64,

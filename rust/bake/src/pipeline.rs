@@ -4,6 +4,7 @@
 
 use crate::control::Control;
 use crate::error::Error;
+use crate::irradiance::bounce::interreflected;
 use crate::irradiance::emitters::Emitter;
 use crate::irradiance::entry::EntryTransmittance;
 use crate::irradiance::{IrradianceSettings, Receivers, transmitted_irradiance};
@@ -93,7 +94,7 @@ pub fn prepare(
                         shadows: true,
                     },
                 };
-                let irradiance = transmitted_irradiance(
+                let mut irradiance = transmitted_irradiance(
                     Receivers {
                         mesh: kept.mesh,
                         position: &surfels.position,
@@ -106,6 +107,20 @@ pub fn prepare(
                     &kept.settings,
                     control,
                 )?;
+                let leaving = leaving_share(scattering, &colour);
+                let bounced = interreflected(
+                    &layout,
+                    kept.mesh,
+                    &kept.rays,
+                    &kept.entry,
+                    &irradiance,
+                    &leaving,
+                    request.bounces,
+                    control,
+                )?;
+                for (e, b) in irradiance.iter_mut().zip(&bounced) {
+                    *e = [0, 1, 2].map(|c| e[c] + b[c]);
+                }
                 if scattering.oblique.is_some() {
                     lights = Some(kept);
                 }
@@ -125,6 +140,25 @@ pub fn prepare(
         incidence: OnceLock::new(),
         raised: Mutex::new(None),
     })
+}
+
+/// Per surfel, how much of the light entering it leaves as diffuse light
+/// towards the rest of the scene: the material's reflectance at light's
+/// level (the profile's total, levelled as the bake levels it), the base
+/// colour there and the exit Fresnel at the normal.
+fn leaving_share(scattering: &Scattering, colour: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    let total = scattering.profile.total_reflectance();
+    let level = scattering
+        .local_slab()
+        .map(|slab| slab.level())
+        .unwrap_or([1.0; 3]);
+    let exit = scattering.surface.exit_at_normal();
+    let share: [f32; 3] =
+        std::array::from_fn(|c| (total[c] * level[c] * exit[c]).clamp(0.0, 1.0) as f32);
+    colour
+        .iter()
+        .map(|k| [0, 1, 2].map(|c| (share[c] * k[c].max(0.0)).min(1.0)))
+        .collect()
 }
 
 /// The outcome of one integration.

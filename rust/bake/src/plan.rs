@@ -5,6 +5,7 @@
 
 use crate::colour::{ColourMap, ColourPlan, area_mean, relative_to, texture_per_texel};
 use crate::error::{Error, InputError};
+use crate::irradiance::bounce::{gathering_bytes, gathering_rays};
 use crate::layout::Layout;
 use crate::limits::{Cost, ObjectCost, bytes_text, estimated_texels};
 use crate::maps::Output;
@@ -394,8 +395,15 @@ fn plan_object(
         .with_work(runs, &work, rays_per_texel)
         .with_incidence_split(splits, runs, request.resolution)
         .with_uniform_pass(LocalSlab::applies(&scattering), runs);
+    let bounces = if rays_per_texel > 0.0 {
+        request.bounces
+    } else {
+        0
+    };
     let cost = ObjectCost {
         light_check,
+        rays: cost.rays + gathering_rays(texels, bounces),
+        memory_bytes: cost.memory_bytes + gathering_bytes(texels, bounces),
         ..cost
     };
     Ok(ObjectPlan {

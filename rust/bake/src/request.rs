@@ -113,6 +113,11 @@ pub struct BakeRequest {
     pub lighting: Lighting,
     /// Samples per soft light and for the environment, per texel.
     pub light_samples: u32,
+    /// Bounces of the light each object sends onto itself across air
+    /// (an eye socket, a fold), up to
+    /// [`MOST_BOUNCES`](crate::irradiance::bounce::MOST_BOUNCES); 0 leaves
+    /// it out, as a bake of the direct light alone.
+    pub bounces: u32,
     /// RMS facet slope of every material's surface (Donner & Jensen 2005
     /// §2.4), in [0, 1] (0 smooth); `None` keeps each material's own
     /// ([`Material::roughness`](sssbake_profile::Material::roughness)).
@@ -144,6 +149,7 @@ impl Default for BakeRequest {
             d_max_epsilon: D_MAX_EPSILON,
             lighting: Lighting::SceneLights,
             light_samples: 16,
+            bounces: crate::irradiance::bounce::DEFAULT_BOUNCES,
             roughness: None,
             base_colour: None,
             colour_split: 0.5,
@@ -178,6 +184,16 @@ impl BakeRequest {
         }
         if self.light_samples == 0 {
             return Err(Error::field("light_samples", "must be at least 1"));
+        }
+        if self.bounces > crate::irradiance::bounce::MOST_BOUNCES {
+            return Err(Error::field(
+                "bounces",
+                format!(
+                    "{} is more than {}",
+                    self.bounces,
+                    crate::irradiance::bounce::MOST_BOUNCES
+                ),
+            ));
         }
         if !(self.d_max_epsilon > 0.0 && self.d_max_epsilon < 1.0) {
             return Err(Error::field(

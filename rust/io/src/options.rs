@@ -152,6 +152,7 @@ impl BakeOptions {
             integrators,
             lighting,
             light_samples: self.light_samples.unwrap_or(defaults.light_samples),
+            bounces: self.bounces.unwrap_or(defaults.bounces),
             roughness: self.roughness.or(defaults.roughness),
             base_colour,
             colour_split: self.colour_split.unwrap_or(defaults.colour_split),

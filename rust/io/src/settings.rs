@@ -9,6 +9,7 @@
 use crate::FolderOptions;
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
+use sssbake::irradiance::bounce::MOST_BOUNCES;
 use sssbake::limits::size_text;
 use sssbake::materials::FALLBACK_PRESET;
 use sssbake::request::{BakeRequest, MAX_RESOLUTION};
@@ -329,6 +330,13 @@ settings! {
     light_samples: u32 => (
         count(1, u32::MAX.into()), "samples per texel", Part::Bake,
         stated(json!(request().light_samples))
+    ),
+    /// Bounces of the light each object sends onto itself across air (an
+    /// eye socket, a fold, an ear), as a path tracer's diffuse bake carries
+    /// it; 0 bakes the direct light alone.
+    bounces: u32 => (
+        count(0, MOST_BOUNCES.into()), "bounces", Part::Bake,
+        stated(json!(request().bounces))
     ),
     /// RMS facet slope of every material's surface (Donner & Jensen 2005
     /// §2.4).

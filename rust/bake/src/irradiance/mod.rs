@@ -2,6 +2,7 @@
 //! points: every light, shadowed by the whole scene, times the entry
 //! Fresnel transmittance (docs/physics.md: the `irradiance` output).
 
+pub mod bounce;
 pub mod emitters;
 pub mod entry;
 pub mod environment;
