@@ -4,6 +4,7 @@
 //! dilation across seams and margins, and Turk's relaxed sample points.
 
 pub mod dilation;
+pub mod gathering;
 pub mod opposite;
 pub mod raster;
 pub mod texels;
