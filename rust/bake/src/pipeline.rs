@@ -143,18 +143,10 @@ pub fn prepare(
 }
 
 /// Per surfel, how much of the light entering it leaves as diffuse light
-/// towards the rest of the scene: the material's reflectance at light's
-/// level (the profile's total, levelled as the bake levels it), the base
-/// colour there and the exit Fresnel at the normal.
+/// towards the rest of the scene: the material's diffuse albedo
+/// ([`Scattering::diffuse_albedo`]) times the base colour there.
 fn leaving_share(scattering: &Scattering, colour: &[[f32; 3]]) -> Vec<[f32; 3]> {
-    let total = scattering.profile.total_reflectance();
-    let level = scattering
-        .local_slab()
-        .map(|slab| slab.level())
-        .unwrap_or([1.0; 3]);
-    let exit = scattering.surface.exit_at_normal();
-    let share: [f32; 3] =
-        std::array::from_fn(|c| (total[c] * level[c] * exit[c]).clamp(0.0, 1.0) as f32);
+    let share = scattering.diffuse_albedo().map(|a| a as f32);
     colour
         .iter()
         .map(|k| [0, 1, 2].map(|c| (share[c] * k[c].max(0.0)).min(1.0)))

@@ -148,6 +148,17 @@ impl Scattering {
         self.local_slab.get_or_init(|| LocalSlab::of(self)).as_ref()
     }
 
+    /// Per channel, the share of the light entering a plane of the
+    /// material that leaves it as diffuse light through the exit at the
+    /// normal: the profile's total at light's level (levelled as the bake
+    /// levels it) times [`Surface::exit_at_normal`], in [0, 1].
+    pub fn diffuse_albedo(&self) -> [f64; 3] {
+        let total = self.profile.total_reflectance();
+        let level = self.local_slab().map(|s| s.level()).unwrap_or([1.0; 3]);
+        let exit = self.surface.exit_at_normal();
+        std::array::from_fn(|c| (total[c] * level[c] * exit[c]).clamp(0.0, 1.0))
+    }
+
     /// The material's index of refraction where light enters (inside over
     /// outside).
     pub fn entry_index(&self) -> f64 {

@@ -9,7 +9,7 @@ use lit_scenes::*;
 use sssbake::control::Control;
 use sssbake::irradiance::entry::EntryTransmittance;
 use sssbake::prepared::Prepared;
-use sssbake::{BakeRequest, Light, LightKind, Mesh, plan};
+use sssbake::{BakeRequest, Light, Mesh, plan};
 
 /// A sphere of `radius` mm seen from inside: its faces and normals turned
 /// to the centre.
@@ -32,19 +32,6 @@ fn inside_out_sphere(radius: f32) -> Mesh {
     .0
 }
 
-fn point_light_at_centre() -> Light {
-    Light {
-        name: "bulb".into(),
-        kind: LightKind::Point { radius_mm: 0.0 },
-        color: [1.0; 3],
-        intensity: 1.0,
-        position: Vec3::ZERO,
-        direction: Vec3::Z,
-        tangent: Vec3::X,
-        casts_shadow: true,
-    }
-}
-
 fn lit(mesh: Mesh, lights: Vec<Light>, bounces: u32) -> (Prepared, BakeRequest) {
     let name = mesh.name.clone();
     let request = BakeRequest {
@@ -57,9 +44,9 @@ fn lit(mesh: Mesh, lights: Vec<Light>, bounces: u32) -> (Prepared, BakeRequest) 
 }
 
 /// The share of the light entering one texel that a bounce brings into
-/// another inside a sphere: the light leaving (the material's levelled
-/// total reflectance through the exit at the normal) times the entry
-/// transmittance averaged over a cosine-weighted hemisphere.
+/// another inside a sphere: the light leaving (the material's diffuse
+/// albedo) times the entry transmittance averaged over a cosine-weighted
+/// hemisphere.
 fn share_per_bounce(mesh: &Mesh, request: &BakeRequest) -> [f64; 3] {
     let scene = scene(vec![mesh.clone()], vec![]);
     let request = BakeRequest {
@@ -68,12 +55,7 @@ fn share_per_bounce(mesh: &Mesh, request: &BakeRequest) -> [f64; 3] {
     };
     let plan = plan(&scene, &request).unwrap();
     let scattering = &plan.objects[0].scattering_profile;
-    let total = scattering.profile.total_reflectance();
-    let level = scattering
-        .local_slab()
-        .map(|s| s.level())
-        .unwrap_or([1.0; 3]);
-    let exit = scattering.surface.exit_at_normal();
+    let albedo = scattering.diffuse_albedo();
     let entry = EntryTransmittance::of_surface(&scattering.surface);
     // ∫ T(μ) 2μ dμ by the midpoint rule.
     let steps = 20_000;
@@ -85,20 +67,20 @@ fn share_per_bounce(mesh: &Mesh, request: &BakeRequest) -> [f64; 3] {
             })
             .sum()
     });
-    std::array::from_fn(|c| total[c] * level[c] * exit[c] * mean_entry[c])
+    std::array::from_fn(|c| albedo[c] * mean_entry[c])
 }
 
 #[test]
 fn inside_a_sphere_each_bounce_adds_the_same_share_again() {
     let mesh = inside_out_sphere(40.0);
-    let (direct, request) = lit(mesh.clone(), vec![point_light_at_centre()], 0);
+    let (direct, request) = lit(mesh.clone(), vec![point_light_at(Vec3::ZERO)], 0);
     let q = share_per_bounce(&mesh, &request);
     assert!(
         q.iter().all(|&q| q > 0.05 && q < 1.0),
         "share per bounce {q:?}"
     );
     for bounces in [1u32, 3] {
-        let (bounced, _) = lit(mesh.clone(), vec![point_light_at_centre()], bounces);
+        let (bounced, _) = lit(mesh.clone(), vec![point_light_at(Vec3::ZERO)], bounces);
         let expected: [f64; 3] =
             std::array::from_fn(|c| (0..=bounces).map(|k| q[c].powi(k as i32)).sum());
         // Away from the poles, where the sphere's texels are slivers.

@@ -37,6 +37,17 @@ pub fn sun_from(direction: Vec3) -> Light {
     }
 }
 
+/// A point light of 1 W/sr at `position`, no size.
+pub fn point_light_at(position: Vec3) -> Light {
+    Light {
+        name: "bulb".into(),
+        kind: LightKind::Point { radius_mm: 0.0 },
+        position,
+        direction: Vec3::Z,
+        ..sun_from(Vec3::NEG_Z)
+    }
+}
+
 /// A square of `size` mm centred on the origin in the xy plane, facing +Z.
 pub fn centred_square(size: f32, name: &str) -> Mesh {
     let mut mesh = quad(size);
