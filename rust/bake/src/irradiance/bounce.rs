@@ -36,6 +36,9 @@ pub const MOST_BOUNCES: u32 = 16;
 const GATHERING: usize = 16_384;
 /// Cosine-weighted rays per gathering texel.
 const RAYS: u32 = 128;
+/// The most surfels of one face a ray's hit is compared with, where the
+/// texel under the hit's UVs lies elsewhere.
+const MOST_SEARCHED: usize = 64;
 
 /// What one ray of a gathering texel found: the texel it sees and the
 /// entry transmittance of the light it brings.
@@ -255,7 +258,10 @@ impl<'a> Surfels<'a> {
         }
         let own = &self.order
             [self.starts[triangle as usize] as usize..self.starts[triangle as usize + 1] as usize];
-        own.iter().copied().min_by(|&a, &b| {
+        // A large face whose texels another face's UVs cover: the nearest
+        // of a regular share of its surfels, so a ray's cost stays bounded.
+        let step = own.len().div_ceil(MOST_SEARCHED).max(1);
+        own.iter().step_by(step).copied().min_by(|&a, &b| {
             let d = |s: u32| (surfels.position[s as usize] - point).length_squared();
             d(a).total_cmp(&d(b))
         })
