@@ -79,20 +79,18 @@ pub fn interreflected(
     let mut bounced = vec![[0.0f32; 3]; count];
     for _ in 0..bounces.min(MOST_BOUNCES) {
         control.check()?;
-        // What leaves each texel: its whole light so far, direct and bounced.
-        let out: Vec<[f32; 3]> = (0..count)
-            .map(|s| [0, 1, 2].map(|c| (direct[s][c] + bounced[s][c]) * leaving[s][c]))
-            .collect();
         let gathered: Vec<[f32; 3]> = seen
             .iter()
             .map(|hits| {
                 // Cosine-weighted: the irradiance is the mean radiance × π,
-                // and a Lambertian texel's radiance × π is its exitance.
+                // and a Lambertian texel's radiance × π is its exitance:
+                // its whole light so far, direct and bounced, as it leaves.
                 let mut sum = [0.0f32; 3];
                 for hit in hits {
-                    let m = out[hit.surfel as usize];
+                    let s = hit.surfel as usize;
                     for c in 0..3 {
-                        sum[c] += m[c] * hit.entering[c];
+                        let out = (direct[s][c] + bounced[s][c]) * leaving[s][c];
+                        sum[c] += out * hit.entering[c];
                     }
                 }
                 sum.map(|v| v / RAYS as f32)
@@ -109,23 +107,28 @@ pub fn gathering_rays(texels: usize, bounces: u32) -> f64 {
     if bounces == 0 {
         return 0.0;
     }
+    gathering_count(texels) * f64::from(RAYS)
+}
+
+/// About how many of `texels` texels gather ([`gathering_texels`]).
+fn gathering_count(texels: usize) -> f64 {
     let stride = f64::from(stride(texels, GATHERING));
-    texels as f64 / (stride * stride) * f64::from(RAYS)
+    texels as f64 / (stride * stride)
 }
 
 /// Bytes the light an object sends onto itself holds at its peak for
-/// `texels` texels: per texel the light leaving, bounced so far and next,
-/// and the surfels by face; per gathering texel what its rays met.
+/// `texels` texels: per texel the share leaving, the light bounced so far
+/// and next, and the surfels by face; per gathering texel what its rays
+/// met.
 pub fn gathering_bytes(texels: usize, bounces: u32) -> f64 {
     if bounces == 0 {
         return 0.0;
     }
-    let per_texel = 4 * std::mem::size_of::<[f32; 3]>() + std::mem::size_of::<u32>();
+    let per_texel = 3 * std::mem::size_of::<[f32; 3]>() + std::mem::size_of::<u32>();
     let per_gathering = RAYS as usize * std::mem::size_of::<Seen>()
         + std::mem::size_of::<Vec<Seen>>()
         + 2 * std::mem::size_of::<[f32; 3]>();
-    let stride = f64::from(stride(texels, GATHERING));
-    texels as f64 * per_texel as f64 + texels as f64 / (stride * stride) * per_gathering as f64
+    texels as f64 * per_texel as f64 + gathering_count(texels) * per_gathering as f64
 }
 
 /// The texels the rays of gathering texel `surfel` see on the object's own
