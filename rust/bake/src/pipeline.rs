@@ -15,6 +15,8 @@ use crate::rays::RayScene;
 use crate::request::{BakeRequest, Lighting};
 use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
+use crate::surface::gathering::{Spread, gathering_texels};
+use crate::surface::texels::TexelSurfels;
 use crate::transport::integrator::Integrator;
 use crate::transport::local_slab::LocalSlab;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -31,6 +33,30 @@ fn raise_key(scattering: &Scattering, integrator: &dyn Integrator) -> String {
         scattering.model.name(),
         scattering.kernel.d_max.to_bits()
     )
+}
+
+/// The most texels apart the sums under a unit light are taken: the
+/// head's map in its own skin at 1024² moves by 0.08% (relative RMSE; the
+/// 99.9th percentile 0.3% of the map's peak) from its sums at every texel.
+const MOST_UNIFORM_STRIDE: u32 = 4;
+
+/// Every how many texels the sums under a unit light are taken: twice the
+/// radius holding half the profile's light in its narrowest channel, in
+/// texels, so the fit between them follows how the sums fall toward a
+/// rim; 1 (every texel) for a profile about a texel wide.
+fn uniform_stride(scattering: &Scattering, surfels: &TexelSurfels) -> u32 {
+    let area: f64 = surfels.area.iter().map(|&a| f64::from(a.max(0.0))).sum();
+    let texel = (area / surfels.len().max(1) as f64).sqrt();
+    let half = scattering
+        .profile
+        .d_max(0.5)
+        .into_iter()
+        .filter(|r| *r > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if !(texel > 0.0 && half.is_finite()) {
+        return 1;
+    }
+    ((2.0 * half / texel).floor() as u32).clamp(1, MOST_UNIFORM_STRIDE)
 }
 
 /// Lights object `index` of `scene` laid out as `layout`: the irradiance
@@ -225,9 +251,9 @@ impl Prepared {
         {
             return Ok(Arc::clone(raised));
         }
-        let uniform = integrator.integrate(&self.uniformly_lit(), scattering, control)?;
+        let uniform = self.uniform_sums(integrator, scattering, control)?;
         let summed_across = integrator.carries().across;
-        let (gains, count) = slab.gains(self.opposites(), &uniform.exitance, summed_across);
+        let (gains, count) = slab.gains(self.opposites(), &uniform, summed_across);
         let raised = Arc::new(Raised {
             key,
             halves: gains.iter().map(|g| g.map(f32::sqrt)).collect(),
@@ -235,6 +261,33 @@ impl Prepared {
         });
         *self.raised.lock().unwrap_or_else(|e| e.into_inner()) = Some(Arc::clone(&raised));
         Ok(raised)
+    }
+
+    /// Each surfel's sum of the kernel's weights over the surface: the
+    /// integrator's sums under a unit light. They change over the profile's
+    /// spread, not from texel to texel, so where the integrator can sum at
+    /// a subset alone they are summed at a regular subset of the texels
+    /// ([`uniform_stride`] apart) and fitted between; the error estimate
+    /// measures them against exact sums at its texels, as it measures the
+    /// map.
+    fn uniform_sums(
+        &self,
+        integrator: &dyn Integrator,
+        scattering: &Scattering,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Error> {
+        let lit = self.uniformly_lit();
+        let stride = uniform_stride(scattering, &self.surfels);
+        if stride > 1 {
+            let texels = self.surfels.len() / (stride * stride) as usize;
+            let gathering = gathering_texels(&self.layout, texels);
+            let listed: Vec<usize> = gathering.iter().map(|&s| s as usize).collect();
+            if let Some(sums) = integrator.pilot(&lit, scattering, &listed, control)? {
+                let spread = Spread::new(&self.layout, &gathering);
+                return Ok(spread.fitted_to_surfels(&sums, control)?);
+            }
+        }
+        Ok(integrator.integrate(&lit, scattering, control)?.exitance)
     }
 
     /// Integrates with `integrator` under `scattering` and applies the
