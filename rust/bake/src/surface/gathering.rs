@@ -1,7 +1,8 @@
 //! A regular subset of an object's texels that stands for all of them
 //! where a quantity varies slowly over the surface (the light an object
-//! sends onto itself): computed at the subset, spread back to every texel
-//! by distance on the surface.
+//! sends onto itself, the sums of the kernel's weights under a unit
+//! light): computed at the subset, spread or fitted back to every texel by
+//! distance on the surface.
 
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::layout::Layout;
@@ -17,8 +18,13 @@ pub fn stride(texels: usize, target: usize) -> u32 {
 /// A regular subset of the texels, about `target` of them (every texel
 /// when there are fewer): every k-th texel along u and along v.
 pub fn gathering_texels(layout: &Layout, target: usize) -> Vec<u32> {
+    every_nth_texel(layout, stride(layout.surfels.len(), target))
+}
+
+/// The texels `stride` apart along u and along v (every texel for 1).
+pub fn every_nth_texel(layout: &Layout, stride: u32) -> Vec<u32> {
     let surfels = &layout.surfels;
-    let stride = stride(surfels.len(), target);
+    let stride = stride.max(1);
     let n = surfels.resolution.max(1);
     (0..surfels.len() as u32)
         .filter(|&s| {
@@ -29,14 +35,35 @@ pub fn gathering_texels(layout: &Layout, target: usize) -> Vec<u32> {
 }
 
 /// Spreads values at the gathering texels to every texel: a weighted mean
-/// of the gathering texels within a few spacings on the surface, facing
-/// the same way, on the same piece of the mesh.
+/// ([`Spread::to_surfels`]) or a weighted plane
+/// ([`Spread::fitted_to_surfels`]) of the gathering texels within a few
+/// spacings on the surface, facing the same way, on the same piece of the
+/// mesh.
 pub struct Spread<'a> {
     layout: &'a Layout,
     gathering: &'a [u32],
     positions: Vec<Vec3>,
     grid: Grid,
     radius: f32,
+}
+
+/// The least variance (in units of the fit's radius squared) of the
+/// gathering texels' offsets along any direction of the tangent plane for
+/// a plane to be fitted through them: a standard deviation of a tenth of
+/// the radius, about a third of their spacing. A single row has none.
+const SPANNED: f64 = 1e-2;
+
+/// The least eigenvalue of the weighted covariance of the offsets whose
+/// moments (weight, first and second, as the normal equations hold them)
+/// are `moments`.
+fn least_spread(moments: &DMat3) -> f64 {
+    let weight = moments.x_axis.x;
+    let (a, b) = (moments.x_axis.y / weight, moments.x_axis.z / weight);
+    let aa = moments.y_axis.y / weight - a * a;
+    let bb = moments.z_axis.z / weight - b * b;
+    let ab = moments.y_axis.z / weight - a * b;
+    let (trace, determinant) = (aa + bb, aa * bb - ab * ab);
+    0.5 * (trace - (trace * trace - 4.0 * determinant).max(0.0).sqrt())
 }
 
 impl<'a> Spread<'a> {
@@ -82,20 +109,22 @@ impl<'a> Spread<'a> {
     /// tangent plane, so a field that changes linearly is carried exactly
     /// to the chart's edge, where a mean is pulled toward the inside. The
     /// fit stays within the values it is made from widened by half their
-    /// range, and non-negative where they are; where they do not span the
-    /// plane (a row of them, a small chart) it is their mean.
+    /// range, and above half the least of them where none is negative;
+    /// where they do not span the plane (a row of them, a thin strip) it is
+    /// their mean. `None` for a surfel with no gathering texel of its piece
+    /// facing its way within reach (a part or a chart smaller than the
+    /// spacing): the caller finds its value itself.
     pub fn fitted_to_surfels(
         &self,
         values: &[[f32; 3]],
         control: &Control,
-    ) -> Result<Vec<[f32; 3]>, Cancelled> {
+    ) -> Result<Vec<Option<[f32; 3]>>, Cancelled> {
         let surfels = &self.layout.surfels;
-        let mut out = vec![[0.0f32; 3]; surfels.len()];
+        let mut out = vec![None; surfels.len()];
         parallel_fill(&mut out, 1024, control, |s| {
             // A plane needs two rows of them, even at a chart's edge.
             self.fit_within(values, s, 1.5 * self.radius)
                 .or_else(|| self.mean_within(values, s, 2.0 * self.radius))
-                .unwrap_or([0.0; 3])
         })?;
         Ok(out)
     }
@@ -108,9 +137,9 @@ impl<'a> Spread<'a> {
         let (u, v) = n.any_orthonormal_pair();
         let piece = surfels.piece.get(s).copied();
         let r2 = radius * radius;
-        // Normal equations of f ≈ c₀ + c₁a + c₂b, (a, b) in units of the
-        // radius so the matrix stays well scaled.
-        let mut normal = DMat3::ZERO;
+        // The moments of the normal equations of f ≈ c₀ + c₁a + c₂b, (a, b)
+        // in units of the radius so the matrix stays well scaled.
+        let mut moments = DMat3::ZERO;
         let mut rhs = [DVec3::ZERO; 3];
         let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         self.grid.for_each_run(p, radius, |run| {
@@ -129,7 +158,7 @@ impl<'a> Spread<'a> {
                     f64::from(offset.dot(u) / radius),
                     f64::from(offset.dot(v) / radius),
                 );
-                normal += DMat3::from_cols(x * (w * x.x), x * (w * x.y), x * (w * x.z));
+                moments += DMat3::from_cols(x * (w * x.x), x * (w * x.y), x * (w * x.z));
                 for c in 0..3 {
                     rhs[c] += x * (w * f64::from(values[g][c]));
                     lo[c] = lo[c].min(values[g][c]);
@@ -137,25 +166,30 @@ impl<'a> Spread<'a> {
                 }
             }
         });
-        let weight = normal.x_axis.x;
-        if weight <= 0.0 {
+        let weight = moments.x_axis.x;
+        if !(weight > 0.0 && (0..3).all(|c| lo[c] <= hi[c])) {
             return None;
         }
-        // Too few or too nearly in a row to fit a plane: their mean. The
-        // determinant is the weight cubed times the variances' product
-        // across the two directions, in units of the radius.
-        const SPANNED: f64 = 1e-6;
-        if normal.determinant() <= SPANNED * weight * weight * weight {
-            return Some([0, 1, 2].map(|c| (rhs[c].x / weight) as f32));
+        let mean = [0, 1, 2].map(|c| (rhs[c].x / weight) as f32);
+        if least_spread(&moments) < SPANNED {
+            return Some(mean);
         }
         // The plane may reach past the last row of gathering texels toward
-        // a chart's edge, by half the values' range, and not below zero
-        // where they are not: a fit never invents a swing.
-        let inverse = normal.inverse();
+        // a chart's edge, by half the values' range, but a fit never
+        // invents a swing, nor takes a positive field to zero.
+        let inverse = moments.inverse();
         Some([0, 1, 2].map(|c| {
-            let wider = 0.5 * (hi[c] - lo[c]);
-            let floor = if lo[c] >= 0.0 { 0.0 } else { lo[c] - wider };
-            ((inverse * rhs[c]).x as f32).clamp((lo[c] - wider).max(floor), hi[c] + wider)
+            let margin = 0.5 * (hi[c] - lo[c]);
+            let mut low = lo[c] - margin;
+            if lo[c] >= 0.0 {
+                low = low.max(0.5 * lo[c]);
+            }
+            let fitted = (inverse * rhs[c]).x as f32;
+            if fitted.is_finite() {
+                fitted.clamp(low, hi[c] + margin)
+            } else {
+                mean[c]
+            }
         }))
     }
 
@@ -238,7 +272,12 @@ mod tests {
             .collect();
         let spread = Spread::new(&layout, &gathering);
         let control = Control::default();
-        let fitted = spread.fitted_to_surfels(&values, &control).unwrap();
+        let fitted: Vec<[f32; 3]> = spread
+            .fitted_to_surfels(&values, &control)
+            .unwrap()
+            .into_iter()
+            .map(|v| v.expect("every texel of the square has gathering texels near"))
+            .collect();
         let mean = spread.to_surfels(&values, &control).unwrap();
         let worst = |out: &[[f32; 3]]| {
             out.iter()
@@ -297,7 +336,80 @@ mod tests {
             fitted
                 .iter()
                 .flatten()
+                .flatten()
                 .all(|v| (0.0..=1.5).contains(v) && v.is_finite())
         );
+        // A positive field falling toward an edge is never fitted to zero.
+        let falling: Vec<[f32; 3]> = gathering
+            .iter()
+            .map(|&s| [(1.0 - layout.surfels.position[s as usize].x / 38.0).max(0.01); 3])
+            .collect();
+        let fitted = spread
+            .fitted_to_surfels(&falling, &Control::default())
+            .unwrap();
+        assert!(
+            fitted.iter().flatten().flatten().all(|&v| v >= 0.005),
+            "a texel fitted to zero"
+        );
+    }
+
+    #[test]
+    fn a_row_is_meaned() {
+        let layout = square_layout(64);
+        let n = layout.surfels.resolution;
+        // One row of gathering texels: a plane through it is undetermined
+        // across the row, so each texel takes the mean.
+        let row: Vec<u32> = (0..layout.surfels.len() as u32)
+            .filter(|&s| {
+                let t = layout.surfels.texel[s as usize];
+                t / n == 32 && (t % n).is_multiple_of(4)
+            })
+            .collect();
+        let values: Vec<[f32; 3]> = row
+            .iter()
+            .map(|&s| linear(layout.surfels.position[s as usize]))
+            .collect();
+        let spread = Spread::new(&layout, &row);
+        let fitted = spread
+            .fitted_to_surfels(&values, &Control::default())
+            .unwrap();
+        let (lo, hi) = values.iter().fold((f32::MAX, f32::MIN), |(lo, hi), v| {
+            (lo.min(v[0]), hi.max(v[0]))
+        });
+        assert!(
+            fitted
+                .iter()
+                .flatten()
+                .all(|v| v[0] >= lo && v[0] <= hi && v.iter().all(|x| x.is_finite()))
+        );
+        assert!(fitted.iter().all(Option::is_some));
+    }
+
+    #[test]
+    fn a_piece_without_gathering_texels_is_left_to_the_caller() {
+        let mut layout = square_layout(64);
+        // A strip 6 mm wide is another piece of the mesh, and gathers none.
+        let piece: Vec<u32> = layout
+            .surfels
+            .position
+            .iter()
+            .map(|p| u32::from(p.x < 6.0))
+            .collect();
+        layout.surfels.piece = piece;
+        let gathering: Vec<u32> = every_nth_texel(&layout, 4)
+            .into_iter()
+            .filter(|&s| layout.surfels.piece[s as usize] == 0)
+            .collect();
+        let values = vec![[1.0f32; 3]; gathering.len()];
+        let spread = Spread::new(&layout, &gathering);
+        let fitted = spread
+            .fitted_to_surfels(&values, &Control::default())
+            .unwrap();
+        for (v, &piece) in fitted.iter().zip(&layout.surfels.piece) {
+            match piece {
+                1 => assert_eq!(*v, None),
+                _ => assert_eq!(*v, Some([1.0; 3])),
+            }
+        }
     }
 }

@@ -107,11 +107,16 @@ pub trait Integrator: Send + Sync + std::fmt::Debug {
     }
 
     /// Its sums at the texels `listed` alone, before any correction, where
-    /// it can find them without the whole map: a cheap pilot from which
-    /// `auto` predicts its error before running it. `None` for a method
-    /// that integrates the whole map at once (texture-space blurs) or that
-    /// has nothing to refine.
-    fn pilot(
+    /// it can find them without the whole map: exactly the sums
+    /// [`Integrator::integrate`] gives those texels with the same settings,
+    /// not a cheaper stand-in. `auto` predicts its error from them before
+    /// running it (a pilot), and the corrected model finds the sums under
+    /// a unit light from them at a subset of the texels
+    /// ([`crate::pipeline`]). `None` for a method that integrates the whole
+    /// map at once (texture-space blurs), and for the exact sum, which has
+    /// no error to predict and whose sums under a unit light stay at every
+    /// texel so that its map stays the exact sum.
+    fn sums_at(
         &self,
         _prepared: &Prepared,
         _scattering: &Scattering,

@@ -40,7 +40,9 @@
 //! smaller than the reach) the share that would have gone beyond is lost,
 //! though in the body it comes out somewhere, mostly nearby. The same
 //! integrator run under a unit light everywhere gives each texel its sum
-//! of the kernel's weights over the real surface, U (corrected as above);
+//! of the kernel's weights over the real surface, U (corrected as above;
+//! summed at a regular subset of the texels and fitted between where the
+//! integrator can sum at some texels alone, [`crate::pipeline`]);
 //! a plane's or, behind a thin part, a slab's is known: (R_t + T_t)/R
 //! times the profile's total within its reach. Where U falls short, their
 //! ratio g (at most [`MAX_GAIN`]) raises the texel's light, by √g where it

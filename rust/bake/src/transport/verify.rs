@@ -154,7 +154,7 @@ fn checked(texels: usize, neighbours: f64) -> usize {
 }
 
 /// The relative RMSE `integrator` would make against the exact sum,
-/// predicted before it runs: its pilot sums ([`Integrator::pilot`]) at a
+/// predicted before it runs: its pilot sums ([`Integrator::sums_at`]) at a
 /// quarter of the texels the estimate checks (at least
 /// [`FEWEST_CHECKED`]), against the exact sums there. Both are the sums
 /// before the corrections, which would change both alike. `None` when the
@@ -172,7 +172,7 @@ pub fn predict_error(
         .max(FEWEST_CHECKED)
         .min(texels);
     let picked = pick(texels, count, seed);
-    let Some(got) = integrator.pilot(prepared, scattering, &picked, control)? else {
+    let Some(got) = integrator.sums_at(prepared, scattering, &picked, control)? else {
         return Ok(None);
     };
     let sources = prepared.texel_sources();

@@ -97,7 +97,7 @@ impl Integrator for OctreeIntegrator {
         Some(Method::Brute)
     }
 
-    fn pilot(
+    fn sums_at(
         &self,
         prepared: &Prepared,
         scattering: &Scattering,
