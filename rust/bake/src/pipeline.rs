@@ -327,15 +327,7 @@ impl Prepared {
             (fitted.len() / FIT_PROBED).max(1),
             0x756e_6974,
         );
-        let behind: Vec<Option<usize>> = probes
-            .iter()
-            .map(|&i| slab.shares_at(opposites[i]).1.filter(|&j| j < fitted.len()))
-            .collect();
-        let asked: Vec<usize> = probes
-            .iter()
-            .copied()
-            .chain(behind.iter().flatten().copied())
-            .collect();
+        let (behind, asked) = slab.behind(opposites, &probes);
         let direct = integrator
             .sums_at(lit, scattering, &asked, control)?
             .unwrap_or_default();

@@ -282,6 +282,31 @@ impl LocalSlab {
             .unwrap_or((self.thick(), None))
     }
 
+    /// The texels the corrected model reads to correct `picked`: for each
+    /// the texel behind it where a face lies within the reach (`None`
+    /// elsewhere), and the list of `picked` followed by those behind, in
+    /// the same order.
+    pub fn behind(
+        &self,
+        opposites: &[Option<Opposite>],
+        picked: &[usize],
+    ) -> (Vec<Option<usize>>, Vec<usize>) {
+        let behind: Vec<Option<usize>> = picked
+            .iter()
+            .map(|&i| {
+                self.shares_at(opposites[i])
+                    .1
+                    .filter(|&j| j < opposites.len())
+            })
+            .collect();
+        let read = picked
+            .iter()
+            .copied()
+            .chain(behind.iter().flatten().copied())
+            .collect();
+        (behind, read)
+    }
+
     /// Per surfel, the gain of the light entering there ([`Self::gain`]),
     /// from `uniform`, the integrator's sums under a unit light
     /// everywhere; and how many texels are raised by more than [`RAISED`]

@@ -61,15 +61,10 @@ pub fn estimate_error(
     // The corrected model reads the sum behind a thin part too: those
     // texels are gathered as well.
     let slab = scattering.local_slab();
-    let behind: Vec<Option<usize>> = picked
-        .iter()
-        .map(|&i| slab?.shares_at(prepared.opposites()[i]).1)
-        .collect();
-    let gathered: Vec<usize> = picked
-        .iter()
-        .copied()
-        .chain(behind.iter().flatten().copied())
-        .collect();
+    let (behind, gathered) = match slab {
+        Some(slab) => slab.behind(prepared.opposites(), &picked),
+        None => (vec![None; picked.len()], picked.clone()),
+    };
     let listed = prepared.listed(&gathered);
     let targets = listed.targets();
     let mut sources = prepared.texel_sources();
