@@ -16,10 +16,12 @@ use crate::request::{BakeRequest, Lighting};
 use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
 use crate::surface::gathering::{Spread, every_nth_texel};
+use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::integrator::Integrator;
 use crate::transport::local_slab::LocalSlab;
 use crate::transport::verify::pick;
+use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
@@ -44,6 +46,44 @@ const FIT_PROBED: usize = 64;
 /// apart and its map moves by 0.08%; the ear at 256² misses by 1.6% at 4
 /// and 0.8% at 2, and is baked at 2.
 const FIT_TOLERANCE: f64 = 0.01;
+
+/// The sums under a unit light summed directly at some texels, and at
+/// the texels behind them ([`Prepared::probed_sums`]).
+struct Probed {
+    probes: Vec<usize>,
+    /// Per probed texel, the texel behind it within reach, if any.
+    behind: Vec<Option<usize>>,
+    summed: HashMap<usize, [f32; 3]>,
+}
+
+impl Probed {
+    /// How far the gains from `fitted` sums under a unit light miss those
+    /// from the sums themselves at the probed texels: the relative RMS of
+    /// their ratio's departure from 1.
+    fn gains_missed(
+        &self,
+        slab: &LocalSlab,
+        opposites: &[Option<Opposite>],
+        fitted: &[[f32; 3]],
+        across: bool,
+    ) -> f64 {
+        let (mut squares, mut count) = (0.0f64, 0usize);
+        for (&i, behind) in self.probes.iter().zip(&self.behind) {
+            let (shares, _) = slab.shares_at(opposites[i]);
+            let j = behind.unwrap_or(i);
+            let (Some(&here), Some(&there)) = (self.summed.get(&i), self.summed.get(&j)) else {
+                continue;
+            };
+            let exact = slab.gain(&shares, (here, there), across);
+            let got = slab.gain(&shares, (fitted[i], fitted[j]), across);
+            for c in 0..3 {
+                squares += (got[c] / exact[c] - 1.0).powi(2);
+                count += 1;
+            }
+        }
+        (squares / count.max(1) as f64).sqrt()
+    }
+}
 
 /// The most texels apart the sums under a unit light are taken: the
 /// head's map in its own skin at 1024² moves by 0.08% (relative RMSE; the
@@ -294,61 +334,48 @@ impl Prepared {
     ) -> Result<Vec<[f32; 3]>, Error> {
         let lit = self.uniformly_lit();
         let mut stride = uniform_stride(scattering, &self.surfels);
-        while stride > 1 {
-            let Some(fitted) = self.fitted_sums(integrator, scattering, &lit, stride, control)?
-            else {
-                break;
-            };
-            let miss = self.gains_missed(integrator, scattering, &lit, slab, &fitted, control)?;
-            if miss <= FIT_TOLERANCE {
-                return Ok(fitted);
+        if stride > 1
+            && let Some(probed) = self.probed_sums(integrator, scattering, &lit, slab, control)?
+        {
+            let across = integrator.carries().across;
+            while stride > 1 {
+                let Some(fitted) =
+                    self.fitted_sums(integrator, scattering, &lit, stride, control)?
+                else {
+                    break;
+                };
+                if probed.gains_missed(slab, self.opposites(), &fitted, across) <= FIT_TOLERANCE {
+                    return Ok(fitted);
+                }
+                stride /= 2;
             }
-            stride /= 2;
         }
         Ok(integrator.integrate(&lit, scattering, control)?.exitance)
     }
 
-    /// How far the gains from `fitted` sums under a unit light miss those
-    /// from the sums themselves: the relative RMS of their ratio's
-    /// departure from 1 at one texel in [`FIT_PROBED`], drawn at random,
-    /// each with the texel behind it, summed directly.
-    fn gains_missed(
+    /// The sums under a unit light at one texel in [`FIT_PROBED`], drawn at
+    /// random, each with the texel behind it, summed directly: what a fit
+    /// of them is checked against, at every stride it tries. `None` where
+    /// the integrator cannot sum at some texels alone.
+    fn probed_sums(
         &self,
         integrator: &dyn Integrator,
         scattering: &Scattering,
         lit: &Prepared,
         slab: &LocalSlab,
-        fitted: &[[f32; 3]],
         control: &Control,
-    ) -> Result<f64, Error> {
-        let opposites = self.opposites();
-        let probes = pick(
-            fitted.len(),
-            (fitted.len() / FIT_PROBED).max(1),
-            0x756e_6974,
-        );
-        let (behind, asked) = slab.behind(opposites, &probes);
-        let direct = integrator
-            .sums_at(lit, scattering, &asked, control)?
-            .unwrap_or_default();
-        let summed: std::collections::HashMap<usize, [f32; 3]> =
-            asked.iter().copied().zip(direct).collect();
-        let across = integrator.carries().across;
-        let (mut squares, mut count) = (0.0f64, 0usize);
-        for (&i, behind) in probes.iter().zip(&behind) {
-            let (shares, _) = slab.shares_at(opposites[i]);
-            let j = behind.unwrap_or(i);
-            let (Some(&here), Some(&there)) = (summed.get(&i), summed.get(&j)) else {
-                continue;
-            };
-            let exact = slab.gain(&shares, (here, there), across);
-            let got = slab.gain(&shares, (fitted[i], fitted[j]), across);
-            for c in 0..3 {
-                squares += (got[c] / exact[c] - 1.0).powi(2);
-                count += 1;
-            }
-        }
-        Ok((squares / count.max(1) as f64).sqrt())
+    ) -> Result<Option<Probed>, Error> {
+        let texels = self.surfels.len();
+        let probes = pick(texels, (texels / FIT_PROBED).max(1), 0x756e_6974);
+        let (behind, asked) = slab.behind(self.opposites(), &probes);
+        let Some(direct) = integrator.sums_at(lit, scattering, &asked, control)? else {
+            return Ok(None);
+        };
+        Ok(Some(Probed {
+            probes,
+            behind,
+            summed: asked.into_iter().zip(direct).collect(),
+        }))
     }
 
     /// The sums under a unit light summed at every `stride`-th texel along

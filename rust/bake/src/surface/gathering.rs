@@ -132,38 +132,24 @@ impl<'a> Spread<'a> {
     /// The weighted plane fit at surfel `s` of the gathering texels within
     /// `radius`, or their mean where they do not span the plane.
     fn fit_within(&self, values: &[[f32; 3]], s: usize, radius: f32) -> Option<[f32; 3]> {
-        let surfels = &self.layout.surfels;
-        let (p, n) = (surfels.position[s], surfels.normal[s]);
-        let (u, v) = n.any_orthonormal_pair();
-        let piece = surfels.piece.get(s).copied();
-        let r2 = radius * radius;
+        let (u, v) = self.layout.surfels.normal[s].any_orthonormal_pair();
         // The moments of the normal equations of f ≈ c₀ + c₁a + c₂b, (a, b)
         // in units of the radius so the matrix stays well scaled.
         let mut moments = DMat3::ZERO;
         let mut rhs = [DVec3::ZERO; 3];
         let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        self.grid.for_each_run(p, radius, |run| {
-            for &g in &self.grid.order[run] {
-                let g = g as usize;
-                let offset = self.positions[g] - p;
-                let d2 = offset.length_squared();
-                let at = self.gathering[g] as usize;
-                let facing = surfels.normal[at].dot(n);
-                if d2 >= r2 || facing <= 0.0 || surfels.piece.get(at).copied() != piece {
-                    continue;
-                }
-                let w = f64::from((1.0 - d2 / r2).powi(2) * facing * facing);
-                let x = DVec3::new(
-                    1.0,
-                    f64::from(offset.dot(u) / radius),
-                    f64::from(offset.dot(v) / radius),
-                );
-                moments += DMat3::from_cols(x * (w * x.x), x * (w * x.y), x * (w * x.z));
-                for c in 0..3 {
-                    rhs[c] += x * (w * f64::from(values[g][c]));
-                    lo[c] = lo[c].min(values[g][c]);
-                    hi[c] = hi[c].max(values[g][c]);
-                }
+        self.for_each_near(s, radius, |g, offset, w| {
+            let w = f64::from(w);
+            let x = DVec3::new(
+                1.0,
+                f64::from(offset.dot(u) / radius),
+                f64::from(offset.dot(v) / radius),
+            );
+            moments += DMat3::from_cols(x * (w * x.x), x * (w * x.y), x * (w * x.z));
+            for c in 0..3 {
+                rhs[c] += x * (w * f64::from(values[g][c]));
+                lo[c] = lo[c].min(values[g][c]);
+                hi[c] = hi[c].max(values[g][c]);
             }
         });
         let weight = moments.x_axis.x;
@@ -194,28 +180,38 @@ impl<'a> Spread<'a> {
     }
 
     fn mean_within(&self, values: &[[f32; 3]], s: usize, radius: f32) -> Option<[f32; 3]> {
+        let (mut sum, mut weight) = ([0.0f32; 3], 0.0f32);
+        self.for_each_near(s, radius, |g, _, w| {
+            for c in 0..3 {
+                sum[c] += w * values[g][c];
+            }
+            weight += w;
+        });
+        (weight > 0.0).then(|| sum.map(|v| v / weight))
+    }
+
+    /// Each gathering texel within `radius` of surfel `s`, facing its way
+    /// and on its piece of the mesh: its index, its offset from the surfel
+    /// (mm) and its weight, falling smoothly to 0 at the radius and with
+    /// the cosine between their normals.
+    fn for_each_near(&self, s: usize, radius: f32, mut visit: impl FnMut(usize, Vec3, f32)) {
         let surfels = &self.layout.surfels;
         let (p, n) = (surfels.position[s], surfels.normal[s]);
         let piece = surfels.piece.get(s).copied();
-        let (mut sum, mut weight) = ([0.0f32; 3], 0.0f32);
         let r2 = radius * radius;
         self.grid.for_each_run(p, radius, |run| {
             for &g in &self.grid.order[run] {
                 let g = g as usize;
-                let d2 = (self.positions[g] - p).length_squared();
+                let offset = self.positions[g] - p;
+                let d2 = offset.length_squared();
                 let at = self.gathering[g] as usize;
                 let facing = surfels.normal[at].dot(n);
                 if d2 >= r2 || facing <= 0.0 || surfels.piece.get(at).copied() != piece {
                     continue;
                 }
-                let w = (1.0 - d2 / r2).powi(2) * facing * facing;
-                for c in 0..3 {
-                    sum[c] += w * values[g][c];
-                }
-                weight += w;
+                visit(g, offset, (1.0 - d2 / r2).powi(2) * facing * facing);
             }
         });
-        (weight > 0.0).then(|| sum.map(|v| v / weight))
     }
 }
 
