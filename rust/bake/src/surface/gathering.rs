@@ -37,8 +37,8 @@ pub fn every_nth_texel(layout: &Layout, stride: u32) -> Vec<u32> {
 /// Spreads values at the gathering texels to every texel: a weighted mean
 /// ([`Spread::to_surfels`]) or a weighted plane
 /// ([`Spread::fitted_to_surfels`]) of the gathering texels within a few
-/// spacings on the surface, facing the same way, on the same piece of the
-/// mesh.
+/// spacings on the surface, facing the same way, in the same medium
+/// ([`crate::surface::medium`]).
 pub struct Spread<'a> {
     layout: &'a Layout,
     gathering: &'a [u32],
@@ -111,7 +111,7 @@ impl<'a> Spread<'a> {
     /// fit stays within the values it is made from widened by half their
     /// range, and above half the least of them where none is negative;
     /// where they do not span the plane (a row of them, a thin strip) it is
-    /// their mean. `None` for a surfel with no gathering texel of its piece
+    /// their mean. `None` for a surfel with no gathering texel of its medium
     /// facing its way within reach (a part or a chart smaller than the
     /// spacing): the caller finds its value itself.
     pub fn fitted_to_surfels(
@@ -191,7 +191,7 @@ impl<'a> Spread<'a> {
     }
 
     /// Each gathering texel within `radius` of surfel `s`, facing its way
-    /// and on its piece of the mesh: its index, its offset from the surfel
+    /// and in its medium: its index, its offset from the surfel
     /// (mm) and its weight, falling smoothly to 0 at the radius and with
     /// the cosine between their normals.
     fn for_each_near(&self, s: usize, radius: f32, mut visit: impl FnMut(usize, Vec3, f32)) {

@@ -5,6 +5,7 @@
 
 pub mod dilation;
 pub mod gathering;
+pub mod medium;
 pub mod opposite;
 pub mod raster;
 pub mod texels;

@@ -20,7 +20,7 @@ pub struct Opposite {
 
 /// For every surfel, the face behind it, when a ray along its inward
 /// normal leaves the medium (meets a triangle facing away from it) on the
-/// same piece, at a point some texel covers; `None` where the ray meets
+/// same medium, at a point some texel covers; `None` where the ray meets
 /// nothing, enters another body, or lands where no texel is (a mesh open
 /// below the texel is a half-space there).
 pub fn opposites(enclosure: &Enclosure, surfels: &TexelSurfels) -> Vec<Option<Opposite>> {

@@ -2,11 +2,11 @@
 //! normal and area it stands for (Mikkelsen §3.3, eq. 43–44).
 
 use crate::mesh::Mesh;
+use crate::surface::medium::medium_pieces;
 use crate::surface::raster::{
     EdgeFunctions, TexelMoments, TexelTriangle, barycentric, contains, edge_functions,
     moments_with, signed_area2, texel_bounds,
 };
-use crate::surface::topology::triangle_pieces;
 use glam::{DVec2, Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -45,9 +45,8 @@ pub struct TexelSurfels {
     /// edge, so the light a part-covered texel stands for is spread over
     /// the surface it covers and not over the next chart's.
     pub extent: Vec<[Vec2; 2]>,
-    /// The piece of the mesh the texel's triangle belongs to
-    /// ([`triangle_pieces`]): light scatters only between texels of one
-    /// piece.
+    /// The medium the texel's triangle belongs to ([`medium_pieces`]):
+    /// light scatters only between texels of one medium.
     pub piece: Vec<u32>,
 }
 
@@ -207,7 +206,7 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
     for (surfel, &texel) in out.texel.iter().enumerate() {
         out.index[texel as usize] = surfel as u32;
     }
-    let pieces = triangle_pieces(mesh);
+    let pieces = medium_pieces(mesh);
     out.piece = out.triangle.iter().map(|&t| pieces[t as usize]).collect();
     out
 }

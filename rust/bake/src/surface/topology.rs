@@ -74,32 +74,58 @@ pub fn topology_report(mesh: &Mesh) -> TopologyReport {
 /// them. Light scattered inside an object stays in its piece: two pieces
 /// of one mesh, however near, are joined by air, not by the medium.
 pub fn triangle_pieces(mesh: &Mesh) -> Vec<u32> {
-    let mut parent: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
-    fn root(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            parent[i as usize] = parent[parent[i as usize] as usize];
-            i = parent[i as usize];
+    let mut sets = DisjointSets::new(mesh.triangles.len());
+    for sharing in edges(mesh).values() {
+        for pair in sharing.windows(2) {
+            sets.join(pair[0].0, pair[1].0);
+        }
+    }
+    sets.numbered(0..mesh.triangles.len() as u32)
+}
+
+/// Items joined into sets (union–find with path halving).
+pub(crate) struct DisjointSets {
+    parent: Vec<u32>,
+}
+
+impl DisjointSets {
+    /// `count` items, each alone.
+    pub(crate) fn new(count: usize) -> Self {
+        DisjointSets {
+            parent: (0..count as u32).collect(),
+        }
+    }
+
+    fn root(&mut self, mut i: u32) -> u32 {
+        while self.parent[i as usize] != i {
+            self.parent[i as usize] = self.parent[self.parent[i as usize] as usize];
+            i = self.parent[i as usize];
         }
         i
     }
-    for sharing in edges(mesh).values() {
-        for pair in sharing.windows(2) {
-            let (a, b) = (root(&mut parent, pair[0].0), root(&mut parent, pair[1].0));
-            parent[a as usize] = b;
-        }
+
+    /// Puts `a` and `b` in one set.
+    pub(crate) fn join(&mut self, a: u32, b: u32) {
+        let (a, b) = (self.root(a), self.root(b));
+        self.parent[a as usize] = b;
     }
-    let mut piece_of_root = vec![u32::MAX; parent.len()];
-    let mut pieces = 0u32;
-    (0..parent.len() as u32)
-        .map(|t| {
-            let r = root(&mut parent, t) as usize;
-            if piece_of_root[r] == u32::MAX {
-                piece_of_root[r] = pieces;
-                pieces += 1;
-            }
-            piece_of_root[r]
-        })
-        .collect()
+
+    /// The set of each of `items`, numbered 0, 1, … in the order each set
+    /// first appears.
+    pub(crate) fn numbered(&mut self, items: impl Iterator<Item = u32>) -> Vec<u32> {
+        let mut number_of_root = vec![u32::MAX; self.parent.len()];
+        let mut sets = 0u32;
+        items
+            .map(|i| {
+                let r = self.root(i) as usize;
+                if number_of_root[r] == u32::MAX {
+                    number_of_root[r] = sets;
+                    sets += 1;
+                }
+                number_of_root[r]
+            })
+            .collect()
+    }
 }
 
 /// A canonical vertex per distinct position.

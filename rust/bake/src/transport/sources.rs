@@ -20,7 +20,7 @@ pub struct Sources {
     /// samples without a shape.
     pub footprint: Vec<[Vec3; 2]>,
     /// The piece of the mesh each sample lies on (see
-    /// [`crate::surface::topology::triangle_pieces`]); empty when every
+    /// [`crate::surface::medium::medium_pieces`]); empty when every
     /// sample is on one piece. Light travels only between samples of one
     /// piece.
     pub piece: Vec<u32>,

@@ -21,7 +21,7 @@ use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::rays::RayScene;
 use crate::scattering::Scattering;
-use crate::surface::topology::triangle_pieces;
+use crate::surface::medium::medium_pieces;
 use serde::{Deserialize, Serialize};
 
 /// Mertens et al.'s Monte Carlo: radii drawn from the profile, probe rays
@@ -125,7 +125,7 @@ impl Integrator for ImportanceIntegrator {
                 normal: &prepared.surfels.normal,
                 texels: &texels,
             });
-        let triangle_pieces = triangle_pieces(&prepared.mesh);
+        let triangle_media = medium_pieces(&prepared.mesh);
         let surface = Surface {
             mesh: &prepared.mesh,
             uvs: &prepared.uvs,
@@ -134,7 +134,7 @@ impl Integrator for ImportanceIntegrator {
             resolution: prepared.surfels.resolution,
             oblique,
             pieces: Some(Pieces {
-                triangle: &triangle_pieces,
+                triangle: &triangle_media,
                 target: &prepared.surfels.piece,
             }),
         };
