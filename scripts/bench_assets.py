@@ -42,10 +42,11 @@ CASES = [
 ]
 
 
-def bake(scene, out, resolution, method, preset, outputs="subsurface,area"):
-    """Bakes and returns (wall seconds, summary)."""
+def bake(scene, out, resolution, method, preset, outputs="subsurface,area", extra=()):
+    """Bakes (with the `extra` arguments) and returns (wall seconds, summary)."""
     command = [str(BINARY), "bake", str(ROOT / scene), "--out", str(out), "--force", "--json"]
     command += ["--resolution", str(resolution), "--method", method, "--margin", "0", "--outputs", outputs]
+    command += list(extra)
     if preset:
         command += ["--preset", preset]
     if method == "brute":  # the reference, run on purpose past the default bound
