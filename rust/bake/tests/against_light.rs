@@ -338,31 +338,3 @@ fn each_material_raises_its_own_light() {
         .unwrap();
     assert_eq!(again.exitance, in_skin.exitance);
 }
-
-#[test]
-#[ignore]
-fn xx_sphere_experiment() {
-    let skin = scattering_of("skin1", Model::Dipole);
-    let radius: f32 = std::env::var("XX_R").map(|s| s.parse().unwrap()).unwrap_or(11.0);
-    let ball = sphere(radius, 24, 48);
-    let scene = scene(vec![ball], vec![sun_from(Vec3::new(-0.3, 0.2, -1.0))]);
-    let (prepared, baked, walked, noise) = bake_and_walk(&scene, "sphere", 48, &skin);
-    let _ = &noise;
-    let sun = -Vec3::new(-0.3, 0.2, -1.0).normalize();
-    for c in 0..3 {
-        let mut row = String::new();
-        for (lo, hi) in [(-1.0, -0.5), (-0.5, -0.2), (-0.2, 0.0), (0.0, 0.2), (0.2, 0.5), (0.5, 0.8), (0.8, 1.01)] {
-            let (mut b, mut w, mut n) = (0.0f64, 0.0f64, 0);
-            for i in 0..baked.len() {
-                let cos = prepared.surfels.normal[i].dot(sun);
-                if cos >= lo && cos < hi {
-                    b += f64::from(baked[i][c]);
-                    w += f64::from(walked[i][c]);
-                    n += 1;
-                }
-            }
-            row += &format!(" [{lo},{hi}): {:.3} ({n})", b / w);
-        }
-        eprintln!("channel {c}:{row}");
-    }
-}
