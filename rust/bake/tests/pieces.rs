@@ -190,6 +190,32 @@ fn pieces_bounding_one_medium_or_crossing_are_joined_and_closed_ones_in_air_are_
         2
     );
     assert_eq!(count(&medium_pieces(&nested)), 1);
+    // Two open faces: back to back 3 mm apart (a leaf's two sides modelled
+    // apart), one medium; side by side, two.
+    let faces = |back_to_back: bool| {
+        let one = quad(SIDE);
+        let mut positions = one.positions.clone();
+        let mut triangles = one.triangles.clone();
+        let shift = if back_to_back {
+            Vec3::new(0.0, 0.0, -3.0)
+        } else {
+            Vec3::new(2.0 * SIDE, 0.0, 0.0)
+        };
+        positions.extend(one.positions.iter().map(|p| *p + shift));
+        // The second faces down when back to back, up beside the first.
+        triangles.extend(one.triangles.iter().map(|&[a, b, c]| {
+            if back_to_back {
+                [a + 4, c + 4, b + 4]
+            } else {
+                [a + 4, b + 4, c + 4]
+            }
+        }));
+        Mesh::new("faces", positions, None, None, triangles)
+            .unwrap()
+            .0
+    };
+    assert_eq!(count(&medium_pieces(&faces(true))), 1);
+    assert_eq!(count(&medium_pieces(&faces(false))), 2);
 }
 
 #[test]
