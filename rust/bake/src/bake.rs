@@ -130,6 +130,10 @@ pub struct Corrected {
     /// Texels raised by more than 1% towards a plane's or a slab's light,
     /// where the surface the profile reaches ends (a rim, a small part).
     pub raised_texels: usize,
+    /// Texels apart, along u and along v, at which the integrator summed
+    /// its weights under a unit light to find where the surface ends (1:
+    /// every texel; more where the fit between them met its check).
+    pub uniform_stride: u32,
     /// Per channel, the share of the map kept where the raised light would
     /// have left more power than entered; `None` where all of it was.
     pub kept: Option<[f32; 3]>,
@@ -289,6 +293,7 @@ fn scatter(
                             .filter(|o| slab.at(o.thickness).is_some())
                             .count(),
                         raised_texels: integration.raised.as_ref().map_or(0, |r| r.count),
+                        uniform_stride: integration.raised.as_ref().map_or(1, |r| r.stride),
                         kept: integration.kept,
                     });
                 return Ok(Scattered {

@@ -302,13 +302,14 @@ impl Prepared {
         {
             return Ok(Arc::clone(raised));
         }
-        let uniform = self.uniform_sums(integrator, scattering, slab, control)?;
+        let (uniform, stride) = self.uniform_sums(integrator, scattering, slab, control)?;
         let summed_across = integrator.carries().across;
         let (gains, count) = slab.gains(self.opposites(), &uniform, summed_across);
         let raised = Arc::new(Raised {
             key,
             halves: gains.iter().map(|g| g.map(f32::sqrt)).collect(),
             count,
+            stride,
         });
         *self.raised.lock().unwrap_or_else(|e| e.into_inner()) = Some(Arc::clone(&raised));
         Ok(raised)
@@ -324,14 +325,14 @@ impl Prepared {
     /// direct sums at random texels by more than [`FIT_TOLERANCE`], the
     /// subset is taken twice as dense, down to every texel. The error
     /// estimate measures them against exact sums at its texels, as it
-    /// measures the map.
+    /// measures the map. With the sums, the stride they were taken at.
     fn uniform_sums(
         &self,
         integrator: &dyn Integrator,
         scattering: &Scattering,
         slab: &LocalSlab,
         control: &Control,
-    ) -> Result<Vec<[f32; 3]>, Error> {
+    ) -> Result<(Vec<[f32; 3]>, u32), Error> {
         let lit = self.uniformly_lit();
         let mut stride = uniform_stride(scattering, &self.surfels);
         if stride > 1
@@ -345,12 +346,12 @@ impl Prepared {
                     break;
                 };
                 if probed.gains_missed(slab, self.opposites(), &fitted, across) <= FIT_TOLERANCE {
-                    return Ok(fitted);
+                    return Ok((fitted, stride));
                 }
                 stride /= 2;
             }
         }
-        Ok(integrator.integrate(&lit, scattering, control)?.exitance)
+        Ok((integrator.integrate(&lit, scattering, control)?.exitance, 1))
     }
 
     /// The sums under a unit light at one texel in [`FIT_PROBED`], drawn at

@@ -57,6 +57,10 @@ pub struct Raised {
     pub halves: Vec<[f32; 3]>,
     /// Surfels raised by more than 1% in some channel.
     pub count: usize,
+    /// Texels apart, along u and along v, at which the sums under a unit
+    /// light were taken and fitted between; 1 where they were summed at
+    /// every texel.
+    pub stride: u32,
 }
 
 impl Raised {
