@@ -94,7 +94,7 @@ const MOST_UNIFORM_STRIDE: u32 = 4;
 /// radius holding half the profile's light in its narrowest channel, in
 /// texels, so the fit between them follows how the sums fall toward a
 /// rim; 1 (every texel) for a profile about a texel wide.
-fn uniform_stride(scattering: &Scattering, surfels: &TexelSurfels) -> u32 {
+pub fn uniform_stride(scattering: &Scattering, surfels: &TexelSurfels) -> u32 {
     let area: f64 = surfels.area.iter().map(|&a| f64::from(a.max(0.0))).sum();
     // The mean texel's side and the half-light radius, mm.
     let texel = (area / surfels.len().max(1) as f64).sqrt();

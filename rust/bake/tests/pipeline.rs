@@ -480,3 +480,38 @@ fn a_rough_surface_sets_entry_and_exit_and_the_request_overrides_it() {
         Err(Error::Setting { field, .. }) if field == "roughness"
     ));
 }
+
+/// The sums under a unit light (where the surface ends within reach) are
+/// taken at a regular subset of texels and fitted between; where the fit
+/// misses direct sums at its check, the subset is taken denser. A 12 mm
+/// tile 3 mm thick in skin1, whose sums fall steeply toward its rims from
+/// every side, is summed more densely than it starts; an 80 mm block 40 mm
+/// thick, whose sums are flat but for its edges, keeps its first stride.
+#[test]
+fn the_sums_under_a_unit_light_are_taken_denser_where_their_fit_misses() {
+    let strides = |size: Vec3, resolution: u32| -> (u32, u32) {
+        let one = cube(1.0);
+        let positions = one.positions.iter().map(|p| *p * size).collect();
+        let mesh = Mesh::new("part", positions, None, one.uvs, one.triangles)
+            .unwrap()
+            .0;
+        let scene = scene(vec![mesh], vec![sun_from(Vec3::new(-0.3, 0.2, -1.0))]);
+        let request = BakeRequest {
+            method: Method::Octree,
+            outputs: vec![Output::Subsurface],
+            ..request(resolution)
+        };
+        let plan = plan(&scene, &request).unwrap();
+        let (objects, summary) = bake(&scene, &plan, &Control::new()).unwrap();
+        let first = sssbake::pipeline::uniform_stride(
+            &plan.objects[0].scattering_profile,
+            &objects[0].prepared.surfels,
+        );
+        let accuracy = summary.objects[0].accuracy.as_ref().unwrap();
+        (first, accuracy.corrected.unwrap().uniform_stride)
+    };
+    let (first, used) = strides(Vec3::new(12.0, 12.0, 3.0), 128);
+    assert!(first > 1 && used < first, "tile: from {first} to {used}");
+    let (first, used) = strides(Vec3::new(80.0, 80.0, 40.0), 512);
+    assert!(first > 1 && used == first, "block: from {first} to {used}");
+}
