@@ -71,8 +71,8 @@ pub fn topology_report(mesh: &Mesh) -> TopologyReport {
 /// The piece each triangle belongs to (0, 1, … in the order of each
 /// piece's first triangle): triangles are of one piece when a chain of
 /// shared edges (welded by position, non-manifold ones included) joins
-/// them. Light scattered inside an object stays in its piece: two pieces
-/// of one mesh, however near, are joined by air, not by the medium.
+/// them. Pieces that bound one medium together, or cross, are joined into
+/// one by [`crate::surface::medium::medium_pieces`], which light stays in.
 pub fn triangle_pieces(mesh: &Mesh) -> Vec<u32> {
     let mut sets = DisjointSets::new(mesh.triangles.len());
     for sharing in edges(mesh).values() {
