@@ -178,13 +178,14 @@ fn pieces_bounding_one_medium_or_crossing_are_joined_and_closed_ones_in_air_are_
     assert_eq!(count(&pieces), 2);
     assert_eq!(count(&medium_pieces(&lidded)), 1);
     // A small cube inside a large one: light in the large one meets it.
-    let mut nested = cube(SIDE);
-    let inner = cube(SIDE / 3.0);
-    let base = nested.positions.len() as u32;
-    nested.positions.extend(&inner.positions);
-    nested
-        .triangles
-        .extend(inner.triangles.iter().map(|t| t.map(|v| v + base)));
+    let (outer, inner) = (cube(SIDE), cube(SIDE / 3.0));
+    let base = outer.positions.len() as u32;
+    let positions = [outer.positions.clone(), inner.positions.clone()].concat();
+    let mut triangles = outer.triangles.clone();
+    triangles.extend(inner.triangles.iter().map(|t| t.map(|v| v + base)));
+    let nested = Mesh::new("nested", positions, None, None, triangles)
+        .unwrap()
+        .0;
     assert_eq!(
         count(&sssbake::surface::topology::triangle_pieces(&nested)),
         2
