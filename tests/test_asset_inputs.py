@@ -68,17 +68,20 @@ def test_an_openpbr_material_is_baked_with_its_colour(sssbake, wax_stage, tmp_pa
     assert ball["material"]["name"] == "Wax"
     assert ball["material"]["source"].startswith("asset: OpenPBR")
     # What leaves is about the colour asked for (which the dipole's inversion sets for a
-    # half-space, scaled to light's level for that medium, as the summary states): green and
-    # blue, whose light stays within a few mean free paths, at most the colour; red, which
-    # spreads over much of the 100 mm ball, raised where the surface within its reach ends,
-    # and never more than entered. The channels keep their order.
+    # half-space, scaled to light's level for that medium, as the summary states), and more in
+    # a 100 mm ball than in a half-space: light that goes deep meets the curved surface and
+    # comes out. A walk through the ball's own mesh says how much; each channel's flux is
+    # within 3% of its, never more than entered, and the channels keep their order.
     level = np.array(ball["accuracy"]["corrected"]["level"])
     assert np.all(np.abs(level - 1) < 0.1), level
     colour = np.array([0.9, 0.6, 0.3]) * level
     ratio = flux_ratio(tmp_path, "Ball")
     assert ratio[0] > ratio[1] > ratio[2]
-    assert np.all(ratio[1:] <= colour[1:] + 0.01) and ratio[0] <= 1.0 + 1e-3, (ratio, colour)
-    assert np.all(ratio >= 0.75 * colour), (ratio, colour)
+    assert ratio[0] <= 1.0 + 1e-3 and np.all(ratio >= colour - 0.01), (ratio, colour)
+    walked = tmp_path / "walk"
+    bake(sssbake, wax_stage, walked, "--method", "walk", "--walk-samples", "512", python=True)
+    light = flux_ratio(walked, "Ball")
+    assert np.all(np.abs(ratio / light - 1) < 0.03), (ratio, light)
 
 
 def test_a_preset_on_the_command_line_wins_over_the_asset(sssbake, wax_stage, tmp_path):

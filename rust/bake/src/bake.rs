@@ -127,8 +127,9 @@ pub struct Corrected {
     /// Texels with a face behind them nearer than the profile's reach,
     /// whose light was re-shared by the slab of that thickness.
     pub thin_texels: usize,
-    /// Texels raised by more than 1% towards a plane's or a slab's light,
-    /// where the surface the profile reaches ends (a rim, a small part).
+    /// Texels raised by more than 1% towards a plane's or a slab's light
+    /// where the surface the profile reaches ends (a rim, a small part),
+    /// or towards a ball's where the surface bulges.
     pub raised_texels: usize,
     /// Texels apart, along u and along v, at which the integrator summed
     /// its weights under a unit light to find where the surface ends (1:
@@ -639,7 +640,7 @@ impl fmt::Display for Summary {
                 let [r, g, b] = corrected.level;
                 writeln!(
                     f,
-                    "{}: corrected model: light's level ×{r:.3} / {g:.3} / {b:.3} (R/G/B, the Monte Carlo's total over the profile's); {} texels through thin parts by the slab of their thickness; {} raised where the surface within reach ends",
+                    "{}: corrected model: light's level ×{r:.3} / {g:.3} / {b:.3} (R/G/B, the Monte Carlo's total over the profile's); {} texels through thin parts by the slab of their thickness; {} raised where the surface within reach ends or bulges",
                     p.name, corrected.thin_texels, corrected.raised_texels
                 )?;
                 if let Some([r, g, b]) = corrected.kept {

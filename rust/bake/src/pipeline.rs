@@ -1,6 +1,7 @@
 //! One object's bake below the plan: its light (the irradiance entering every
 //! texel, [`prepare`]) and the integration of the exitance by any
-//! [`Integrator`], with the light raised where the surface within reach ends.
+//! [`Integrator`], with the light raised where the surface within reach ends
+//! or bulges.
 
 use crate::control::Control;
 use crate::error::Error;
@@ -19,7 +20,7 @@ use crate::surface::gathering::{Spread, every_nth_texel};
 use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::integrator::Integrator;
-use crate::transport::local_slab::LocalSlab;
+use crate::transport::local_slab::{LocalSlab, MAX_GAIN, RAISED};
 use crate::transport::verify::pick;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -30,8 +31,14 @@ use std::time::Instant;
 /// integrator with its settings (each finds the gains with its own error,
 /// which the error estimate measures).
 fn raise_key(scattering: &Scattering, integrator: &dyn Integrator) -> String {
+    format!("{} {integrator:?}", scattering_key(scattering))
+}
+
+/// What tells one scattering from another on the same object: the
+/// material with all its coefficients, the model and the reach.
+fn scattering_key(scattering: &Scattering) -> String {
     format!(
-        "{:?} {} {} {integrator:?}",
+        "{:?} {} {}",
         scattering.material,
         scattering.model.name(),
         scattering.kernel.d_max.to_bits()
@@ -293,21 +300,44 @@ impl Prepared {
         control: &Control,
     ) -> Result<Arc<Raised>, Error> {
         let key = raise_key(scattering, integrator);
+        let scattered_by = scattering_key(scattering);
+        let mut known_ball = None;
         if let Some(raised) = self
             .raised
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .as_ref()
-            .filter(|r| r.key == key)
         {
-            return Ok(Arc::clone(raised));
+            if raised.key == key {
+                return Ok(Arc::clone(raised));
+            }
+            // The ball's gains need no integrator: another's serve.
+            if raised.scattering == scattered_by {
+                known_ball = Some(Arc::clone(&raised.ball));
+            }
         }
         let (uniform, stride) = self.uniform_sums(integrator, scattering, slab, control)?;
         let summed_across = integrator.carries().across;
-        let (gains, count) = slab.gains(self.opposites(), &uniform, summed_across);
+        let (gains, _) = slab.gains(self.opposites(), &uniform, summed_across);
+        // Small convex parts return more than the slab; the two gains
+        // answer different shortfalls (surface missing within reach, light
+        // that meets the surface sooner) and multiply, within the cap.
+        let ball = known_ball
+            .unwrap_or_else(|| Arc::new(slab.ball_gains(&self.surfels, self.opposites())));
+        let gains: Vec<[f32; 3]> = gains
+            .iter()
+            .zip(ball.iter())
+            .map(|(g, b)| [0, 1, 2].map(|c| (g[c] * b[c]).min(MAX_GAIN as f32)))
+            .collect();
+        let count = gains
+            .iter()
+            .filter(|g| g.iter().any(|&g| f64::from(g) > RAISED))
+            .count();
         let raised = Arc::new(Raised {
             key,
+            scattering: scattered_by,
             halves: gains.iter().map(|g| g.map(f32::sqrt)).collect(),
+            ball,
             count,
             stride,
         });

@@ -53,8 +53,15 @@ pub struct Raised {
     /// The scattering and integrator it was found by
     /// ([`crate::pipeline`]'s key).
     pub(crate) key: String,
+    /// The scattering alone it was found for, which the ball's gains
+    /// depend on.
+    pub(crate) scattering: String,
     /// Per surfel and channel, √gain, in [1, 2].
     pub halves: Vec<[f32; 3]>,
+    /// Per surfel and channel, the part of the gain a ball as curved as
+    /// the surface there asked for ([`crate::transport::ball_gain`]), in
+    /// [1, 4].
+    pub ball: Arc<Vec<[f32; 3]>>,
     /// Surfels raised by more than 1% in some channel.
     pub count: usize,
     /// Texels apart, along u and along v, at which the sums under a unit

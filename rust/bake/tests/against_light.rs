@@ -338,3 +338,31 @@ fn each_material_raises_its_own_light() {
         .unwrap();
     assert_eq!(again.exitance, in_skin.exitance);
 }
+
+/// A small ball returns more light than a half-space: light that goes
+/// deep meets its surface soon and comes out. An 11 mm ball of skin1 under
+/// a sun: on its lit half the bake was 18% darker than the walk in red,
+/// 13% in green, 7% in blue; raised by what a ball as curved returns
+/// beyond the slab of its diameter, each channel's median is within 4%.
+#[test]
+fn a_small_ball_returns_the_light_of_the_walk() {
+    let skin = scattering_of("skin1", Model::Dipole);
+    let ball = sphere(11.0, 48, 96);
+    let down = Vec3::new(-0.3, 0.2, -1.0);
+    let scene = scene(vec![ball], vec![sun_from(down)]);
+    let (prepared, baked, walked, noise) = bake_and_walk(&scene, "sphere", 64, &skin);
+    // The lit half, away from the terminator (where the map's texels,
+    // 1–3 mm here, blur light and shadow).
+    let facing = -down.normalize();
+    let lit: Vec<usize> = (0..baked.len())
+        .filter(|&i| prepared.surfels.normal[i].dot(facing) > 0.3)
+        .collect();
+    let agrees = agreement(&baked, &walked, &noise, |i| lit.contains(&i));
+    eprintln!("lit half: {agrees:?}");
+    for c in 0..3 {
+        assert!(
+            (agrees.median_ratio[c] - 1.0).abs() < 0.04 && agrees.p90_log[c] < 0.12,
+            "channel {c}: {agrees:?}"
+        );
+    }
+}

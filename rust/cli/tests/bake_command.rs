@@ -468,12 +468,14 @@ fn the_monte_carlo_model_bakes_through_its_cache() {
         "{}",
         String::from_utf8_lossy(&first.stderr)
     );
-    // The profile's tallies, and the slab totals of the corrected model.
+    // The profile's tallies, and the ball and slab totals of the
+    // corrected model.
     let cached = files_in(&cache);
     assert!(
-        cached.len() == 2
-            && cached[0].starts_with("montecarlo-")
-            && cached[1].starts_with("slab-")
+        cached.len() == 3
+            && cached[0].starts_with("ball-")
+            && cached[1].starts_with("montecarlo-")
+            && cached[2].starts_with("slab-")
             && cached.iter().all(|name| name.ends_with(".json")),
         "{cached:?}"
     );

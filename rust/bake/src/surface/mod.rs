@@ -3,6 +3,7 @@
 //! into texel surfels, the mesh's topology (parts, open edges, seams),
 //! dilation across seams and margins, and Turk's relaxed sample points.
 
+pub mod curvature;
 pub mod dilation;
 pub mod gathering;
 pub mod medium;

@@ -48,6 +48,9 @@ pub struct TexelSurfels {
     /// The medium the texel's triangle belongs to ([`medium_pieces`]):
     /// light scatters only between texels of one medium.
     pub piece: Vec<u32>,
+    /// The medium of each triangle of the mesh, by triangle index: what
+    /// `piece` reads, kept for the integrators that start from triangles.
+    pub triangle_medium: Vec<u32>,
 }
 
 impl TexelSurfels {
@@ -147,6 +150,7 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
         stretch: vec![Vec2::ZERO; total],
         extent: vec![[Vec2::ZERO; 2]; total],
         piece: Vec::new(),
+        triangle_medium: Vec::new(),
     };
     let mut parts = Vec::with_capacity(counts.len());
     let (mut texel, mut position, mut normal) = (
@@ -206,8 +210,12 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
     for (surfel, &texel) in out.texel.iter().enumerate() {
         out.index[texel as usize] = surfel as u32;
     }
-    let pieces = medium_pieces(mesh);
-    out.piece = out.triangle.iter().map(|&t| pieces[t as usize]).collect();
+    out.triangle_medium = medium_pieces(mesh);
+    out.piece = out
+        .triangle
+        .iter()
+        .map(|&t| out.triangle_medium[t as usize])
+        .collect();
     out
 }
 

@@ -5,6 +5,8 @@
 //! are what they share.
 
 pub mod accuracy;
+pub mod ball_gain;
+pub mod ball_totals;
 pub mod brute;
 pub mod choice;
 pub mod clusters;

@@ -10,7 +10,7 @@ use crate::prepared::{Prepared, Raised};
 use crate::scattering::Scattering;
 use crate::transport::accuracy::relative_errors;
 use crate::transport::integrator::Integrator;
-use crate::transport::local_slab::LocalSlab;
+use crate::transport::local_slab::{LocalSlab, MAX_GAIN};
 use sssbake_profile::numerics::rng::Rng;
 
 /// Most texels checked.
@@ -125,8 +125,14 @@ pub fn estimate_error(
                 let h = r.halves[i];
                 // The bake's gain h², the exact one g: the light entering
                 // and leaving both scale by g/h² to first order.
+                // The ball's part of the gain is found without an
+                // integrator and is exact as it is.
+                let ball = r.ball.get(i).copied().unwrap_or([1.0; 3]);
                 let g = exact_gains.as_ref().map_or([1.0; 3], |g| {
-                    [0, 1, 2].map(|c| (g[k][c] / f64::from(h[c] * h[c])) as f32)
+                    [0, 1, 2].map(|c| {
+                        let exact = (g[k][c] * f64::from(ball[c])).min(MAX_GAIN);
+                        (exact / f64::from(h[c] * h[c])) as f32
+                    })
                 });
                 [0, 1, 2].map(|c| corrected[c] * h[c] * kept[c] * g[c])
             });

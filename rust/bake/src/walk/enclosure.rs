@@ -2,6 +2,7 @@
 //! own (no other object's surface bounds the medium, and light does not
 //! cross air to another piece), and what a walk reads where it meets them.
 
+use super::path::{Confinement, Meeting};
 use crate::mesh::Mesh;
 use crate::rays::{Hit, RayScene};
 use glam::{Vec2, Vec3};
@@ -63,5 +64,23 @@ impl<'a> Enclosure<'a> {
     pub fn uv_at(&self, triangle: u32, barycentric: Vec2) -> Vec2 {
         let [a, b, c] = self.mesh.triangles[triangle as usize].map(|v| self.uvs[v as usize]);
         a * (1.0 - barycentric.x - barycentric.y) + b * barycentric.x + c * barycentric.y
+    }
+}
+
+impl Confinement for Enclosure<'_> {
+    fn meet(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_max: f32,
+        leaving: Option<u32>,
+    ) -> Option<Meeting> {
+        let hit = self.first_hit(origin, direction, t_max, leaving)?;
+        Some(Meeting {
+            t: hit.t,
+            triangle: hit.triangle,
+            barycentric: hit.uv,
+            normal: self.facet_normal(hit.triangle),
+        })
     }
 }

@@ -12,7 +12,8 @@
 //!   smooth dielectric), from a material.
 //! - [`enclosure`]: the mesh and its BVH, closest hits against it alone.
 //! - [`phase`]: Henyey–Greenstein turns and cosine-distributed directions.
-//! - [`path`]: one walk.
+//! - [`path`]: one walk, inside whatever [`path::Confinement`] bounds it.
+//! - [`shapes`]: a ball and a half-space, exactly.
 //! - [`estimator`]: the exitance at texels by walks started there.
 
 pub mod enclosure;
@@ -20,6 +21,7 @@ pub mod estimator;
 pub mod medium;
 pub mod path;
 pub mod phase;
+pub mod shapes;
 
 pub use enclosure::Enclosure;
 pub use estimator::{

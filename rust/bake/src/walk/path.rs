@@ -4,7 +4,6 @@
 //! meets the surface, Russian roulette for light walks, and a hard bound
 //! on events.
 
-use super::enclosure::Enclosure;
 use super::medium::{Boundary, ChannelMedium};
 use super::phase::scatter;
 use glam::{Vec2, Vec3};
@@ -12,6 +11,35 @@ use sssbake_profile::numerics::rng::Rng;
 
 /// Below this weight a walk plays Russian roulette...
 pub const ROULETTE_WEIGHT: f64 = 0.05;
+
+/// Where a flight first meets the surface that bounds the medium.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Meeting {
+    /// Distance along the flight, mm.
+    pub t: f32,
+    /// The triangle met (0 for a shape with no triangles).
+    pub triangle: u32,
+    /// Weights of that triangle's vertices 1 and 2.
+    pub barycentric: Vec2,
+    /// The unit outward normal of the surface there.
+    pub normal: Vec3,
+}
+
+/// What bounds a walk's medium: an object's mesh ([`super::Enclosure`]),
+/// or an exact shape ([`super::shapes`]) where the walk measures a law of
+/// light rather than an object.
+pub trait Confinement: Sync {
+    /// The first surface from `origin` along unit `direction` within
+    /// `t_max` mm, `leaving` the triangle the flight starts on (`None` from
+    /// inside the medium).
+    fn meet(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_max: f32,
+        leaving: Option<u32>,
+    ) -> Option<Meeting>;
+}
 
 /// Where a walk begins: on the surface, heading into the medium.
 #[derive(Clone, Copy, Debug)]
@@ -63,10 +91,10 @@ pub struct Walked {
     pub events: u32,
 }
 
-/// Walks from `start` through `medium` inside `enclosure`, leaving by
+/// Walks from `start` through `medium` inside `confinement`, leaving by
 /// `boundary`, for at most `max_events` events, drawing from `rng`.
-pub fn walk(
-    enclosure: &Enclosure,
+pub fn walk<C: Confinement + ?Sized>(
+    confinement: &C,
     medium: &ChannelMedium,
     boundary: Boundary,
     start: WalkStart,
@@ -97,8 +125,8 @@ pub fn walk(
             f32::INFINITY
         };
         events += 1;
-        if let Some(hit) = enclosure.first_hit(position, direction, reach, leaving) {
-            let normal = enclosure.facet_normal(hit.triangle);
+        if let Some(hit) = confinement.meet(position, direction, reach, leaving) {
+            let normal = hit.normal;
             let cos_inside = direction.dot(normal).abs() as f64;
             if rng.uniform() < boundary.reflectance(cos_inside) {
                 position += direction * hit.t;
@@ -110,7 +138,7 @@ pub fn walk(
             return Walked {
                 ending: Ending::Left {
                     triangle: hit.triangle,
-                    barycentric: hit.uv,
+                    barycentric: hit.barycentric,
                     weight,
                 },
                 events,

@@ -21,7 +21,6 @@ use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::rays::RayScene;
 use crate::scattering::Scattering;
-use crate::surface::medium::medium_pieces;
 use serde::{Deserialize, Serialize};
 
 /// Mertens et al.'s Monte Carlo: radii drawn from the profile, probe rays
@@ -125,7 +124,6 @@ impl Integrator for ImportanceIntegrator {
                 normal: &prepared.surfels.normal,
                 texels: &texels,
             });
-        let triangle_media = medium_pieces(&prepared.mesh);
         let surface = Surface {
             mesh: &prepared.mesh,
             uvs: &prepared.uvs,
@@ -134,7 +132,7 @@ impl Integrator for ImportanceIntegrator {
             resolution: prepared.surfels.resolution,
             oblique,
             pieces: Some(Pieces {
-                triangle: &triangle_media,
+                triangle: &prepared.surfels.triangle_medium,
                 target: &prepared.surfels.piece,
             }),
         };

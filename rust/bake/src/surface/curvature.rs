@@ -1,0 +1,207 @@
+//! How curved the surface is around each texel, at the scale light
+//! explores there: the mean curvature H = (κ1 + κ2)/2, 1/mm, positive
+//! where the surface bulges out.
+//!
+//! Between two points of a ball of radius r, (n_j − n_i)·(p_j − p_i) =
+//! |p_j − p_i|²/r exactly, whatever their distance. So the weighted ratio
+//!
+//! H_i = Σ w_ij (n_j − n_i)·(p_j − p_i) / Σ w_ij |p_j − p_i|²
+//!
+//! is 1/r on any ball at any scale, 0 on a plane, 1/(2r) on a cylinder,
+//! and on other shapes the mean curvature seen over the weights' reach
+//! (w_ij = a_j exp(−|p_j − p_i|²/s²)). Points of another medium, and
+//! points facing away by more than [`FACING_AWAY`] (the far face of a thin
+//! part, which the slab of its thickness already accounts for), are left
+//! out; the exactness on a ball holds for any subset of its pairs.
+//!
+//! The texels are first gathered into patches a fraction of the scale
+//! across (by cell, medium and the octant their normal points into, so
+//! the two faces of a thin part stay apart), H is found at each patch,
+//! and each texel takes a smooth mean of the patches around it: the work
+//! grows with the texels and the patches, not with their product.
+
+use crate::fast_hash::FastHash;
+use crate::surface::texels::TexelSurfels;
+use crate::transport::sources::Grid;
+use glam::{DVec3, IVec3, Vec3};
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// How far the weights reach, in units of the scale.
+const REACH: f32 = 2.5;
+/// A patch's size, in units of the scale: small enough that a patch of
+/// a ball the size of the scale lies on it to a few per cent.
+const PATCH: f32 = 0.35;
+/// The cosine between normals below which a point faces away: past 120°,
+/// so the faces of a box's edge see each other and a thin part's two
+/// faces do not.
+const FACING_AWAY: f32 = -0.5;
+/// The cosine between two texels' normals above which they lie on the
+/// same surface and share a curvature.
+const SAME_FACING: f32 = 0.9;
+/// The most patches an object is gathered into: past it they grow, so the
+/// work stays bounded on a large object at a short scale.
+const MOST_PATCHES: f64 = 200_000.0;
+
+/// Texels gathered into one patch.
+#[derive(Clone, Copy, Debug, Default)]
+struct Patch {
+    position: Vec3,
+    normal: Vec3,
+    area: f32,
+    medium: u32,
+}
+
+/// The mean curvature at every surfel of `surfels`, 1/mm, seen at `scale`
+/// mm (0 for a scale that is not positive and finite).
+pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
+    if !(scale.is_finite() && scale > 0.0) || surfels.is_empty() {
+        return vec![0.0; surfels.len()];
+    }
+    let size = (PATCH * scale).max((surfels.total_area() / MOST_PATCHES).sqrt() as f32);
+    let patches = patches(surfels, size);
+    let positions: Vec<Vec3> = patches.iter().map(|p| p.position).collect();
+    let reach = REACH * scale;
+    // Cells finer than the radius gathered within, so the rows of cells
+    // visited hug the ball.
+    let grid = Grid::new(&positions, 0.5 * reach);
+    let at_patches: Vec<f32> = patches
+        .par_iter()
+        .map(|p| {
+            curvature_at(
+                &grid, &patches, p.position, p.normal, p.medium, scale, reach,
+            )
+        })
+        .collect();
+    // Each texel: a smooth mean of the patches within two sizes, facing
+    // its way, in its medium (its own patch always among them).
+    let near = Grid::new(&positions, size);
+    let smooth_mean = |i: usize| -> f32 {
+        let (p, n, m) = (
+            surfels.position[i],
+            surfels.normal[i],
+            medium_of(surfels, i),
+        );
+        let (mut sum, mut weights) = (0.0f32, 0.0f32);
+        let within = 4.0 * size * size;
+        near.for_each_run(p, 2.0 * size, |run| {
+            for &k in &near.order[run] {
+                let q = &patches[k as usize];
+                let d2 = (q.position - p).length_squared();
+                if d2 > within || q.medium != m || q.normal.dot(n) <= 0.0 {
+                    continue;
+                }
+                let w = (-d2 / (size * size)).exp();
+                sum += w * at_patches[k as usize];
+                weights += w;
+            }
+        });
+        if weights > 0.0 { sum / weights } else { 0.0 }
+    };
+    // It changes over patches, not texels: the first texel of each 2 × 2
+    // block finds it, and the others of the block take it where they lie
+    // on the same surface (same medium, facing the same way).
+    let first = |i: usize| -> Option<usize> {
+        let n = surfels.resolution.max(1);
+        let t = surfels.texel[i];
+        let (x, y) = (t % n, t / n);
+        let head = (y & !1) * n + (x & !1);
+        let j = *surfels.index.get(head as usize)? as usize;
+        let alike = j != i
+            && j < surfels.len()
+            && medium_of(surfels, j) == medium_of(surfels, i)
+            && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING;
+        alike.then_some(j)
+    };
+    let mut found: Vec<Option<f32>> = (0..surfels.len())
+        .into_par_iter()
+        .map(|i| match first(i) {
+            Some(_) => None,
+            None => Some(smooth_mean(i)),
+        })
+        .collect();
+    for i in 0..found.len() {
+        if found[i].is_none() {
+            found[i] = first(i).and_then(|j| found[j]);
+        }
+    }
+    found.into_iter().map(|h| h.unwrap_or(0.0)).collect()
+}
+
+fn medium_of(surfels: &TexelSurfels, i: usize) -> u32 {
+    surfels.piece.get(i).copied().unwrap_or(0)
+}
+
+/// The texels gathered by cell of `size` mm, medium and normal octant.
+fn patches(surfels: &TexelSurfels, size: f32) -> Vec<Patch> {
+    #[derive(Default)]
+    struct Sum {
+        position: DVec3,
+        normal: DVec3,
+        area: f64,
+    }
+    let mut cells: HashMap<(IVec3, u32, u8), Sum, FastHash> = HashMap::default();
+    for i in 0..surfels.len() {
+        let (p, n) = (surfels.position[i], surfels.normal[i]);
+        let a = f64::from(surfels.area[i]);
+        if !(a > 0.0 && p.is_finite() && n.is_finite()) {
+            continue;
+        }
+        let octant = u8::from(n.x < 0.0) | u8::from(n.y < 0.0) << 1 | u8::from(n.z < 0.0) << 2;
+        let cell = (p / size).floor().as_ivec3();
+        let sum = cells
+            .entry((cell, medium_of(surfels, i), octant))
+            .or_default();
+        sum.position += p.as_dvec3() * a;
+        sum.normal += n.as_dvec3() * a;
+        sum.area += a;
+    }
+    let mut patches: Vec<((IVec3, u32, u8), Patch)> = cells
+        .into_iter()
+        .map(|(key, s)| {
+            let patch = Patch {
+                position: (s.position / s.area).as_vec3(),
+                normal: s.normal.normalize_or_zero().as_vec3(),
+                area: s.area as f32,
+                medium: key.1,
+            };
+            (key, patch)
+        })
+        .collect();
+    // A fixed order, so the sums (and the bake) do not depend on the map's.
+    patches.sort_unstable_by_key(|(k, _)| (k.0.z, k.0.y, k.0.x, k.1, k.2));
+    patches.into_iter().map(|(_, p)| p).collect()
+}
+
+/// H at a point `p` facing `n` in `medium`, from the patches within
+/// `reach` of it weighted at `scale`.
+fn curvature_at(
+    grid: &Grid,
+    patches: &[Patch],
+    p: Vec3,
+    n: Vec3,
+    medium: u32,
+    scale: f32,
+    reach: f32,
+) -> f32 {
+    let (mut bend, mut spread) = (0.0f64, 0.0f64);
+    grid.for_each_run(p, reach, |run| {
+        for &k in &grid.order[run] {
+            let q = &patches[k as usize];
+            let d = q.position - p;
+            let d2 = d.length_squared();
+            if q.medium != medium
+                || q.normal.dot(n) <= FACING_AWAY
+                || d2 > reach * reach
+                || d2 == 0.0
+            {
+                continue;
+            }
+            let w = f64::from(q.area * (-d2 / (scale * scale)).exp());
+            bend += w * f64::from((q.normal - n).dot(d));
+            spread += w * f64::from(d2);
+        }
+    });
+    let h = bend / spread;
+    if h.is_finite() { h as f32 } else { 0.0 }
+}

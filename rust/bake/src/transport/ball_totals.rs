@@ -1,0 +1,205 @@
+//! How much light a ball of a material returns, by radius, against a
+//! half-space of it: the walk of [`crate::walk`] confined to the exact
+//! shapes, kept on disk like the slab's totals.
+//!
+//! A profile of a semi-infinite medium takes the light that goes deep to
+//! be absorbed, or to come out far away; in a small convex body much of it
+//! meets the surface sooner and comes out (Vicini et al. 2019 show
+//! planar profiles failing so). A uniformly lit ball says by how much:
+//! every point of it is alike, so the share of a pencil beam's flux that
+//! leaves it anywhere is what each point returns under uniform light.
+//!
+//! Light enters as the slab's totals have it, a pencil beam at normal
+//! incidence, per unit flux entering, and each radius walks the same
+//! random streams as the half-space, so their ratio is far quieter than
+//! either.
+
+use crate::monte_carlo_cache::{cache_dir, cached};
+use crate::walk::path::{Confinement, Ending, WalkStart, walk};
+use crate::walk::shapes::{Ball, HalfSpace};
+use crate::walk::{ChannelMedium, WalkMedium};
+use glam::Vec3;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use sssbake_profile::material::{Layer, Material, Optics};
+use sssbake_profile::numerics::rng::Rng;
+
+/// Walks per radius and channel: a ball's return over the half-space's to
+/// well under 1% (their streams are shared).
+const WALKS: u64 = 8192;
+/// The bound on events per walk: far past where Russian roulette ends the
+/// walks of any albedo short of 1.
+const MAX_EVENTS: u32 = 100_000;
+/// One seed for every radius, so the ladder's noise is smooth in r.
+const SEED: u64 = 0x6261_6c6c;
+/// Changes whenever the totals change meaning without the crate's version
+/// changing.
+const FORMAT: u32 = 1;
+
+/// The light balls of one material return, per channel.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BallTotals {
+    /// The half-space's return, R_∞ by the walk.
+    pub half_space: [f64; 3],
+    /// Radii, mm, as asked.
+    pub radius: Vec<f64>,
+    /// At each radius, the share of the flux entering that leaves the ball.
+    pub returned: Vec<[f64; 3]>,
+}
+
+impl BallTotals {
+    /// True when every total is finite, within [0, 1] and one per radius.
+    fn is_sound(&self) -> bool {
+        let fine = |v: &[f64; 3]| v.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x));
+        self.returned.len() == self.radius.len()
+            && fine(&self.half_space)
+            && self.returned.iter().all(fine)
+    }
+
+    /// Per radius and channel, the ball's return over the half-space's
+    /// (1 for a channel the half-space returns nothing of).
+    pub fn over_half_space(&self) -> Vec<[f64; 3]> {
+        self.returned
+            .iter()
+            .map(|r| {
+                [0, 1, 2].map(|c| {
+                    let ratio = r[c] / self.half_space[c];
+                    if ratio.is_finite() { ratio } else { 1.0 }
+                })
+            })
+            .collect()
+    }
+}
+
+/// The totals of `layer` (its own thickness ignored) for balls of each of
+/// `radius` (mm) and for the half-space, read from the cache folder when
+/// walked before.
+pub fn ball_totals(layer: &Layer, radius: &[f64]) -> BallTotals {
+    let layer = Layer {
+        thickness_mm: None,
+        ..layer.clone()
+    };
+    let key = format!(
+        "sssbake {} ball totals format {FORMAT}\nlayer {layer:?}\nwalks {WALKS} seed {SEED} \
+         max_events {MAX_EVENTS}\nradius {radius:?}",
+        env!("CARGO_PKG_VERSION"),
+    );
+    cached(
+        cache_dir().as_deref(),
+        "ball",
+        key,
+        BallTotals::is_sound,
+        || walk_totals(&layer, radius),
+    )
+}
+
+fn walk_totals(layer: &Layer, radius: &[f64]) -> BallTotals {
+    let material = Material {
+        name: String::new(),
+        optics: Optics::Layers(vec![layer.clone()]),
+        coat_ior: None,
+        roughness: 0.0,
+        top_layer: Default::default(),
+    };
+    // One layer with coefficients always makes a medium.
+    let Ok(medium) = WalkMedium::of_material(&material) else {
+        return BallTotals {
+            half_space: [0.0; 3],
+            radius: radius.to_vec(),
+            returned: vec![[0.0; 3]; radius.len()],
+        };
+    };
+    let half_space = [0, 1, 2].map(|c| returned(&HalfSpace, Vec3::ZERO, &medium, c));
+    let returned = radius
+        .par_iter()
+        .map(|&r| {
+            let ball = Ball { radius: r };
+            let pole = Vec3::new(0.0, 0.0, r as f32);
+            [0, 1, 2].map(|c| returned(&ball, pole, &medium, c))
+        })
+        .collect();
+    BallTotals {
+        half_space,
+        radius: radius.to_vec(),
+        returned,
+    }
+}
+
+/// The share of a pencil beam entering at `top` (a point of the surface
+/// whose outward normal is +z), straight down, that leaves `shape`, in
+/// channel `c`.
+fn returned<C: Confinement>(shape: &C, top: Vec3, medium: &WalkMedium, c: usize) -> f64 {
+    let channel: &ChannelMedium = &medium.channels[c];
+    let start = WalkStart {
+        position: top,
+        direction: -Vec3::Z,
+        triangle: 0,
+    };
+    let left: f64 = (0..WALKS)
+        .into_par_iter()
+        .map(|k| {
+            let mut rng = Rng::new(SEED, k);
+            match walk(shape, channel, medium.boundary, start, MAX_EVENTS, &mut rng).ending {
+                Ending::Left { weight, .. } => weight,
+                _ => 0.0,
+            }
+        })
+        .sum();
+    (left / WALKS as f64).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::transport::slab_totals::slab_totals;
+
+    fn skin() -> Layer {
+        Layer::semi_infinite([0.032, 0.17, 0.48], [0.74, 0.88, 1.01], 1.0)
+    }
+
+    #[test]
+    fn the_half_space_returns_what_the_slab_monte_carlo_does() {
+        let layer = skin();
+        let walked = walk_totals(&layer, &[]).half_space;
+        let simulated = slab_totals(&layer, &[]).semi_infinite;
+        for c in 0..3 {
+            let (w, s) = (walked[c], simulated[c]);
+            assert!(
+                (w - s).abs() < 0.02 * s + 0.005,
+                "channel {c}: walk {w}, slab {s}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_small_ball_returns_more_than_a_half_space_and_a_large_one_as_much() {
+        let totals = walk_totals(&skin(), &[1.0, 4.0, 1000.0]);
+        let ratio = totals.over_half_space();
+        for (c, returned) in totals.returned[0].iter().enumerate() {
+            let (small, mid, large) = (ratio[0][c], ratio[1][c], ratio[2][c]);
+            assert!(small > mid && mid > 1.0, "channel {c}: {small} {mid}");
+            assert!((large - 1.0).abs() < 0.01, "channel {c}: {large}");
+            // Nothing made: a ball returns at most what entered.
+            assert!(*returned <= 1.0);
+        }
+        // Red goes deepest, so its balls gain the most.
+        assert!(ratio[1][0] > ratio[1][2], "{:?}", ratio[1]);
+    }
+
+    #[test]
+    fn extreme_media_keep_every_total_a_share_of_what_entered() {
+        for (sigma_a, sigma_s) in [
+            ([0.0; 3], [1.0; 3]),
+            ([1.0; 3], [1e-9; 3]),
+            ([1e-6, 1e-3, 1.0], [1e4; 3]),
+            ([1e3; 3], [1e3; 3]),
+        ] {
+            let layer = Layer::semi_infinite(sigma_a, sigma_s, 1.4);
+            let totals = walk_totals(&layer, &[1e-3, 1.0, 1e3]);
+            assert!(totals.is_sound(), "{sigma_a:?} {sigma_s:?}: {totals:?}");
+            for ratio in totals.over_half_space().iter().flatten() {
+                assert!(ratio.is_finite() && *ratio >= 0.0, "{totals:?}");
+            }
+        }
+    }
+}
