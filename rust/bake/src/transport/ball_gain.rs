@@ -22,9 +22,9 @@ use crate::surface::curvature::mean_curvature;
 use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::ball_totals::ball_totals;
+use crate::transport::kernel::Kernel;
 use crate::transport::local_slab::{LocalSlab, MAX_GAIN};
 use sssbake_profile::material::Layer;
-use sssbake_profile::profile::Profile;
 
 /// Rungs of the radius ladder.
 const RUNGS: usize = 12;
@@ -48,10 +48,10 @@ pub struct BallGain {
 
 impl BallGain {
     /// The balls of `layer` (the slab's semi-infinite layer), on a
-    /// ladder of radii set by `profile` (the layer's, gathered within
-    /// `d_max` mm).
-    pub fn of(profile: &dyn Profile, d_max: f64, layer: &Layer) -> Self {
-        let scale = [0, 1, 2].map(|c| half_light_radius(profile, c, d_max));
+    /// ladder of radii set by `kernel` (the layer's profile, tabulated).
+    pub fn of(kernel: &Kernel, layer: &Layer) -> Self {
+        // Each channel's half-light radius within the reach.
+        let scale = [0, 1, 2].map(|c| f64::from(kernel.sample_radius(c, 0.5)));
         let (shortest, longest) = scale.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &s| {
             (lo.min(s), hi.max(s))
         });
@@ -147,25 +147,6 @@ impl BallGain {
         }
         gains
     }
-}
-
-/// The radius (mm) within which channel `c` of `profile` returns half
-/// its light within `d_max`, by bisection.
-fn half_light_radius(profile: &dyn Profile, c: usize, d_max: f64) -> f64 {
-    let half = 0.5 * profile.enclosed_reflectance(d_max)[c];
-    if !(half > 0.0 && d_max.is_finite()) {
-        return 0.0;
-    }
-    let (mut lo, mut hi) = (0.0, d_max);
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if profile.enclosed_reflectance(mid)[c] < half {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
 }
 
 #[cfg(test)]

@@ -171,7 +171,7 @@ impl LocalSlab {
             within_reach,
             thickness,
             shares,
-            ball: BallGain::of(scattering.profile.as_ref(), d_max, layer),
+            ball: BallGain::of(&scattering.kernel, layer),
         })
     }
 
