@@ -54,7 +54,9 @@ def test_auto_holds_the_head_to_its_tolerance_without_the_exact_sum(sssbake, tmp
     # the threshold before the whole map, so the piloted threshold never ran whole.
     pilot = accuracy["pilot"]
     assert pilot["method"] == "octree" and pilot["texels"] >= 64
-    assert pilot["refined"] == (pilot["predicted_error"] > tolerance)
+    # It refines a little below the tolerance: the map's raised light misses by a little more.
+    assert 0.5 * tolerance < pilot["refine_above"] < tolerance
+    assert pilot["refined"] == (pilot["predicted_error"] > pilot["refine_above"])
     if pilot["refined"]:
         assert accuracy["octree_epsilon"] < pilot["octree_epsilon"]
         assert all(aside["octree_epsilon"] != pilot["octree_epsilon"] for aside in accuracy["set_aside"])

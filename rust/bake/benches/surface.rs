@@ -1,9 +1,11 @@
 //! Surface sampling at scale: rasterising a million triangles at 4096²
 //! (goal: under 2 s), relaxing a million Turk points for ten iterations
-//! (goal: under 10 s on 2 cores), and unwrapping with xatlas (time
-//! reported). Run: `cargo bench -p sssbake`.
+//! (goal: under 10 s on 2 cores), unwrapping with xatlas, and the mean
+//! curvature of 4 million texels at one scale (times reported). Run:
+//! `cargo bench -p sssbake`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use sssbake::surface::curvature::mean_curvature;
 use sssbake::surface::turk::{place_points, relax};
 use sssbake::surface::unwrap::unwrap;
 use sssbake::{Mesh, rasterize};
@@ -38,6 +40,11 @@ fn rasterisation(c: &mut Criterion) {
     let small = sphere(50, 100); // 10,000 triangles
     group.bench_function("unwrap 10k triangles with xatlas", |b| {
         b.iter(|| unwrap(black_box(&small), 1024, 4).unwrap().triangles.len())
+    });
+    let ball = sphere(200, 400);
+    let surfels = rasterize(&ball, ball.uvs.as_ref().unwrap(), 2048);
+    group.bench_function("mean curvature of 4M texels at 3 mm", |b| {
+        b.iter(|| mean_curvature(black_box(&surfels), 3.0).len())
     });
     group.finish();
 }

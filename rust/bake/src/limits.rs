@@ -122,6 +122,9 @@ pub struct ObjectCost {
     pub evaluations: f64,
     /// Walk events of its check against light (all channels).
     pub light_check: f64,
+    /// Steps finding the surface's curvature, where the corrected model
+    /// raises small convex parts (all channels).
+    pub curvature: f64,
 }
 
 impl ObjectCost {
@@ -204,7 +207,8 @@ impl ObjectCost {
 pub struct Cost {
     /// Peak memory, bytes: every layout, and the largest object's bake.
     pub memory_bytes: f64,
-    /// Shadow rays, kernel evaluations and probes.
+    /// Shadow rays, kernel evaluations and probes, walk events and the
+    /// curvature's steps.
     pub evaluations: f64,
 }
 
@@ -217,7 +221,7 @@ impl Cost {
             memory_bytes: BASE_BYTES as f64 + layouts + largest,
             evaluations: objects
                 .iter()
-                .map(|o| o.rays + o.evaluations + o.light_check)
+                .map(|o| o.rays + o.evaluations + o.light_check + o.curvature)
                 .sum(),
         }
     }

@@ -353,7 +353,7 @@ impl Prepared {
     /// and summed directly at the texels no fit reaches (a part smaller
     /// than the spacing). Where the gains from the fit miss those from
     /// direct sums at random texels by more than [`FIT_TOLERANCE`], the
-    /// subset is taken twice as dense, down to every texel. The error
+    /// stride is halved (rounding up), down to every texel. The error
     /// estimate measures them against exact sums at its texels, as it
     /// measures the map. With the sums, the stride they were taken at.
     fn uniform_sums(
@@ -378,7 +378,10 @@ impl Prepared {
                 if probed.gains_missed(slab, self.opposites(), &fitted, across) <= FIT_TOLERANCE {
                     return Ok((fitted, stride));
                 }
-                stride /= 2;
+                // Halved, rounding up: 3 texels apart tries 2 before every
+                // texel (skin1 on the head at 1024²: 1.2% missed at 3,
+                // 0.8% at 2).
+                stride = stride.div_ceil(2);
             }
         }
         Ok((integrator.integrate(&lit, scattering, control)?.exitance, 1))

@@ -14,8 +14,10 @@ use crate::request::BakeRequest;
 use crate::request::Lighting;
 use crate::scattering::Scattering;
 use crate::scene::Scene;
+use crate::surface::medium::planned_rays;
 use crate::surface::topology::{TopologyReport, topology_report};
 use crate::transport::Method;
+use crate::transport::ball_gain::BallGain;
 use crate::transport::choice::{Choice, avoid_thin_parts, choose, neighbours};
 use crate::transport::integrator::Work;
 use crate::transport::light_check;
@@ -400,9 +402,23 @@ fn plan_object(
     } else {
         0
     };
+    // The corrected model raises small convex parts by the curvature, for
+    // an integrator of the profile whose kernel is not oblique.
+    let raises = LocalSlab::applies(&scattering)
+        && scattering.oblique.is_none()
+        && runs.is_some_and(|i| i.carries().profile);
+    let curvature = if raises {
+        BallGain::planned_steps(&scattering.kernel, texels as f64, texel_area_mm2)
+    } else {
+        0.0
+    };
+    let topology = topology_report(&object.mesh);
     let cost = ObjectCost {
         light_check,
-        rays: cost.rays + gathering_rays(texels, bounces),
+        curvature,
+        rays: cost.rays
+            + gathering_rays(texels, bounces)
+            + planned_rays(topology.parts, object.mesh.triangles.len()),
         memory_bytes: cost.memory_bytes + gathering_bytes(texels, bounces),
         ..cost
     };
@@ -412,7 +428,7 @@ fn plan_object(
         file_stem: file_stem.to_string(),
         triangles: object.mesh.triangles.len(),
         area_mm2: object.mesh.area(),
-        topology: describe(&topology_report(&object.mesh)),
+        topology: describe(&topology),
         uvs: UvPlan {
             verdict: uvs.verdict,
             unwrap: uvs.unwrap,
@@ -652,7 +668,7 @@ impl fmt::Display for Plan {
         writeln!(f, "lights: {lights}")?;
         writeln!(
             f,
-            "cost: about {} of memory and {:.1e} shadow rays and kernel evaluations \
+            "cost: about {} of memory and {:.1e} rays, kernel evaluations and other steps \
              (limits {} and {:.0e})",
             bytes_text(self.cost.memory_bytes),
             self.cost.evaluations,
@@ -730,6 +746,13 @@ impl ObjectPlan {
         match &self.integrator {
             Some(i) => writeln!(f, "  scattering: {}: {}", i.method, i.reason)?,
             None => writeln!(f, "  scattering: no, {}", self.scattering.reason)?,
+        }
+        if self.cost.curvature > 0.0 {
+            writeln!(
+                f,
+                "  corrected model: the curvature of convex parts, about {:.1e} steps",
+                self.cost.curvature
+            )?;
         }
         if self.cost.light_check > 0.0 {
             writeln!(

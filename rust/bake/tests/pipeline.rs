@@ -515,3 +515,28 @@ fn the_sums_under_a_unit_light_are_taken_denser_where_their_fit_misses() {
     let (first, used) = strides(Vec3::new(80.0, 80.0, 40.0), 512);
     assert!(first > 1 && used == first, "block: from {first} to {used}");
 }
+
+/// The plan counts the corrected model's own work: the curvature's steps
+/// where it raises convex parts (a profile's integrator, not the walk,
+/// which is light), growing with the texels.
+#[test]
+fn the_plan_counts_the_curvature_where_convex_parts_are_raised() {
+    let scene = scene(
+        vec![centred_square(60.0, "square")],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let skin1 = sssbake_profile::presets::preset("skin1").unwrap();
+    let cost = |resolution: u32, method: Method| {
+        let request = BakeRequest {
+            materials: MaterialAssignment::everywhere(skin1.clone(), "test"),
+            method,
+            ..request(resolution)
+        };
+        plan(&scene, &request).unwrap().objects[0].cost
+    };
+    let (small, large) = (cost(64, Method::Brute), cost(256, Method::Brute));
+    assert!(small.curvature > 0.0, "{small:?}");
+    assert!(large.curvature > small.curvature, "{small:?} {large:?}");
+    // Counted in the plan's work, which the limits bound.
+    assert_eq!(cost(128, Method::Walk).curvature, 0.0);
+}

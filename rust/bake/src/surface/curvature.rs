@@ -37,11 +37,32 @@ const PATCH: f32 = 0.35;
 /// faces do not.
 const FACING_AWAY: f32 = -0.5;
 /// The cosine between two texels' normals above which they lie on the
-/// same surface and share a curvature.
+/// same surface and one's curvature is carried to the other.
 const SAME_FACING: f32 = 0.9;
+/// The widest lattice of texels the curvature is found at, texels apart.
+const MOST_STEP: u32 = 16;
 /// The most patches an object is gathered into: past it they grow, so the
 /// work stays bounded on a large object at a short scale.
 const MOST_PATCHES: f64 = 200_000.0;
+
+/// About how many steps finding the curvature at `scale` mm takes on a
+/// surface of `area_mm2` covered by `texels` texels: each texel gathered
+/// into its patch and carried from the lattice, each patch's
+/// neighbours within the reach, and each lattice texel's patches within
+/// two sizes (0 for a scale that is not positive and finite).
+pub fn planned_steps(texels: f64, area_mm2: f64, scale: f32) -> f64 {
+    if !(scale.is_finite() && scale > 0.0 && texels > 0.0 && area_mm2 > 0.0) {
+        return 0.0;
+    }
+    let size = f64::from(PATCH * scale).max((area_mm2 / MOST_PATCHES).sqrt());
+    // A patch holds a texel at least, and meets at most every patch.
+    let patches = (area_mm2 / (size * size)).min(texels);
+    let within = |radius: f64| (std::f64::consts::PI * (radius / size).powi(2)).min(patches);
+    let texel = (area_mm2 / texels).sqrt();
+    let step = Lattice::step_for(texel as f32, size as f32);
+    let found = texels / f64::from(step * step);
+    2.0 * texels + patches * within(f64::from(REACH * scale)) + found * within(2.0 * size)
+}
 
 /// Texels gathered into one patch.
 #[derive(Clone, Copy, Debug, Default)]
@@ -98,34 +119,93 @@ pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
         });
         if weights > 0.0 { sum / weights } else { 0.0 }
     };
-    // It changes over patches, not texels: the first texel of each 2 × 2
-    // block finds it, and the others of the block take it where they lie
-    // on the same surface (same medium, facing the same way).
-    let first = |i: usize| -> Option<usize> {
-        let n = surfels.resolution.max(1);
-        let t = surfels.texel[i];
-        let (x, y) = (t % n, t / n);
-        let head = (y & !1) * n + (x & !1);
-        let j = *surfels.index.get(head as usize)? as usize;
-        let alike = j != i
-            && j < surfels.len()
-            && medium_of(surfels, j) == medium_of(surfels, i)
-            && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING;
-        alike.then_some(j)
-    };
-    let mut found: Vec<Option<f32>> = (0..surfels.len())
+    // It changes over patches, not texels: it is found on a lattice of
+    // texels up to a patch apart, and each texel between takes the
+    // bilinear mean of the four lattice texels around it where they lie
+    // on its surface (same medium, facing its way); elsewhere (a chart's
+    // edge, a crease) it finds its own.
+    let lattice = Lattice::of(surfels, size);
+    let at_lattice: Vec<f32> = (0..surfels.len())
         .into_par_iter()
-        .map(|i| match first(i) {
-            Some(_) => None,
-            None => Some(smooth_mean(i)),
+        .map(|i| {
+            if lattice.holds(surfels.texel[i]) {
+                smooth_mean(i)
+            } else {
+                f32::NAN
+            }
         })
         .collect();
-    for i in 0..found.len() {
-        if found[i].is_none() {
-            found[i] = first(i).and_then(|j| found[j]);
+    (0..surfels.len())
+        .into_par_iter()
+        .map(|i| {
+            let found = at_lattice[i];
+            if !found.is_nan() {
+                return found;
+            }
+            lattice
+                .between(surfels, i, &at_lattice)
+                .unwrap_or_else(|| smooth_mean(i))
+        })
+        .collect()
+}
+
+/// The texels a curvature is found at: every `step`-th along u and v.
+struct Lattice {
+    step: u32,
+    resolution: u32,
+}
+
+impl Lattice {
+    /// The widest lattice, in powers of two from 2 up to [`MOST_STEP`]
+    /// texels, whose cells are at most a patch of `size` mm across.
+    fn of(surfels: &TexelSurfels, size: f32) -> Self {
+        let texel = (surfels.total_area() / surfels.len().max(1) as f64).sqrt() as f32;
+        Lattice {
+            step: Self::step_for(texel, size),
+            resolution: surfels.resolution.max(1),
         }
     }
-    found.into_iter().map(|h| h.unwrap_or(0.0)).collect()
+
+    /// The step for texels `texel` mm across and patches of `size` mm.
+    fn step_for(texel: f32, size: f32) -> u32 {
+        let mut step = 2;
+        while step < MOST_STEP && (2 * step) as f32 * texel <= size {
+            step *= 2;
+        }
+        step
+    }
+
+    fn holds(&self, texel: u32) -> bool {
+        let (x, y) = (texel % self.resolution, texel / self.resolution);
+        x.is_multiple_of(self.step) && y.is_multiple_of(self.step)
+    }
+
+    /// The bilinear mean of `values` at the four lattice texels around
+    /// surfel `i`, where all four lie on its surface.
+    fn between(&self, surfels: &TexelSurfels, i: usize, values: &[f32]) -> Option<f32> {
+        let n = self.resolution;
+        let t = surfels.texel[i];
+        let (x, y) = (t % n, t / n);
+        let (x0, y0) = (x - x % self.step, y - y % self.step);
+        let (x1, y1) = (x0 + self.step, y0 + self.step);
+        if x1 >= n || y1 >= n {
+            return None;
+        }
+        let corner = |cx: u32, cy: u32| -> Option<f32> {
+            let j = *surfels.index.get((cy * n + cx) as usize)? as usize;
+            let alike = j < surfels.len()
+                && medium_of(surfels, j) == medium_of(surfels, i)
+                && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING;
+            alike.then(|| values[j]).filter(|v| !v.is_nan())
+        };
+        let (fx, fy) = (
+            (x - x0) as f32 / self.step as f32,
+            (y - y0) as f32 / self.step as f32,
+        );
+        let below = corner(x0, y0)? * (1.0 - fx) + corner(x1, y0)? * fx;
+        let above = corner(x0, y1)? * (1.0 - fx) + corner(x1, y1)? * fx;
+        Some(below * (1.0 - fy) + above * fy)
+    }
 }
 
 fn medium_of(surfels: &TexelSurfels, i: usize) -> u32 {

@@ -38,6 +38,15 @@ const JOINING_SHARE: f64 = 0.01;
 /// cast.
 const JOINING_RAYS: usize = 2;
 
+/// At most how many rays [`medium_pieces`] casts for a mesh of `pieces`
+/// pieces and `triangles` triangles (none for one piece).
+pub fn planned_rays(pieces: usize, triangles: usize) -> f64 {
+    if pieces <= 1 {
+        return 0.0;
+    }
+    (triangles.min(pieces.saturating_mul(PROBED_TRIANGLES)) as f64) * f64::from(RAYS_PER_TRIANGLE)
+}
+
 /// The medium each triangle belongs to (0, 1, … in the order of each
 /// medium's first triangle): the pieces of [`triangle_pieces`], joined
 /// where rays cast into one meet another (see the module's doc). Light
@@ -107,4 +116,21 @@ fn meetings_from(
         .collect();
     joined.sort_unstable();
     joined
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rays_are_planned_only_for_several_pieces_and_bounded_per_piece() {
+        assert_eq!(planned_rays(1, 10_000), 0.0);
+        assert_eq!(planned_rays(2, 10), 40.0);
+        // Each piece casts from at most PROBED_TRIANGLES of its triangles.
+        assert_eq!(planned_rays(3, 1_000_000), 3.0 * 1024.0 * 4.0);
+        assert_eq!(
+            planned_rays(usize::MAX, usize::MAX),
+            usize::MAX as f64 * 4.0
+        );
+    }
 }

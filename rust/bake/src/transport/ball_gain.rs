@@ -18,7 +18,7 @@
 //! in H, with B = 1 at H = 0 (past the largest ball B − 1 falls as 1/r,
 //! as the first term of a curvature expansion does).
 
-use crate::surface::curvature::mean_curvature;
+use crate::surface::curvature::{mean_curvature, planned_steps};
 use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::ball_totals::ball_totals;
@@ -50,8 +50,7 @@ impl BallGain {
     /// The balls of `layer` (the slab's semi-infinite layer), on a
     /// ladder of radii set by `kernel` (the layer's profile, tabulated).
     pub fn of(kernel: &Kernel, layer: &Layer) -> Self {
-        // Each channel's half-light radius within the reach.
-        let scale = [0, 1, 2].map(|c| f64::from(kernel.sample_radius(c, 0.5)));
+        let scale = Self::scales(kernel).map(f64::from);
         let (shortest, longest) = scale.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &s| {
             (lo.min(s), hi.max(s))
         });
@@ -76,6 +75,22 @@ impl BallGain {
             curvature,
             light,
         }
+    }
+
+    /// The scale each channel's curvature is read at: its half-light
+    /// radius within the reach of `kernel`, mm.
+    fn scales(kernel: &Kernel) -> [f32; 3] {
+        [0, 1, 2].map(|c| kernel.sample_radius(c, 0.5))
+    }
+
+    /// About how many steps finding the curvature in every channel takes
+    /// for `texels` texels covering `area_mm2` under `kernel`
+    /// ([`crate::surface::curvature::planned_steps`]).
+    pub fn planned_steps(kernel: &Kernel, texels: f64, area_mm2: f64) -> f64 {
+        Self::scales(kernel)
+            .iter()
+            .map(|&s| planned_steps(texels, area_mm2, s))
+            .sum()
     }
 
     /// No gain anywhere.
