@@ -54,7 +54,7 @@ pub fn planned_steps(texels: f64, area_mm2: f64, scale: f32) -> f64 {
     if !(scale.is_finite() && scale > 0.0 && texels > 0.0 && area_mm2 > 0.0) {
         return 0.0;
     }
-    let size = f64::from(PATCH * scale).max((area_mm2 / MOST_PATCHES).sqrt());
+    let size = f64::from(patch_size(scale, area_mm2));
     // A patch holds a texel at least, and meets at most every patch.
     let patches = (area_mm2 / (size * size)).min(texels);
     let within = |radius: f64| (std::f64::consts::PI * (radius / size).powi(2)).min(patches);
@@ -62,6 +62,12 @@ pub fn planned_steps(texels: f64, area_mm2: f64, scale: f32) -> f64 {
     let step = Lattice::step_for(texel as f32, size as f32);
     let found = texels / f64::from(step * step);
     2.0 * texels + patches * within(f64::from(REACH * scale)) + found * within(2.0 * size)
+}
+
+/// A patch's size, mm, at `scale` mm on a surface of `area_mm2`: a share
+/// of the scale, grown where the patches would pass [`MOST_PATCHES`].
+fn patch_size(scale: f32, area_mm2: f64) -> f32 {
+    (PATCH * scale).max((area_mm2 / MOST_PATCHES).sqrt() as f32)
 }
 
 /// Texels gathered into one patch.
@@ -79,7 +85,7 @@ pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
     if !(scale.is_finite() && scale > 0.0) || surfels.is_empty() {
         return vec![0.0; surfels.len()];
     }
-    let size = (PATCH * scale).max((surfels.total_area() / MOST_PATCHES).sqrt() as f32);
+    let size = patch_size(scale, surfels.total_area());
     let patches = patches(surfels, size);
     let positions: Vec<Vec3> = patches.iter().map(|p| p.position).collect();
     let reach = REACH * scale;
