@@ -154,7 +154,8 @@ pub fn error_against_time(
             true,
             &control,
         )?;
-        let reference = prepared.integrate(scattering, &BruteIntegrator, &control)?;
+        let reference =
+            prepared.integrate(scattering, &BruteIntegrator, request.tolerance, &control)?;
         log(format!(
             "{}: brute over {} texels in {:.2} s (lit in {:.2} s)",
             object.name,
@@ -181,7 +182,8 @@ pub fn error_against_time(
                 .map(move |(setting, rung)| (method, setting, rung, own_name.clone()))
         });
         for (method, setting, integrator, own) in rungs {
-            let result = prepared.integrate(scattering, integrator.as_ref(), &control)?;
+            let result =
+                prepared.integrate(scattering, integrator.as_ref(), request.tolerance, &control)?;
             let (rmse, max_error) = relative_errors(&result.exitance, &reference.exitance);
             // The run with the request's own settings gets a map of where it
             // errs (an integrator's `Debug` form names it with its settings).

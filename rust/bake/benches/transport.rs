@@ -12,6 +12,7 @@ use sssbake::materials::MaterialAssignment;
 use sssbake::pipeline::prepare;
 use sssbake::prepared::Prepared;
 use sssbake::rays::RayScene;
+use sssbake::request::DEFAULT_TOLERANCE;
 use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::importance::{self, Surface};
 use sssbake::transport::integrator::IntegratorSettings;
@@ -174,7 +175,7 @@ fn main() {
         ),
     ] {
         let result = prepared
-            .integrate(skin, settings.get(method), &control)
+            .integrate(skin, settings.get(method), DEFAULT_TOLERANCE, &control)
             .unwrap();
         let picked: Vec<[f32; 3]> = subset.iter().map(|&s| result.exitance[s]).collect();
         report(name, result.seconds, &picked);

@@ -4,6 +4,7 @@
 
 use crate::control::Control;
 use crate::error::Error;
+use crate::fitted_map::MapFit;
 use crate::image::Image;
 use crate::maps::{Output, margin_fill, render};
 use crate::pipeline::prepare;
@@ -115,6 +116,11 @@ pub struct Accuracy {
     /// materials it does not apply to (layered, measured, Stam).
     #[serde(default)]
     pub corrected: Option<Corrected>,
+    /// How the map was carried from a lattice of texels
+    /// ([`crate::fitted_map`]); `None` for a method that integrates the
+    /// whole map at once.
+    #[serde(default)]
+    pub fit: Option<MapFit>,
 }
 
 /// What the corrected model did to one object's profile sums.
@@ -226,7 +232,12 @@ fn scatter(
     seconds += pilot.map_or(0.0, |p| p.seconds);
     loop {
         let start = Instant::now();
-        let integration = prepared.integrate(scattering, integrators.get(method), control)?;
+        let integration = prepared.integrate(
+            scattering,
+            integrators.get(method),
+            request.tolerance,
+            control,
+        )?;
         let estimate = if method == Method::Brute {
             ErrorEstimate {
                 relative_rmse: 0.0,
@@ -322,6 +333,7 @@ fn scatter(
                         light,
                         light_unchecked,
                         corrected,
+                        fit: integration.fit,
                     },
                 });
             }
@@ -605,6 +617,16 @@ impl fmt::Display for Summary {
                         at_epsilon(aside.octree_epsilon),
                         100.0 * aside.estimated_error,
                         aside.seconds
+                    )?;
+                }
+                if let Some(fit) = &a.fit.filter(|fit| fit.step > 1) {
+                    writeln!(
+                        f,
+                        "{}: summed whole on a lattice {} texels apart along u and v and carried between, {:.2}% from its own sums at {} texels",
+                        p.name,
+                        fit.step,
+                        100.0 * fit.missed,
+                        fit.probed
                     )?;
                 }
                 if a.kernel != ExitanceKernel::Radial {

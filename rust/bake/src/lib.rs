@@ -79,6 +79,7 @@ pub mod control;
 pub mod empirical_cache;
 pub mod error;
 pub mod fast_hash;
+pub mod fitted_map;
 pub mod image;
 pub mod irradiance;
 pub mod layout;

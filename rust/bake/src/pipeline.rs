@@ -5,6 +5,7 @@
 
 use crate::control::Control;
 use crate::error::Error;
+use crate::fitted_map::{Carrier, MapFit, first_step, fitted_map};
 use crate::irradiance::bounce::interreflected;
 use crate::irradiance::emitters::Emitter;
 use crate::irradiance::entry::EntryTransmittance;
@@ -16,10 +17,9 @@ use crate::rays::RayScene;
 use crate::request::{BakeRequest, Lighting};
 use crate::scattering::Scattering;
 use crate::scene::{LightKind, Scene};
-use crate::surface::gathering::{Spread, every_nth_texel};
 use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
-use crate::transport::integrator::Integrator;
+use crate::transport::integrator::{Integrated, Integrator, Summer};
 use crate::transport::local_slab::{LocalSlab, MAX_GAIN, RAISED};
 use crate::transport::verify::pick;
 use std::collections::HashMap;
@@ -93,28 +93,33 @@ impl Probed {
 }
 
 /// The most texels apart the sums under a unit light are taken: the
-/// head's map in its own skin at 1024² moves by 0.08% (relative RMSE; the
-/// 99.9th percentile 0.3% of the map's peak) from its sums at every texel.
-const MOST_UNIFORM_STRIDE: u32 = 4;
+/// head's map in its own skin at 1024² moved by 0.08% (relative RMSE; the
+/// 99.9th percentile 0.3% of the map's peak) from its sums at every texel
+/// at 4 apart; in skin1 at 2048² by 0.01% from 4 apart at 6.
+const MOST_UNIFORM_STRIDE: u32 = 8;
 
 /// Every how many texels the sums under a unit light are taken: twice the
 /// radius holding half the profile's light in its narrowest channel, in
 /// texels, so the fit between them follows how the sums fall toward a
 /// rim; 1 (every texel) for a profile about a texel wide.
 pub fn uniform_stride(scattering: &Scattering, surfels: &TexelSurfels) -> u32 {
-    let area: f64 = surfels.area.iter().map(|&a| f64::from(a.max(0.0))).sum();
-    // The mean texel's side and the half-light radius, mm.
-    let texel = (area / surfels.len().max(1) as f64).sqrt();
+    match half_light_texels(scattering, surfels) {
+        Some(half) => ((2.0 * half).floor() as u32).clamp(1, MOST_UNIFORM_STRIDE),
+        None => 1,
+    }
+}
+
+/// The radius holding half the profile's light in its narrowest channel,
+/// in mean texels; `None` for a profile or a layout without one.
+pub fn half_light_texels(scattering: &Scattering, surfels: &TexelSurfels) -> Option<f64> {
+    let texel = surfels.mean_side();
     let half = scattering
         .profile
         .d_max(0.5)
         .into_iter()
         .filter(|r| *r > 0.0)
         .fold(f64::INFINITY, f64::min);
-    if !(texel > 0.0 && half.is_finite()) {
-        return 1;
-    }
-    ((2.0 * half / texel).floor() as u32).clamp(1, MOST_UNIFORM_STRIDE)
+    (texel > 0.0 && half.is_finite()).then(|| half / texel)
 }
 
 /// Lights object `index` of `scene` laid out as `layout`: the irradiance
@@ -248,6 +253,9 @@ pub struct Integration {
     pub sources: usize,
     /// The walk's noise and dropped weight, when the walk integrated.
     pub walk: Option<crate::transport::walk::WalkNoise>,
+    /// How the map was carried from a lattice of texels, when the
+    /// integrator sums at chosen texels.
+    pub fit: Option<MapFit>,
     /// The light entering as raised where the surface within the
     /// profile's reach ends ([`crate::transport::local_slab`]), when it was.
     pub raised: Option<Arc<Raised>>,
@@ -348,10 +356,10 @@ impl Prepared {
     /// Each surfel's sum of the kernel's weights over the surface: the
     /// integrator's sums under a unit light. They change over the profile's
     /// spread, not from texel to texel, so where the integrator can sum at
-    /// some texels alone ([`Integrator::sums_at`]) they are summed at one
-    /// texel in [`uniform_stride`]² (a regular subset) and fitted between,
-    /// and summed directly at the texels no fit reaches (a part smaller
-    /// than the spacing). Where the gains from the fit miss those from
+    /// some texels alone ([`Integrator::summer`]) they are summed on a
+    /// lattice of [`uniform_stride`] texels and carried bilinearly between
+    /// ([`Carrier::whole`]; from finer lattices where a texel lacks four
+    /// corners on its surface, down to its own sum). Where the gains from the fit miss those from
     /// direct sums at random texels by more than [`FIT_TOLERANCE`], the
     /// stride is halved (rounding up), down to every texel. The error
     /// estimate measures them against exact sums at its texels, as it
@@ -366,15 +374,14 @@ impl Prepared {
         let lit = self.uniformly_lit();
         let mut stride = uniform_stride(scattering, &self.surfels);
         if stride > 1
-            && let Some(probed) = self.probed_sums(integrator, scattering, &lit, slab, control)?
+            && let Some(summer) = integrator.summer(&lit, scattering)
         {
+            let probed = self.probed_sums(&*summer, slab, control)?;
             let across = integrator.carries().across;
+            let all: Vec<usize> = (0..self.surfels.len()).collect();
+            let mut carrier = Carrier::whole(&lit, &*summer);
             while stride > 1 {
-                let Some(fitted) =
-                    self.fitted_sums(integrator, scattering, &lit, stride, control)?
-                else {
-                    break;
-                };
+                let fitted = carrier.at(&all, stride, control)?;
                 if probed.gains_missed(slab, self.opposites(), &fitted, across) <= FIT_TOLERANCE {
                     return Ok((fitted, stride));
                 }
@@ -383,76 +390,40 @@ impl Prepared {
                 // 0.8% at 2).
                 stride = stride.div_ceil(2);
             }
+            return Ok((carrier.at(&all, 1, control)?, 1));
         }
         Ok((integrator.integrate(&lit, scattering, control)?.exitance, 1))
     }
 
     /// The sums under a unit light at one texel in [`FIT_PROBED`], drawn at
-    /// random, each with the texel behind it, summed directly: what a fit
-    /// of them is checked against, at every stride it tries. `None` where
-    /// the integrator cannot sum at some texels alone.
+    /// random, each with the texel behind it, summed directly by `summer`:
+    /// what a fit of them is checked against, at every stride it tries.
     fn probed_sums(
         &self,
-        integrator: &dyn Integrator,
-        scattering: &Scattering,
-        lit: &Prepared,
+        summer: &dyn Summer,
         slab: &LocalSlab,
         control: &Control,
-    ) -> Result<Option<Probed>, Error> {
+    ) -> Result<Probed, Error> {
         let texels = self.surfels.len();
         let probes = pick(texels, (texels / FIT_PROBED).max(1), 0x756e_6974);
         let (behind, asked) = slab.behind(self.opposites(), &probes);
-        let Some(direct) = integrator.sums_at(lit, scattering, &asked, control)? else {
-            return Ok(None);
-        };
-        Ok(Some(Probed {
+        let direct = summer.at(&asked, control)?;
+        Ok(Probed {
             probes,
             behind,
             summed: asked.into_iter().zip(direct).collect(),
-        }))
-    }
-
-    /// The sums under a unit light summed at every `stride`-th texel along
-    /// u and v and fitted between, summed directly where no fit reaches;
-    /// `None` where the integrator cannot sum at some texels alone.
-    fn fitted_sums(
-        &self,
-        integrator: &dyn Integrator,
-        scattering: &Scattering,
-        lit: &Prepared,
-        stride: u32,
-        control: &Control,
-    ) -> Result<Option<Vec<[f32; 3]>>, Error> {
-        let gathering = every_nth_texel(&self.layout, stride);
-        let listed: Vec<usize> = gathering.iter().map(|&s| s as usize).collect();
-        let Some(sums) = integrator.sums_at(lit, scattering, &listed, control)? else {
-            return Ok(None);
-        };
-        let fitted = Spread::new(&self.layout, &gathering).fitted_to_surfels(&sums, control)?;
-        let unreached: Vec<usize> = (0..fitted.len()).filter(|&s| fitted[s].is_none()).collect();
-        // The integrator that summed the subset sums these too.
-        let direct = if unreached.is_empty() {
-            Vec::new()
-        } else {
-            integrator
-                .sums_at(lit, scattering, &unreached, control)?
-                .unwrap_or_default()
-        };
-        let mut direct = direct.into_iter();
-        Ok(Some(
-            fitted
-                .into_iter()
-                .map(|v| v.or_else(|| direct.next()).unwrap_or([0.0; 3]))
-                .collect(),
-        ))
+        })
     }
 
     /// Integrates with `integrator` under `scattering` and applies the
-    /// colour after scattering.
+    /// colour after scattering. Where the integrator sums at chosen texels,
+    /// the map is carried from a lattice of them within a share of
+    /// `tolerance` (relative RMSE; [`crate::fitted_map`]).
     pub fn integrate(
         &self,
         scattering: &Scattering,
         integrator: &dyn Integrator,
+        tolerance: f64,
         control: &Control,
     ) -> Result<Integration, Error> {
         if self.irradiance.len() != self.surfels.len() {
@@ -472,12 +443,23 @@ impl Prepared {
             Some(slab) => Some(self.raise(slab, integrator, scattering, control)?),
             None => None,
         };
-        let mut integrated = match &raised {
-            Some(raised) => {
-                integrator.integrate(&self.raised_by(&raised.halves), scattering, control)?
+        let raised_light = raised.as_ref().map(|r| self.raised_by(&r.halves));
+        let lit = raised_light.as_ref().unwrap_or(self);
+        let (mut integrated, fit) = match integrator.summer(lit, scattering) {
+            Some(summer) => {
+                let step = first_step(half_light_texels(scattering, &self.surfels));
+                let (exitance, fit) =
+                    fitted_map(lit, &*summer, &scattering.kernel, step, tolerance, control)?;
+                let integrated = Integrated {
+                    exitance,
+                    sources: self.surfels.len(),
+                    walk: None,
+                };
+                (integrated, Some(fit))
             }
-            None => integrator.integrate(self, scattering, control)?,
+            None => (integrator.integrate(lit, scattering, control)?, None),
         };
+        drop(raised_light);
         if let Some(slab) = slab {
             integrated.exitance =
                 slab.correct_all(self.opposites(), &integrated.exitance, summed_across);
@@ -495,6 +477,7 @@ impl Prepared {
             seconds: start.elapsed().as_secs_f64(),
             sources: integrated.sources,
             walk: integrated.walk,
+            fit,
             raised,
             kept,
         })

@@ -67,6 +67,10 @@ pub enum UvPolicy {
     Keep,
 }
 
+/// The relative RMSE against the exact sum `auto` holds each object to
+/// unless asked otherwise.
+pub const DEFAULT_TOLERANCE: f64 = 0.01;
+
 /// A bake as asked for.
 ///
 /// Start from [`BakeRequest::default`] and change what differs; [`crate::plan()`]
@@ -144,7 +148,7 @@ impl Default for BakeRequest {
             outputs: Output::DEFAULT.to_vec(),
             method: Method::Auto,
             integrators: IntegratorSettings::default(),
-            tolerance: 0.01,
+            tolerance: DEFAULT_TOLERANCE,
             light_check: crate::transport::light_check::DEFAULT_TEXELS,
             d_max_epsilon: D_MAX_EPSILON,
             lighting: Lighting::SceneLights,

@@ -11,6 +11,7 @@ use lit_scenes::*;
 use sssbake::Mesh;
 use sssbake::control::Control;
 use sssbake::prepared::Prepared;
+use sssbake::request::DEFAULT_TOLERANCE;
 use sssbake::scattering::Scattering;
 use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::brute::BruteIntegrator;
@@ -90,7 +91,12 @@ fn bake_and_walk(
 ) -> BakedAndWalked {
     let prepared = prepared(scene, object, resolution);
     let baked = prepared
-        .integrate(scattering, &BruteIntegrator, &Control::new())
+        .integrate(
+            scattering,
+            &BruteIntegrator,
+            DEFAULT_TOLERANCE,
+            &Control::new(),
+        )
         .unwrap()
         .exitance;
     let medium = WalkMedium::of_material(&scattering.material).unwrap();
@@ -168,7 +174,7 @@ fn the_error_estimate_holds_an_integrator_to_the_corrected_exact_sum() {
     assert!(prepared.has_thin_parts(skin.kernel.d_max));
     let control = Control::new();
     let exact = prepared
-        .integrate(&skin, &BruteIntegrator, &control)
+        .integrate(&skin, &BruteIntegrator, DEFAULT_TOLERANCE, &control)
         .unwrap();
     let own = estimate_error(
         &prepared,
@@ -183,7 +189,9 @@ fn the_error_estimate_holds_an_integrator_to_the_corrected_exact_sum() {
     .unwrap();
     assert!(own.relative_rmse < 1e-5, "{own:?}");
     let octree = OctreeIntegrator { epsilon: 2.0 };
-    let coarse = prepared.integrate(&skin, &octree, &control).unwrap();
+    let coarse = prepared
+        .integrate(&skin, &octree, DEFAULT_TOLERANCE, &control)
+        .unwrap();
     let (measured, _) = relative_errors(&coarse.exitance, &exact.exitance);
     let estimated = estimate_error(
         &prepared,
@@ -224,7 +232,7 @@ fn a_thick_body_keeps_the_half_space_at_the_level_of_light() {
     assert!(!prepared.has_thin_parts(reach));
     let control = Control::new();
     let baked = prepared
-        .integrate(&skin, &BruteIntegrator, &control)
+        .integrate(&skin, &BruteIntegrator, DEFAULT_TOLERANCE, &control)
         .unwrap()
         .exitance;
     let plain = BruteIntegrator
@@ -323,18 +331,18 @@ fn each_material_raises_its_own_light() {
     let prepared = prepared(&scene, "tile", 24);
     let control = Control::new();
     let in_skin = prepared
-        .integrate(&skin, &BruteIntegrator, &control)
+        .integrate(&skin, &BruteIntegrator, DEFAULT_TOLERANCE, &control)
         .unwrap();
     let raised_skin = in_skin.raised.clone().expect("raised under skin1");
     let in_marble = prepared
-        .integrate(&marble, &BruteIntegrator, &control)
+        .integrate(&marble, &BruteIntegrator, DEFAULT_TOLERANCE, &control)
         .unwrap();
     let raised_marble = in_marble.raised.clone().expect("raised under marble");
     assert!(raised_skin.count > 0 && raised_marble.count > 0);
     assert_ne!(raised_skin.halves, raised_marble.halves);
     // Asked again under skin1, the bake is what it was.
     let again = prepared
-        .integrate(&skin, &BruteIntegrator, &control)
+        .integrate(&skin, &BruteIntegrator, DEFAULT_TOLERANCE, &control)
         .unwrap();
     assert_eq!(again.exitance, in_skin.exitance);
 }

@@ -84,6 +84,7 @@ fn a_fold_still_carries_some_light_between_its_rims() {
         .integrate(
             &skin,
             &sssbake::transport::brute::BruteIntegrator,
+            sssbake::request::DEFAULT_TOLERANCE,
             &Control::new(),
         )
         .unwrap()

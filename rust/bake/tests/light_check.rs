@@ -70,7 +70,12 @@ fn the_estimate_against_light_is_within_one_and_a_half_times_the_measured_distan
         let scene = scene(vec![mesh], vec![sun.clone()]);
         let prepared = prepared(&scene, name, 40);
         let baked = prepared
-            .integrate(&skin, &BruteIntegrator, &Control::new())
+            .integrate(
+                &skin,
+                &BruteIntegrator,
+                sssbake::request::DEFAULT_TOLERANCE,
+                &Control::new(),
+            )
             .unwrap()
             .exitance;
         let check = check_against_light(

@@ -9,6 +9,7 @@ use sssbake::Mesh;
 use sssbake::control::Control;
 use sssbake::image::Image;
 use sssbake::materials::MaterialAssignment;
+use sssbake::request::DEFAULT_TOLERANCE;
 use sssbake::transport::Method;
 use sssbake::transport::brute::BruteIntegrator;
 use sssbake::transport::integrator::{Integrator, IntegratorSettings};
@@ -225,13 +226,18 @@ fn a_cancelled_bake_stops_with_cancelled() {
     let skin = scattering_of("skin1", Model::Dipole);
     let settings = IntegratorSettings::default();
     for method in Method::ALL {
-        let result = prepared.integrate(&skin, settings.get(method), &control);
+        let result = prepared.integrate(&skin, settings.get(method), DEFAULT_TOLERANCE, &control);
         assert!(matches!(result, Err(Error::Cancelled)), "{method}");
     }
     // Progress reaches one when nothing stops it.
     let fresh = Control::new();
     prepared
-        .integrate(&skin, settings.get(Method::Brute), &fresh)
+        .integrate(
+            &skin,
+            settings.get(Method::Brute),
+            DEFAULT_TOLERANCE,
+            &fresh,
+        )
         .unwrap();
     assert!((fresh.fraction() - 1.0).abs() < 1e-9);
 }
@@ -482,11 +488,12 @@ fn a_rough_surface_sets_entry_and_exit_and_the_request_overrides_it() {
 }
 
 /// The sums under a unit light (where the surface ends within reach) are
-/// taken at a regular subset of texels and fitted between; where the fit
-/// misses direct sums at its check, the subset is taken denser. A 12 mm
-/// tile 3 mm thick in skin1, whose sums fall steeply toward its rims from
-/// every side, is summed more densely than it starts; an 80 mm block 40 mm
-/// thick, whose sums are flat but for its edges, keeps its first stride.
+/// taken on a lattice of texels and carried between; where the carried
+/// sums miss direct sums at its check, the lattice is taken denser. A rod
+/// 20 mm long and 2 mm across in skin1, whose sums fall steeply toward its
+/// rims from every side, is summed more densely than it starts; an 80 mm
+/// block 40 mm thick, whose sums are flat but for its edges, keeps its
+/// first stride.
 #[test]
 fn the_sums_under_a_unit_light_are_taken_denser_where_their_fit_misses() {
     let strides = |size: Vec3, resolution: u32| -> (u32, u32) {
@@ -510,8 +517,8 @@ fn the_sums_under_a_unit_light_are_taken_denser_where_their_fit_misses() {
         let accuracy = summary.objects[0].accuracy.as_ref().unwrap();
         (first, accuracy.corrected.unwrap().uniform_stride)
     };
-    let (first, used) = strides(Vec3::new(12.0, 12.0, 3.0), 128);
-    assert!(first > 1 && used < first, "tile: from {first} to {used}");
+    let (first, used) = strides(Vec3::new(20.0, 2.0, 2.0), 256);
+    assert!(first > 1 && used < first, "rod: from {first} to {used}");
     let (first, used) = strides(Vec3::new(80.0, 80.0, 40.0), 512);
     assert!(first > 1 && used == first, "block: from {first} to {used}");
 }

@@ -21,6 +21,7 @@
 //! grows with the texels and the patches, not with their product.
 
 use crate::fast_hash::FastHash;
+use crate::surface::lattice::Lattice;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::sources::Grid;
 use glam::{DVec3, IVec3, Vec3};
@@ -59,7 +60,7 @@ pub fn planned_steps(texels: f64, area_mm2: f64, scale: f32) -> f64 {
     let patches = (area_mm2 / (size * size)).min(texels);
     let within = |radius: f64| (std::f64::consts::PI * (radius / size).powi(2)).min(patches);
     let texel = (area_mm2 / texels).sqrt();
-    let step = Lattice::step_for(texel as f32, size as f32);
+    let step = step_for(texel as f32, size as f32);
     let found = texels / f64::from(step * step);
     2.0 * texels + patches * within(f64::from(REACH * scale)) + found * within(2.0 * size)
 }
@@ -130,7 +131,7 @@ pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
     // bilinear mean of the four lattice texels around it where they lie
     // on its surface (same medium, facing its way); elsewhere (a chart's
     // edge, a crease) it finds its own.
-    let lattice = Lattice::of(surfels, size);
+    let lattice = lattice_of(surfels, size);
     let at_lattice: Vec<f32> = (0..surfels.len())
         .into_par_iter()
         .map(|i| {
@@ -148,70 +149,33 @@ pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
             if !found.is_nan() {
                 return found;
             }
-            lattice
-                .between(surfels, i, &at_lattice)
-                .unwrap_or_else(|| smooth_mean(i))
+            let alike = |j: usize| {
+                medium_of(surfels, j) == medium_of(surfels, i)
+                    && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING
+                    && !at_lattice[j].is_nan()
+            };
+            match lattice.corners(surfels, i, alike) {
+                Some(corners) => corners.iter().map(|&(j, w)| w * at_lattice[j]).sum(),
+                None => smooth_mean(i),
+            }
         })
         .collect()
 }
 
-/// The texels a curvature is found at: every `step`-th along u and v.
-struct Lattice {
-    step: u32,
-    resolution: u32,
+/// The widest lattice, in powers of two from 2 up to [`MOST_STEP`]
+/// texels, whose cells are at most a patch of `size` mm across.
+fn lattice_of(surfels: &TexelSurfels, size: f32) -> Lattice {
+    Lattice::new(surfels, step_for(surfels.mean_side() as f32, size))
 }
 
-impl Lattice {
-    /// The widest lattice, in powers of two from 2 up to [`MOST_STEP`]
-    /// texels, whose cells are at most a patch of `size` mm across.
-    fn of(surfels: &TexelSurfels, size: f32) -> Self {
-        let texel = (surfels.total_area() / surfels.len().max(1) as f64).sqrt() as f32;
-        Lattice {
-            step: Self::step_for(texel, size),
-            resolution: surfels.resolution.max(1),
-        }
+/// The lattice's step for texels `texel` mm across and patches of `size`
+/// mm.
+fn step_for(texel: f32, size: f32) -> u32 {
+    let mut step = 2;
+    while step < MOST_STEP && (2 * step) as f32 * texel <= size {
+        step *= 2;
     }
-
-    /// The step for texels `texel` mm across and patches of `size` mm.
-    fn step_for(texel: f32, size: f32) -> u32 {
-        let mut step = 2;
-        while step < MOST_STEP && (2 * step) as f32 * texel <= size {
-            step *= 2;
-        }
-        step
-    }
-
-    fn holds(&self, texel: u32) -> bool {
-        let (x, y) = (texel % self.resolution, texel / self.resolution);
-        x.is_multiple_of(self.step) && y.is_multiple_of(self.step)
-    }
-
-    /// The bilinear mean of `values` at the four lattice texels around
-    /// surfel `i`, where all four lie on its surface.
-    fn between(&self, surfels: &TexelSurfels, i: usize, values: &[f32]) -> Option<f32> {
-        let n = self.resolution;
-        let t = surfels.texel[i];
-        let (x, y) = (t % n, t / n);
-        let (x0, y0) = (x - x % self.step, y - y % self.step);
-        let (x1, y1) = (x0 + self.step, y0 + self.step);
-        if x1 >= n || y1 >= n {
-            return None;
-        }
-        let corner = |cx: u32, cy: u32| -> Option<f32> {
-            let j = *surfels.index.get((cy * n + cx) as usize)? as usize;
-            let alike = j < surfels.len()
-                && medium_of(surfels, j) == medium_of(surfels, i)
-                && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING;
-            alike.then(|| values[j]).filter(|v| !v.is_nan())
-        };
-        let (fx, fy) = (
-            (x - x0) as f32 / self.step as f32,
-            (y - y0) as f32 / self.step as f32,
-        );
-        let below = corner(x0, y0)? * (1.0 - fx) + corner(x1, y0)? * fx;
-        let above = corner(x0, y1)? * (1.0 - fx) + corner(x1, y1)? * fx;
-        Some(below * (1.0 - fy) + above * fy)
-    }
+    step
 }
 
 fn medium_of(surfels: &TexelSurfels, i: usize) -> u32 {

@@ -6,6 +6,7 @@
 pub mod curvature;
 pub mod dilation;
 pub mod gathering;
+pub mod lattice;
 pub mod medium;
 pub mod opposite;
 pub mod raster;

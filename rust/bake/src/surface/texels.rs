@@ -68,6 +68,12 @@ impl TexelSurfels {
     pub fn total_area(&self) -> f64 {
         self.area.iter().map(|&a| a as f64).sum()
     }
+
+    /// The side of the mean texel, mm: √(total area / surfels), 0 when
+    /// none is covered.
+    pub fn mean_side(&self) -> f64 {
+        (self.total_area().max(0.0) / self.len().max(1) as f64).sqrt()
+    }
 }
 
 /// One triangle prepared for rasterisation.

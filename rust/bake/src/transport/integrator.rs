@@ -67,6 +67,14 @@ impl Work<'_> {
     }
 }
 
+/// An integrator's sums at chosen texels of one prepared object
+/// ([`Integrator::summer`]).
+pub trait Summer: Sync {
+    /// Radiant exitance (W/m²) at the texels `listed`, in order, before
+    /// any correction.
+    fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error>;
+}
+
 /// M(x) = ∫ P(|x − x_i|) E_t(x_i) dA at every texel of a prepared object.
 /// Its `Debug` form names it with its settings (what a result found by it
 /// is kept under).
@@ -106,24 +114,24 @@ pub trait Integrator: Send + Sync + std::fmt::Debug {
         None
     }
 
-    /// Its sums at the texels `listed` alone, before any correction, where
-    /// it can find them without the whole map: exactly the sums
-    /// [`Integrator::integrate`] gives those texels with the same settings,
-    /// not a cheaper stand-in. `auto` predicts its error from them before
-    /// running it (a pilot), and the corrected model finds the sums under
-    /// a unit light from them at a subset of the texels
-    /// ([`crate::pipeline`]). `None` for a method that integrates the whole
-    /// map at once (texture-space blurs), and for the exact sum, which has
-    /// no error to predict and whose sums under a unit light stay at every
-    /// texel so that its map stays the exact sum.
-    fn sums_at(
-        &self,
-        _prepared: &Prepared,
-        _scattering: &Scattering,
-        _listed: &[usize],
-        _control: &Control,
-    ) -> Result<Option<Vec<[f32; 3]>>, Error> {
-        Ok(None)
+    /// What finds its sums at chosen texels alone, built once over
+    /// `prepared`'s light (the octree's tree, at the first texels asked
+    /// for, so making a summer costs nothing), where it can find them
+    /// without the whole map: exactly the sums [`Integrator::integrate`]
+    /// gives those texels with the same settings, not a cheaper stand-in.
+    /// `auto` predicts its error from them before running it (a pilot),
+    /// the corrected model finds the sums under a unit light from them at a
+    /// subset of the texels, and the map is fitted between a lattice of
+    /// them ([`crate::pipeline`]). `None` for a method that integrates the
+    /// whole map at once (texture-space blurs), and for the exact sum,
+    /// which has no error to predict and stays the exact sum at every
+    /// texel.
+    fn summer<'a>(
+        &'a self,
+        _prepared: &'a Prepared,
+        _scattering: &'a Scattering,
+    ) -> Option<Box<dyn Summer + 'a>> {
+        None
     }
 
     /// Itself across its settings from cheap to exact, each named as the

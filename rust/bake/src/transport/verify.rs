@@ -155,7 +155,7 @@ fn checked(texels: usize, neighbours: f64) -> usize {
 }
 
 /// The relative RMSE `integrator` would make against the exact sum,
-/// predicted before it runs: its pilot sums ([`Integrator::sums_at`]) at a
+/// predicted before it runs: its pilot sums ([`Integrator::summer`]) at a
 /// quarter of the texels the estimate checks (at least
 /// [`FEWEST_CHECKED`]), against the exact sums there. Both are the sums
 /// before the corrections, which would change both alike. `None` when the
@@ -173,9 +173,10 @@ pub fn predict_error(
         .max(FEWEST_CHECKED)
         .min(texels);
     let picked = pick(texels, count, seed);
-    let Some(got) = integrator.sums_at(prepared, scattering, &picked, control)? else {
+    let Some(summer) = integrator.summer(prepared, scattering) else {
         return Ok(None);
     };
+    let got = summer.at(&picked, control)?;
     let sources = prepared.texel_sources();
     let listed = prepared.listed(&picked);
     let (exact, _) = brute::exact_sum(prepared, scattering, &sources, listed.targets(), control)?;

@@ -8,7 +8,7 @@
 
 mod sum;
 
-pub use sum::{exact_sum, integrate};
+pub use sum::{Reach, exact_sum, integrate, sum_within};
 
 use super::Method;
 use super::integrator::{Carries, Integrated, Integrator, Work};

@@ -7,7 +7,7 @@ use crate::scattering::Scattering;
 use crate::transport::disk_kernel::{DiskKernel, split_place};
 use crate::transport::kernel::Kernel;
 use crate::transport::source_table::{Apart, SourceTable, texel_disks};
-use crate::transport::sources::{Grid, Sources, Targets};
+use crate::transport::sources::{Grid, Sources, Target, Targets};
 use crate::transport::through_medium::{may_cross_air, path_length};
 use glam::{DVec3, Vec3, Vec4};
 use rayon::prelude::*;
@@ -42,35 +42,32 @@ impl Sorted {
         Sorted { grid, table }
     }
 
-    /// Σ over sources within the kernel's reach of `p` of P·flux, `own`
-    /// being the source the target is, if any, and `piece` the piece of the
-    /// mesh it lies on (sources of other pieces send it nothing).
+    /// Σ over sources within `reach` of the target of P·flux: `own` is the
+    /// source the target is, if any, and sources on another piece of the
+    /// mesh than the target's send it nothing.
     #[inline]
-    pub fn gather(
-        &self,
-        disks: &DiskKernel,
-        p: Vec3,
-        n: Vec3,
-        own: Option<usize>,
-        piece: Option<u32>,
-    ) -> [f64; 3] {
-        let own = self.table.rank_of(own);
-        let reach = disks.kernel().d_max;
+    pub fn gather(&self, disks: &DiskKernel, target: Target, reach: Reach) -> [f64; 3] {
+        // The target's own source by its place in the table.
+        let target = Target {
+            own: self.table.rank_of(target.own),
+            ..target
+        };
         let reflects_only = !disks.kernel().transmits();
         let mut sum = DVec3::ZERO;
-        self.grid.for_each_run(p, reach, |run| {
-            let mut start = run.start;
-            while start < run.end {
-                let block = start..(start + BLOCK).min(run.end);
-                start = block.end;
-                let part = if reflects_only {
-                    self.reflected_block(disks, block, p, n, own, piece)
-                } else {
-                    self.general_block(disks, block, p, n, own, piece)
-                };
-                sum += part.truncate().as_dvec3();
-            }
-        });
+        self.grid
+            .for_each_run(target.position, reach.radius, |run| {
+                let mut start = run.start;
+                while start < run.end {
+                    let block = start..(start + BLOCK).min(run.end);
+                    start = block.end;
+                    let part = if reflects_only {
+                        self.reflected_block(disks, block, target, reach)
+                    } else {
+                        self.general_block(disks, block, target, reach)
+                    };
+                    sum += part.truncate().as_dvec3();
+                }
+            });
         sum.to_array()
     }
 
@@ -82,15 +79,14 @@ impl Sorted {
         &self,
         disks: &DiskKernel,
         block: Range<usize>,
-        p: Vec3,
-        n: Vec3,
-        own: Option<usize>,
-        piece: Option<u32>,
+        target: Target,
+        reach: Reach,
     ) -> Vec4 {
+        let (p, n, piece) = (target.position, target.normal, target.piece);
         let table = &self.table;
-        let reach = disks.kernel().d_max;
+        let (tapered, reach) = (reach.tapered, reach.radius);
         let reach2 = reach * reach;
-        let own = own.unwrap_or(usize::MAX);
+        let own = target.own.unwrap_or(usize::MAX);
         let (xs, ys, zs) = (
             &table.x[block.clone()],
             &table.y[block.clone()],
@@ -100,6 +96,7 @@ impl Sorted {
         let mut squared = [0.0f32; BLOCK];
         let mut entry = [0u32; BLOCK];
         let mut fraction = [0.0f32; BLOCK];
+        let mut taper = [1.0f32; BLOCK];
         // 0: beyond the reach, 1: one read, 2: the own texel or the near
         // field, weighed by `contribution4`.
         let mut kind = [0u8; BLOCK];
@@ -115,6 +112,9 @@ impl Sorted {
                 straight
             };
             squared[k] = d2;
+            if tapered {
+                taper[k] = Reach::taper(d / reach);
+            }
             (entry[k], fraction[k]) = split_place(disks.place(d));
             let within = d2 <= reach2 && d <= reach && table.joins(j, piece);
             let special = d2 < near2[k] || j == own;
@@ -133,17 +133,21 @@ impl Sorted {
         if table.tabulated {
             for &k in &far[..far_count] {
                 let (k, j) = (k as usize, block.start + k as usize);
-                sum += disks.reflected_entry(table.slot[j], entry[k], fraction[k]) * table.flux[j];
+                sum += disks.reflected_entry(table.slot[j], entry[k], fraction[k])
+                    * table.flux[j]
+                    * taper[k];
             }
         } else {
             for &k in &far[..far_count] {
                 let (k, j) = (k as usize, block.start + k as usize);
-                sum += table.contribution4(disks, j, p, n, Apart::unknown(squared[k]), Some(own));
+                sum += table.contribution4(disks, j, p, n, Apart::unknown(squared[k]), Some(own))
+                    * taper[k];
             }
         }
         for &k in &near[..near_count] {
             let (k, j) = (k as usize, block.start + k as usize);
-            sum += table.contribution4(disks, j, p, n, Apart::unknown(squared[k]), Some(own));
+            sum += table.contribution4(disks, j, p, n, Apart::unknown(squared[k]), Some(own))
+                * taper[k];
         }
         sum
     }
@@ -153,23 +157,50 @@ impl Sorted {
         &self,
         disks: &DiskKernel,
         block: Range<usize>,
-        p: Vec3,
-        n: Vec3,
-        own: Option<usize>,
-        piece: Option<u32>,
+        target: Target,
+        reach: Reach,
     ) -> Vec4 {
-        let reach = disks.kernel().d_max;
+        let (p, n, own, piece) = (target.position, target.normal, target.own, target.piece);
         let mut sum = Vec4::ZERO;
+        let radius = reach.radius;
         for j in block {
             let d2 = (self.table.position[j] - p).length_squared();
-            if d2 > reach * reach || !self.table.joins(j, piece) {
+            if d2 > radius * radius || !self.table.joins(j, piece) {
                 continue;
             }
+            let taper = if reach.tapered {
+                Reach::taper(d2.sqrt() / radius)
+            } else {
+                1.0
+            };
             sum += self
                 .table
-                .contribution4(disks, j, p, n, Apart::unknown(d2), own);
+                .contribution4(disks, j, p, n, Apart::unknown(d2), own)
+                * taper;
         }
         sum
+    }
+}
+
+/// How far a gather reaches, and whether its weights fall smoothly to 0
+/// there.
+#[derive(Clone, Copy, Debug)]
+pub struct Reach {
+    /// The distance beyond which no source is gathered, mm.
+    pub radius: f32,
+    /// Whether each pair's weight is scaled by [`Reach::taper`], so the
+    /// part gathered changes smoothly as the target moves (the exact sum's
+    /// is not).
+    pub tapered: bool,
+}
+
+impl Reach {
+    /// (1 − x²)², x the distance over the radius: 1 at the target, falling
+    /// to 0 with a zero slope at the radius.
+    #[inline]
+    pub fn taper(x: f32) -> f32 {
+        let inside = (1.0 - x * x).max(0.0);
+        inside * inside
     }
 }
 
@@ -180,7 +211,9 @@ impl Sorted {
 fn cell_size(reach: f32, sources: &Sources) -> f32 {
     let area: f64 = sources.area.iter().map(|&a| f64::from(a.max(0.0))).sum();
     let spacing = (area / sources.len().max(1) as f64).sqrt() as f32;
-    (4.0 * spacing).max(0.25 * reach).min(0.5 * reach)
+    (4.0 * spacing)
+        .max(0.25 * reach)
+        .min(0.5 * reach.max(8.0 * spacing))
 }
 
 /// Radiant exitance (W/m²) at each target by the exact sum over `sources`.
@@ -190,18 +223,33 @@ pub fn integrate(
     targets: Targets,
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
+    let reach = Reach {
+        radius: kernel.d_max,
+        tapered: false,
+    };
+    sum_within(kernel, sources, targets, reach, control)
+}
+
+/// The exact sum's part from the sources within `reach` of each target
+/// (its radius at most the kernel's), W/m²: every pair weighed as the
+/// whole sum weighs it, and by the taper where the reach has one.
+pub fn sum_within(
+    kernel: &Kernel,
+    sources: &Sources,
+    targets: Targets,
+    reach: Reach,
+    control: &Control,
+) -> Result<Vec<[f32; 3]>, Cancelled> {
+    let reach = Reach {
+        radius: reach.radius.clamp(0.0, kernel.d_max),
+        ..reach
+    };
     let disks = texel_disks(kernel, sources);
-    let sorted = Sorted::new(sources, cell_size(kernel.d_max, sources), &disks);
+    let sorted = Sorted::new(sources, cell_size(reach.radius, sources), &disks);
     let mut out = vec![[0.0f32; 3]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {
         sorted
-            .gather(
-                &disks,
-                targets.position[i],
-                targets.normal[i],
-                targets.own.of(i),
-                targets.piece_of(i),
-            )
+            .gather(&disks, targets.at(i), reach)
             .map(|v| v as f32)
     })?;
     Ok(out)

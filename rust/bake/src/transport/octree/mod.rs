@@ -14,16 +14,17 @@
 
 mod tree;
 
-pub use tree::{Octree, integrate};
+pub use tree::{Gathering, Octree, integrate};
 
 use super::Method;
-use super::integrator::{Carries, Integrated, Integrator, Work};
+use super::integrator::{Carries, Integrated, Integrator, Summer, Work};
 use super::sources::{OwnSource, Targets};
 use crate::control::Control;
 use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use serde::{Deserialize, Serialize};
+use std::sync::OnceLock;
 
 /// The octree integrator over the texels.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -97,23 +98,17 @@ impl Integrator for OctreeIntegrator {
         Some(Method::Brute)
     }
 
-    fn sums_at(
-        &self,
-        prepared: &Prepared,
-        scattering: &Scattering,
-        listed: &[usize],
-        control: &Control,
-    ) -> Result<Option<Vec<[f32; 3]>>, Error> {
-        let sources = prepared.texel_sources();
-        let listed = prepared.listed(listed);
-        let sums = integrate(
-            &scattering.kernel,
-            &sources,
-            listed.targets(),
-            self.epsilon,
-            control,
-        )?;
-        Ok(Some(sums))
+    fn summer<'a>(
+        &'a self,
+        prepared: &'a Prepared,
+        scattering: &'a Scattering,
+    ) -> Option<Box<dyn Summer + 'a>> {
+        Some(Box::new(OctreeSummer {
+            prepared,
+            scattering,
+            epsilon: self.epsilon,
+            gathering: OnceLock::new(),
+        }))
     }
 
     fn ladder(&self) -> Vec<(String, Box<dyn Integrator>)> {
@@ -138,12 +133,34 @@ impl Integrator for OctreeIntegrator {
             own: OwnSource::Same,
             ..prepared.targets()
         };
-        let exitance = integrate(&scattering.kernel, &sources, targets, self.epsilon, control)?;
+        let exitance =
+            Gathering::new(&scattering.kernel, &sources, self.epsilon).at(targets, control)?;
         Ok(Integrated {
             exitance,
             sources: sources.len(),
             walk: None,
         })
+    }
+}
+
+/// The octree's sums at chosen texels of one object, its tree built at
+/// the first texels asked for and kept (so a caller may free memory of its
+/// own before the tree takes its share).
+struct OctreeSummer<'a> {
+    prepared: &'a Prepared,
+    scattering: &'a Scattering,
+    epsilon: f32,
+    gathering: OnceLock<Gathering<'a>>,
+}
+
+impl Summer for OctreeSummer<'_> {
+    fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error> {
+        let gathering = self.gathering.get_or_init(|| {
+            let sources = self.prepared.texel_sources();
+            Gathering::new(&self.scattering.kernel, &sources, self.epsilon)
+        });
+        let targets = self.prepared.listed(listed);
+        Ok(gathering.at(targets.targets(), control)?)
     }
 }
 

@@ -17,6 +17,7 @@ use crate::transport::source_table::{Apart, SourceTable, texel_disks};
 use crate::transport::sources::{Sources, Target, Targets};
 use crate::transport::through_medium::may_cross_air;
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 /// Sources per leaf.
 const LEAF: usize = 8;
@@ -147,107 +148,32 @@ struct Shape {
     nodes: Vec<Node>,
 }
 
+/// Levels below the root whose subtrees are built in parallel.
+const PARALLEL_LEVELS: u32 = 3;
+/// The fewest sources a subtree is built in parallel for.
+const PARALLEL_SOURCES: usize = 50_000;
+
 impl Shape {
     /// The nodes over `sources` and the sources' leaf order.
     fn new(sources: &Sources) -> (Self, Vec<u32>) {
         let mut order: Vec<u32> = (0..sources.len() as u32).collect();
-        let mut shape = Shape { nodes: Vec::new() };
-        if !order.is_empty() {
-            shape.nodes.push(Node::default());
-            shape.build(0, &mut order, sources, 0);
-        }
-        (shape, order)
+        let nodes = if order.is_empty() {
+            Vec::new()
+        } else {
+            subtree(&mut order, sources, 0, 0)
+        };
+        (Shape { nodes }, order)
     }
 
     /// Fills node `at` from the sources in `items` (a slice of the order
     /// starting at `offset`), splitting at the box centre.
     fn build(&mut self, at: usize, items: &mut [u32], sources: &Sources, offset: usize) {
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        let mut area = 0.0f64;
-        let mut flux = [0.0f64; 3];
-        // Light- and area-weighted sums of position, |position|² and each
-        // texel's own second moment A/2π (a disk's).
-        let (mut light, mut by_light, mut square_by_light) = (0.0f64, DVec3::ZERO, 0.0f64);
-        let (mut by_area, mut square_by_area) = (DVec3::ZERO, 0.0f64);
-        let mut normal = Vec3::ZERO;
-        let piece_of = |i: &u32| sources.piece.get(*i as usize).copied().unwrap_or(0);
-        let piece = match items.first().map(piece_of) {
-            Some(first) if items.iter().all(|i| piece_of(i) == first) => first,
-            Some(_) => MIXED,
-            None => 0,
-        };
-        for &i in items.iter() {
-            let i = i as usize;
-            let p = sources.position[i];
-            lo = lo.min(p);
-            hi = hi.max(p);
-            let a = sources.area[i].max(0.0) as f64;
-            let e = sources.irradiance[i];
-            area += a;
-            for c in 0..3 {
-                flux[c] += e[c] as f64 * a;
-            }
-            let q = p.as_dvec3();
-            let own = a / std::f64::consts::TAU;
-            let l = (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]).max(0.0) as f64 * a;
-            light += l;
-            by_light += q * l;
-            square_by_light += (q.length_squared() + own) * l;
-            by_area += q * a;
-            square_by_area += (q.length_squared() + own) * a;
-            normal += sources.normal[i] * a as f32;
-        }
-        let (centre, second_moment) = if light > 0.0 {
-            let c = by_light / light;
-            (c, square_by_light / light - c.length_squared())
-        } else if area > 0.0 {
-            let c = by_area / area;
-            (c, square_by_area / area - c.length_squared())
-        } else {
-            (0.5 * (lo + hi).as_dvec3(), 0.0)
-        };
-        self.nodes[at] = Node {
-            lo,
-            hi,
-            centre: centre.as_vec3(),
-            normal: normal.normalize_or_zero(),
-            area: area as f32,
-            // A disk of radius a has second moment a²/2 about its centre.
-            spread: (std::f64::consts::TAU * second_moment.max(0.0)) as f32,
-            slot: Slot::default(),
-            flux: flux.map(|f| f as f32),
-            first: offset as u32,
-            count: items.len() as u32,
-            leaf: true,
-            piece,
-        };
-        let mixed = piece == MIXED;
-        if !mixed && (items.len() <= LEAF || (hi - lo).max_element() <= 0.0) {
+        self.nodes[at] = summarise(items, sources, offset);
+        let Some(children) = split(&mut self.nodes[at], items, sources) else {
             return;
-        }
-        // Sources of several pieces are split by piece, the rest at the
-        // box centre.
-        let mid = 0.5 * (lo + hi);
-        let child_of = |i: &u32| -> u32 {
-            if mixed {
-                return piece_of(i);
-            }
-            let p = sources.position[*i as usize];
-            (p.x > mid.x) as u32 | ((p.y > mid.y) as u32) << 1 | ((p.z > mid.z) as u32) << 2
         };
-        items.sort_unstable_by_key(child_of);
-        let mut children: Vec<(usize, usize)> = Vec::with_capacity(8);
-        let mut start = 0;
-        for k in 1..=items.len() {
-            if k == items.len() || child_of(&items[k]) != child_of(&items[start]) {
-                children.push((start, k));
-                start = k;
-            }
-        }
         let first_child = self.nodes.len();
         self.nodes[at].first = first_child as u32;
-        self.nodes[at].count = children.len() as u32;
-        self.nodes[at].leaf = false;
         for _ in &children {
             self.nodes.push(Node::default());
         }
@@ -255,6 +181,154 @@ impl Shape {
             self.build(first_child + k, &mut items[a..b], sources, offset + a);
         }
     }
+}
+
+/// The nodes of the subtree over `items` (a slice of the order starting at
+/// `offset`, `depth` levels below the root), its root first and each
+/// node's children contiguous: the top levels' subtrees built in parallel,
+/// each a block laid out as [`Shape::build`] lays out a whole tree.
+fn subtree(items: &mut [u32], sources: &Sources, offset: usize, depth: u32) -> Vec<Node> {
+    if depth >= PARALLEL_LEVELS || items.len() < PARALLEL_SOURCES {
+        let mut shape = Shape {
+            nodes: vec![Node::default()],
+        };
+        shape.build(0, items, sources, offset);
+        return shape.nodes;
+    }
+    let mut root = summarise(items, sources, offset);
+    let Some(children) = split(&mut root, items, sources) else {
+        return vec![root];
+    };
+    let mut slices = Vec::with_capacity(children.len());
+    let mut rest = items;
+    for &(a, b) in &children {
+        let (head, tail) = rest.split_at_mut(b - a);
+        slices.push((head, offset + a));
+        rest = tail;
+    }
+    let blocks: Vec<Vec<Node>> = slices
+        .into_par_iter()
+        .map(|(slice, at)| subtree(slice, sources, at, depth + 1))
+        .collect();
+    // The children's roots follow the root; each block's other nodes
+    // follow them in turn, every index into a block shifted alike.
+    let count = blocks.len();
+    root.first = 1;
+    let mut nodes = Vec::with_capacity(1 + blocks.iter().map(Vec::len).sum::<usize>());
+    nodes.push(root);
+    nodes.extend(std::iter::repeat_n(Node::default(), count));
+    for (k, block) in blocks.into_iter().enumerate() {
+        let shift = (nodes.len() - 1) as u32;
+        let shifted = |mut node: Node| {
+            if !node.leaf {
+                node.first += shift;
+            }
+            node
+        };
+        let mut block = block.into_iter();
+        if let Some(child) = block.next() {
+            nodes[1 + k] = shifted(child);
+        }
+        nodes.extend(block.map(shifted));
+    }
+    nodes
+}
+
+/// The node over the sources in `items` (a slice of the order starting
+/// at `offset`), a leaf until split.
+fn summarise(items: &[u32], sources: &Sources, offset: usize) -> Node {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    let mut area = 0.0f64;
+    let mut flux = [0.0f64; 3];
+    // Light- and area-weighted sums of position, |position|² and each
+    // texel's own second moment A/2π (a disk's).
+    let (mut light, mut by_light, mut square_by_light) = (0.0f64, DVec3::ZERO, 0.0f64);
+    let (mut by_area, mut square_by_area) = (DVec3::ZERO, 0.0f64);
+    let mut normal = Vec3::ZERO;
+    let piece_of = |i: &u32| sources.piece.get(*i as usize).copied().unwrap_or(0);
+    let piece = match items.first().map(piece_of) {
+        Some(first) if items.iter().all(|i| piece_of(i) == first) => first,
+        Some(_) => MIXED,
+        None => 0,
+    };
+    for &i in items.iter() {
+        let i = i as usize;
+        let p = sources.position[i];
+        lo = lo.min(p);
+        hi = hi.max(p);
+        let a = sources.area[i].max(0.0) as f64;
+        let e = sources.irradiance[i];
+        area += a;
+        for c in 0..3 {
+            flux[c] += e[c] as f64 * a;
+        }
+        let q = p.as_dvec3();
+        let own = a / std::f64::consts::TAU;
+        let l = (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]).max(0.0) as f64 * a;
+        light += l;
+        by_light += q * l;
+        square_by_light += (q.length_squared() + own) * l;
+        by_area += q * a;
+        square_by_area += (q.length_squared() + own) * a;
+        normal += sources.normal[i] * a as f32;
+    }
+    let (centre, second_moment) = if light > 0.0 {
+        let c = by_light / light;
+        (c, square_by_light / light - c.length_squared())
+    } else if area > 0.0 {
+        let c = by_area / area;
+        (c, square_by_area / area - c.length_squared())
+    } else {
+        (0.5 * (lo + hi).as_dvec3(), 0.0)
+    };
+    Node {
+        lo,
+        hi,
+        centre: centre.as_vec3(),
+        normal: normal.normalize_or_zero(),
+        area: area as f32,
+        // A disk of radius a has second moment a²/2 about its centre.
+        spread: (std::f64::consts::TAU * second_moment.max(0.0)) as f32,
+        slot: Slot::default(),
+        flux: flux.map(|f| f as f32),
+        first: offset as u32,
+        count: items.len() as u32,
+        leaf: true,
+        piece,
+    }
+}
+
+/// Sorts `items` into `node`'s children and makes it their parent: the
+/// children's ranges in `items`, or `None` for a leaf.
+fn split(node: &mut Node, items: &mut [u32], sources: &Sources) -> Option<Vec<(usize, usize)>> {
+    let piece_of = |i: &u32| sources.piece.get(*i as usize).copied().unwrap_or(0);
+    let (lo, hi, piece) = (node.lo, node.hi, node.piece);
+    let mixed = piece == MIXED;
+    if !mixed && (items.len() <= LEAF || (hi - lo).max_element() <= 0.0) {
+        return None;
+    }
+    // Sources of several pieces are split by piece, the rest at the
+    // box centre.
+    let mid = 0.5 * (lo + hi);
+    let child_of = |i: &u32| -> u32 {
+        if mixed {
+            return piece_of(i);
+        }
+        let p = sources.position[*i as usize];
+        (p.x > mid.x) as u32 | ((p.y > mid.y) as u32) << 1 | ((p.z > mid.z) as u32) << 2
+    };
+    items.sort_unstable_by_key(child_of);
+    let mut children: Vec<(usize, usize)> = Vec::with_capacity(8);
+    let mut start = 0;
+    for k in 1..=items.len() {
+        if k == items.len() || child_of(&items[k]) != child_of(&items[start]) {
+            children.push((start, k));
+            start = k;
+        }
+    }
+    node.count = children.len() as u32;
+    node.leaf = false;
+    Some(children)
 }
 
 /// The range of spread areas (mm²) a node taken whole can have: from the
@@ -271,6 +345,45 @@ fn node_areas(shape: &Shape, epsilon: f32, d_max: f32) -> (f32, f32) {
     (smallest, largest)
 }
 
+/// The octree over one object's sources with what it weighs them by,
+/// built once and gathered at any targets.
+pub struct Gathering<'k> {
+    tree: Octree,
+    texels: DiskKernel<'k>,
+    nodes: DiskKernel<'k>,
+    epsilon: f32,
+}
+
+impl<'k> Gathering<'k> {
+    /// The tree over `sources` for `kernel` with solid-angle threshold
+    /// `epsilon` (steradians; 0 = exact).
+    pub fn new(kernel: &'k Kernel, sources: &Sources, epsilon: f32) -> Self {
+        let epsilon = epsilon.max(0.0);
+        let texels = texel_disks(kernel, sources);
+        let (shape, order) = Shape::new(sources);
+        let (small, large) = node_areas(&shape, epsilon, kernel.d_max);
+        let nodes = DiskKernel::new(kernel, small, large);
+        let tree = Octree::new(sources, shape, &order, &texels, &nodes);
+        Gathering {
+            tree,
+            texels,
+            nodes,
+            epsilon,
+        }
+    }
+
+    /// Radiant exitance (W/m²) at each of `targets`.
+    pub fn at(&self, targets: Targets, control: &Control) -> Result<Vec<[f32; 3]>, Cancelled> {
+        let mut out = vec![[0.0f32; 3]; targets.position.len()];
+        parallel_fill(&mut out, 256, control, |i| {
+            self.tree
+                .gather(&self.texels, &self.nodes, targets.at(i), self.epsilon)
+                .map(|v| v as f32)
+        })?;
+        Ok(out)
+    }
+}
+
 /// Radiant exitance (W/m²) at each target through the octree with
 /// solid-angle threshold `epsilon` (steradians; 0 = exact).
 pub fn integrate(
@@ -280,16 +393,5 @@ pub fn integrate(
     epsilon: f32,
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
-    let epsilon = epsilon.max(0.0);
-    let texels = texel_disks(kernel, sources);
-    let (shape, order) = Shape::new(sources);
-    let (small, large) = node_areas(&shape, epsilon, kernel.d_max);
-    let nodes = DiskKernel::new(kernel, small, large);
-    let tree = Octree::new(sources, shape, &order, &texels, &nodes);
-    let mut out = vec![[0.0f32; 3]; targets.position.len()];
-    parallel_fill(&mut out, 256, control, |i| {
-        tree.gather(&texels, &nodes, targets.at(i), epsilon)
-            .map(|v| v as f32)
-    })?;
-    Ok(out)
+    Gathering::new(kernel, sources, epsilon).at(targets, control)
 }

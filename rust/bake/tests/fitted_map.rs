@@ -1,0 +1,111 @@
+//! The map carried from a lattice of texels ([`sssbake::fitted_map`]):
+//! within its share of the tolerance of the integrator's own sums at every
+//! texel, across a shadow's edge and a chart's, and the sums themselves
+//! where no lattice holds.
+
+mod lit_scenes;
+
+use glam::Vec3;
+use lit_scenes::*;
+use sssbake::control::Control;
+use sssbake::fitted_map::{FIT_SHARE, first_step, fitted_map};
+use sssbake::image::Image;
+use sssbake::pipeline::half_light_texels;
+use sssbake::prepared::Prepared;
+use sssbake::scattering::Scattering;
+use sssbake::transport::accuracy::relative_errors;
+use sssbake::transport::integrator::{Integrator, Summer};
+use sssbake::transport::octree::OctreeIntegrator;
+use sssbake::{BakeRequest, Lighting};
+use sssbake_profile::model::Model;
+use std::sync::Arc;
+
+/// A 20 mm square in skin1 at 256², lit by an irradiance image bright on
+/// its left half and dark on its right: a shadow's sharp edge across the
+/// middle, which the profile spreads over several texels.
+fn half_lit() -> Prepared {
+    let scene = scene(vec![centred_square(20.0, "square")], vec![]);
+    let n = 64;
+    let pixels = (0..n * n)
+        .map(|i| if i % n < n / 2 { [1.0; 3] } else { [0.0; 3] })
+        .collect();
+    let request = BakeRequest {
+        lighting: Lighting::Irradiance(Arc::new(Image::new(n, n, pixels).unwrap())),
+        ..request(256)
+    };
+    prepare_with(&scene, "square", &request, &Control::new()).unwrap()
+}
+
+/// Runs `check` with the octree's summer over `prepared` in skin1, the
+/// profile, and the octree's gathers at every texel.
+fn with_gathers(prepared: &Prepared, check: impl FnOnce(&dyn Summer, &Scattering, &[[f32; 3]])) {
+    let skin = scattering_of("skin1", Model::Dipole);
+    let octree = OctreeIntegrator::default();
+    let summer = octree.summer(prepared, &skin).unwrap();
+    let every: Vec<usize> = (0..prepared.surfels.len()).collect();
+    let direct = summer.at(&every, &Control::new()).unwrap();
+    check(&*summer, &skin, &direct);
+}
+
+#[test]
+fn a_map_carried_across_a_shadows_edge_keeps_within_its_share_of_the_tolerance() {
+    let prepared = half_lit();
+    with_gathers(&prepared, |summer, skin, direct| {
+        let step = first_step(half_light_texels(skin, &prepared.surfels));
+        assert!(step > 2, "the profile spans a few texels: step {step}");
+        let tolerance = 0.01;
+        let (map, fit) = fitted_map(
+            &prepared,
+            summer,
+            &skin.kernel,
+            step,
+            tolerance,
+            &Control::new(),
+        )
+        .unwrap();
+        assert!(fit.step > 1, "{fit:?}");
+        assert!(fit.missed <= FIT_SHARE * tolerance, "{fit:?}");
+        // Over every texel, not only the probed ones.
+        let (relative, worst) = relative_errors(&map, direct);
+        assert!(relative <= FIT_SHARE * tolerance, "{relative} {fit:?}");
+        assert!(worst < 0.05, "worst {worst}");
+        // Carried, not summed: most texels differ from their own sums.
+        let carried = map.iter().zip(direct).filter(|(m, d)| m != d).count();
+        assert!(carried > direct.len() / 2, "{carried} of {}", direct.len());
+        assert!(map.iter().flatten().all(|v| v.is_finite() && *v >= 0.0));
+    });
+}
+
+#[test]
+fn where_no_lattice_holds_the_map_is_the_integrators_own_sums() {
+    let prepared = half_lit();
+    with_gathers(&prepared, |summer, skin, direct| {
+        // A tolerance no fit meets.
+        let (map, fit) =
+            fitted_map(&prepared, summer, &skin.kernel, 8, 1e-9, &Control::new()).unwrap();
+        assert_eq!(fit.step, 1);
+        assert_eq!(map, direct);
+        // A step of 1 sums every texel without a check.
+        let (map, fit) =
+            fitted_map(&prepared, summer, &skin.kernel, 1, 0.01, &Control::new()).unwrap();
+        assert_eq!((fit.step, fit.probed), (1, 0));
+        assert_eq!(map, direct);
+    });
+}
+
+#[test]
+fn a_part_smaller_than_the_lattice_is_summed_texel_by_texel() {
+    // A 1 mm square at 16²: a profile of skin spans the whole part, and no
+    // texel but the lattice's own has four corners within reach.
+    let scene = scene(
+        vec![centred_square(1.0, "square")],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let prepared = prepared(&scene, "square", 16);
+    with_gathers(&prepared, |summer, skin, direct| {
+        let (map, _) =
+            fitted_map(&prepared, summer, &skin.kernel, 8, 0.01, &Control::new()).unwrap();
+        let (relative, _) = relative_errors(&map, direct);
+        assert!(relative <= FIT_SHARE * 0.01, "{relative}");
+    });
+}
