@@ -1,7 +1,7 @@
 //! The map carried from a lattice of texels ([`sssbake::fitted_map`]):
 //! within its share of the tolerance of the integrator's own sums at every
 //! texel, across a shadow's edge and a chart's, and the sums themselves
-//! where no lattice holds.
+//! where no lattice holds or the octree is the exact sum (ε = 0).
 
 mod lit_scenes;
 
@@ -12,8 +12,10 @@ use sssbake::fitted_map::{FIT_SHARE, first_step, fitted_map};
 use sssbake::image::Image;
 use sssbake::pipeline::half_light_texels;
 use sssbake::prepared::Prepared;
+use sssbake::request::DEFAULT_TOLERANCE;
 use sssbake::scattering::Scattering;
 use sssbake::transport::accuracy::relative_errors;
+use sssbake::transport::brute::BruteIntegrator;
 use sssbake::transport::integrator::{Integrator, Summer};
 use sssbake::transport::octree::OctreeIntegrator;
 use sssbake::{BakeRequest, Lighting};
@@ -108,4 +110,26 @@ fn a_part_smaller_than_the_lattice_is_summed_texel_by_texel() {
         let (relative, _) = relative_errors(&map, direct);
         assert!(relative <= FIT_SHARE * 0.01, "{relative}");
     });
+}
+
+#[test]
+fn the_octree_at_epsilon_zero_stays_the_exact_sum_at_every_texel() {
+    let scene = scene(
+        vec![centred_square(20.0, "square")],
+        vec![sun_from(Vec3::new(0.3, 0.0, -1.0))],
+    );
+    let prepared = prepared(&scene, "square", 64);
+    let skin = scattering_of("skin1", Model::Dipole);
+    let exact = OctreeIntegrator { epsilon: 0.0 };
+    assert!(exact.summer(&prepared, &skin).is_none());
+    let control = Control::new();
+    let octree = prepared
+        .integrate(&skin, &exact, DEFAULT_TOLERANCE, &control)
+        .unwrap();
+    let brute = prepared
+        .integrate(&skin, &BruteIntegrator, DEFAULT_TOLERANCE, &control)
+        .unwrap();
+    assert!(octree.fit.is_none());
+    let (relative, _) = relative_errors(&octree.exitance, &brute.exitance);
+    assert!(relative < 1e-5, "{relative}");
 }

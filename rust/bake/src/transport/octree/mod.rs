@@ -103,6 +103,10 @@ impl Integrator for OctreeIntegrator {
         prepared: &'a Prepared,
         scattering: &'a Scattering,
     ) -> Option<Box<dyn Summer + 'a>> {
+        // At ε = 0 it is the exact sum, at every texel.
+        if self.epsilon <= 0.0 {
+            return None;
+        }
         Some(Box::new(OctreeSummer {
             prepared,
             scattering,
