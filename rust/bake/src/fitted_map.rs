@@ -142,9 +142,9 @@ pub fn fitted_map(
     Ok((carrier.at(&all, 1, control)?, fit))
 }
 
-/// One object's map carried from lattices of texels: N at every texel,
-/// and the integrator's sums at the lattice texels summed so far (NaN
-/// elsewhere).
+/// One object's map carried from lattices of texels: N at every texel
+/// (none when carried whole), and the integrator's sums at the lattice
+/// texels summed so far (NaN elsewhere).
 pub struct Carrier<'a> {
     lit: &'a Prepared,
     summer: &'a dyn Summer,
@@ -185,9 +185,14 @@ impl<'a> Carrier<'a> {
         Carrier {
             lit,
             summer,
-            near: vec![[0.0; 3]; texels],
+            near: Vec::new(),
             summed: vec![[f32::NAN; 3]; texels],
         }
+    }
+
+    /// N at texel `i` (0 when carried whole).
+    fn near(&self, i: usize) -> [f32; 3] {
+        self.near.get(i).copied().unwrap_or([0.0; 3])
     }
 
     /// The map at `texels`: each carried from the lattice of `step` texels
@@ -269,9 +274,10 @@ impl<'a> Carrier<'a> {
         let far = |c: usize| -> f32 {
             corners
                 .iter()
-                .map(|&(j, w)| w * (self.summed[j][c] - self.near[j][c]))
+                .map(|&(j, w)| w * (self.summed[j][c] - self.near(j)[c]))
                 .sum()
         };
-        Some([0, 1, 2].map(|c| self.near[i][c] + far(c)))
+        let near = self.near(i);
+        Some([0, 1, 2].map(|c| near[c] + far(c)))
     }
 }

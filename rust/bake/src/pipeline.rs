@@ -103,10 +103,7 @@ const MOST_UNIFORM_STRIDE: u32 = 8;
 /// texels, so the fit between them follows how the sums fall toward a
 /// rim; 1 (every texel) for a profile about a texel wide.
 pub fn uniform_stride(scattering: &Scattering, surfels: &TexelSurfels) -> u32 {
-    match half_light_texels(scattering, surfels) {
-        Some(half) => ((2.0 * half).floor() as u32).clamp(1, MOST_UNIFORM_STRIDE),
-        None => 1,
-    }
+    first_step(half_light_texels(scattering, surfels)).min(MOST_UNIFORM_STRIDE)
 }
 
 /// The radius holding half the profile's light in its narrowest channel,
