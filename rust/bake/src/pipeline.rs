@@ -5,7 +5,7 @@
 
 use crate::control::Control;
 use crate::error::Error;
-use crate::fitted_map::{Carrier, MapFit, first_step, fitted_map};
+use crate::fitted_map::{Carrier, MapFit, first_step, fitted_map, probe_count};
 use crate::irradiance::bounce::interreflected;
 use crate::irradiance::emitters::Emitter;
 use crate::irradiance::entry::EntryTransmittance;
@@ -45,8 +45,6 @@ fn scattering_key(scattering: &Scattering) -> String {
     )
 }
 
-/// One texel in this many checks the fit of the sums under a unit light.
-const FIT_PROBED: usize = 64;
 /// The most the gains from the fitted sums may miss those from the sums
 /// themselves (relative RMS over the probed texels); above it the stride
 /// halves. The head in its own skin at 1024² misses by 0.97% at 4 texels
@@ -321,6 +319,7 @@ impl Prepared {
                 known_ball = Some(Arc::clone(&raised.ball));
             }
         }
+        let _ = self.opposites();
         let (uniform, stride) = self.uniform_sums(integrator, scattering, slab, control)?;
         let summed_across = integrator.carries().across;
         let (gains, _) = slab.gains(self.opposites(), &uniform, summed_across);
@@ -392,7 +391,7 @@ impl Prepared {
         Ok((integrator.integrate(&lit, scattering, control)?.exitance, 1))
     }
 
-    /// The sums under a unit light at one texel in [`FIT_PROBED`], drawn at
+    /// The sums under a unit light at [`probe_count`] texels, drawn at
     /// random, each with the texel behind it, summed directly by `summer`:
     /// what a fit of them is checked against, at every stride it tries.
     fn probed_sums(
@@ -402,7 +401,7 @@ impl Prepared {
         control: &Control,
     ) -> Result<Probed, Error> {
         let texels = self.surfels.len();
-        let probes = pick(texels, (texels / FIT_PROBED).max(1), 0x756e_6974);
+        let probes = pick(texels, probe_count(texels), 0x756e_6974);
         let (behind, asked) = slab.behind(self.opposites(), &probes);
         let direct = summer.at(&asked, control)?;
         Ok(Probed {

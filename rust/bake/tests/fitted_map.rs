@@ -8,7 +8,7 @@ mod lit_scenes;
 use glam::Vec3;
 use lit_scenes::*;
 use sssbake::control::Control;
-use sssbake::fitted_map::{FIT_SHARE, first_step, fitted_map};
+use sssbake::fitted_map::{Carrier, FIT_SHARE, first_step, fitted_map};
 use sssbake::image::Image;
 use sssbake::pipeline::half_light_texels;
 use sssbake::prepared::Prepared;
@@ -75,6 +75,59 @@ fn a_map_carried_across_a_shadows_edge_keeps_within_its_share_of_the_tolerance()
         let carried = map.iter().zip(direct).filter(|(m, d)| m != d).count();
         assert!(carried > direct.len() / 2, "{carried} of {}", direct.len());
         assert!(map.iter().flatten().all(|v| v.is_finite() && *v >= 0.0));
+    });
+}
+
+/// The square lit by an irradiance image that brightens smoothly from
+/// left to right, without an edge.
+fn smoothly_lit() -> Prepared {
+    let scene = scene(vec![centred_square(20.0, "square")], vec![]);
+    let n = 64;
+    let pixels = (0..n * n)
+        .map(|i| {
+            let (x, y) = ((i % n) as f32 / n as f32, (i / n) as f32 / n as f32);
+            [1.0 + x, 1.0 + 0.5 * y, 2.0 - x]
+        })
+        .collect();
+    let request = BakeRequest {
+        lighting: Lighting::Irradiance(Arc::new(Image::new(n, n, pixels).unwrap())),
+        ..request(256)
+    };
+    prepare_with(&scene, "square", &request, &Control::new()).unwrap()
+}
+
+#[test]
+fn where_the_light_is_smooth_the_map_is_carried_whole_within_the_share() {
+    let prepared = smoothly_lit();
+    with_gathers(&prepared, |summer, skin, direct| {
+        let step = first_step(half_light_texels(skin, &prepared.surfels));
+        let tolerance = 0.01;
+        let every: Vec<usize> = (0..prepared.surfels.len()).collect();
+        let mut carrier = Carrier::split(&prepared, summer, &skin.kernel, tolerance);
+        let whole = carrier.smooth_share_at(&every, step);
+        assert!(whole > 0.5, "carried whole at {whole} of the texels");
+        let (map, fit) = fitted_map(
+            &prepared,
+            summer,
+            &skin.kernel,
+            step,
+            tolerance,
+            &Control::new(),
+        )
+        .unwrap();
+        assert!(fit.step > 1, "{fit:?}");
+        let (relative, worst) = relative_errors(&map, direct);
+        assert!(relative <= FIT_SHARE * tolerance, "{relative} {fit:?}");
+        assert!(worst < 0.05, "worst {worst}");
+    });
+    // Across a shadow's edge, the texels beside it keep their own N.
+    let prepared = half_lit();
+    with_gathers(&prepared, |summer, skin, _| {
+        let step = first_step(half_light_texels(skin, &prepared.surfels));
+        let every: Vec<usize> = (0..prepared.surfels.len()).collect();
+        let mut carrier = Carrier::split(&prepared, summer, &skin.kernel, 0.01);
+        let whole = carrier.smooth_share_at(&every, step);
+        assert!(whole < 0.9, "carried whole at {whole} of the texels");
     });
 }
 

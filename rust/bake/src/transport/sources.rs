@@ -1,7 +1,8 @@
 //! Where light enters: surface samples with their area and transmitted
 //! irradiance, and a uniform grid over them for gathering within d_max.
 
-use glam::{IVec3, Vec3};
+use glam::{IVec2, Vec2, Vec3};
+use rayon::prelude::*;
 
 /// Samples light enters through, structure of arrays.
 #[derive(Clone, Debug, Default)]
@@ -123,22 +124,31 @@ impl OwnSource<'_> {
     }
 }
 
-/// Sources sorted into cubic cells of a fixed size, each cell's members
-/// contiguous (a counting sort), for gathering within a radius.
+/// Sources sorted into rows: square cells of a fixed size across y and z,
+/// each row's members contiguous (a counting sort) and in order of x, so
+/// the members of a row within any span of x are one run, found by a
+/// binary search. Only the rows are a dense array: a surface fills few of
+/// a box's cubic cells, and rows let the cells stay as fine as the
+/// gathers want on a large object.
 pub struct Grid {
     cell: f32,
     origin: Vec3,
-    dims: IVec3,
-    /// Start of each cell's run in `order` (cells + 1 entries).
+    /// Rows along y and along z.
+    dims: IVec2,
+    /// Start of each row's run in `order` (rows + 1 entries).
     starts: Vec<u32>,
-    /// Source indices, cell by cell (x fastest, so a row of cells is one
-    /// run).
+    /// The x of each member, in `order`'s order.
+    xs: Vec<f32>,
+    /// Source indices, row by row (y fastest), each row in order of x.
     pub order: Vec<u32>,
 }
 
+/// The most rows a grid is given: a finer cell is coarsened to fit.
+const MOST_ROWS: f32 = 16.0e6;
+
 impl Grid {
-    /// A grid over `positions` with cells of about `cell` mm (coarsened if
-    /// the box would need more than ~16M cells).
+    /// A grid over `positions` with rows about `cell` mm square (coarsened
+    /// if the box would need more than [`MOST_ROWS`]).
     pub fn new(positions: &[Vec3], cell: f32) -> Self {
         let (lo, hi) = positions.iter().fold(
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
@@ -155,23 +165,24 @@ impl Grid {
         } else {
             extent.max_element()
         };
-        while (extent / cell).ceil().max(Vec3::ONE).element_product() > 16.0e6 {
+        let across = Vec2::new(extent.y, extent.z);
+        while (across / cell).ceil().max(Vec2::ONE).element_product() > MOST_ROWS {
             cell *= 1.5;
         }
-        let dims = (extent / cell).floor().as_ivec3() + IVec3::ONE;
-        let cells = (dims.x * dims.y * dims.z) as usize;
+        let dims = (across / cell).floor().as_ivec2() + IVec2::ONE;
+        let rows = (dims.x * dims.y) as usize;
         let key = |p: Vec3| -> usize {
-            let c = ((p - lo) / cell)
+            let c = ((Vec2::new(p.y, p.z) - Vec2::new(lo.y, lo.z)) / cell)
                 .floor()
-                .as_ivec3()
-                .clamp(IVec3::ZERO, dims - 1);
-            (c.x + dims.x * (c.y + dims.y * c.z)) as usize
+                .as_ivec2()
+                .clamp(IVec2::ZERO, dims - 1);
+            (c.x + dims.x * c.y) as usize
         };
-        let mut starts = vec![0u32; cells + 1];
+        let mut starts = vec![0u32; rows + 1];
         for &p in positions {
             starts[key(p) + 1] += 1;
         }
-        for i in 0..cells {
+        for i in 0..rows {
             starts[i + 1] += starts[i];
         }
         let mut fill = starts.clone();
@@ -181,65 +192,135 @@ impl Grid {
             order[fill[k] as usize] = i as u32;
             fill[k] += 1;
         }
+        drop(fill);
+        // Each row in order of x, rows apart in parallel.
+        let mut runs = Vec::new();
+        let mut rest = order.as_mut_slice();
+        for row in starts.windows(2) {
+            let (run, after) = rest.split_at_mut((row[1] - row[0]) as usize);
+            if run.len() > 1 {
+                runs.push(run);
+            }
+            rest = after;
+        }
+        runs.par_iter_mut().for_each(|run| {
+            run.sort_unstable_by(|&a, &b| {
+                positions[a as usize].x.total_cmp(&positions[b as usize].x)
+            })
+        });
+        let xs = order.par_iter().map(|&i| positions[i as usize].x).collect();
         Grid {
             cell,
             origin: lo,
             dims,
             starts,
+            xs,
             order,
         }
     }
 
-    /// Calls `visit(range)` with the positions in [`Grid::order`] of every
-    /// row of cells that meets the ball of `radius` around `p` (a superset
-    /// of the ball: each row's cells from the first to the last that the
-    /// ball's chord through the row's slab reaches).
+    /// Calls `visit(range)` with the positions in [`Grid::order`] of the
+    /// members of every row that meets the ball of `radius` around `p`
+    /// whose x lies within the ball's chord through the row (a superset of
+    /// the ball: the chord is taken where the row comes nearest to `p`).
     pub fn for_each_run(
         &self,
         p: Vec3,
         radius: f32,
         mut visit: impl FnMut(std::ops::Range<usize>),
     ) {
-        let lo = ((p - radius - self.origin) / self.cell)
+        let across = Vec2::new(p.y, p.z);
+        let origin = Vec2::new(self.origin.y, self.origin.z);
+        let lo = ((across - radius - origin) / self.cell)
             .floor()
-            .as_ivec3()
-            .max(IVec3::ZERO);
-        let hi = ((p + radius - self.origin) / self.cell)
+            .as_ivec2()
+            .max(IVec2::ZERO);
+        let hi = ((across + radius - origin) / self.cell)
             .floor()
-            .as_ivec3()
+            .as_ivec2()
             .min(self.dims - 1);
-        if lo.x > hi.x {
-            return;
-        }
-        // A little wider than the ball, so a point rounded into a cell at
+        // A little wider than the ball, so a point rounded into a row at
         // its edge is never missed.
         let r2 = (radius + 1e-4 * self.cell).powi(2);
-        // The distance from p to the slab of cells k along one axis.
+        // The distance from p to the slab of rows k along one axis.
         let gap = |k: i32, at: f32, origin: f32| {
             let near = origin + k as f32 * self.cell;
             (near - at).max(at - (near + self.cell)).max(0.0)
         };
-        for z in lo.z..=hi.z {
+        for z in lo.y..=hi.y {
             let dz = gap(z, p.z, self.origin.z);
-            for y in lo.y..=hi.y {
+            for y in lo.x..=hi.x {
                 let dy = gap(y, p.y, self.origin.y);
                 let left = r2 - dy * dy - dz * dz;
                 if left < 0.0 {
                     continue;
                 }
-                let chord = left.sqrt();
-                let first = (((p.x - chord - self.origin.x) / self.cell).floor() as i32).max(lo.x);
-                let last = (((p.x + chord - self.origin.x) / self.cell).floor() as i32).min(hi.x);
-                if first > last {
+                let row = (y + self.dims.x * z) as usize;
+                let (a, b) = (self.starts[row] as usize, self.starts[row + 1] as usize);
+                if a == b {
                     continue;
                 }
-                let row = (self.dims.x * (y + self.dims.y * z)) as usize;
-                let a = self.starts[row + first as usize] as usize;
-                let b = self.starts[row + last as usize + 1] as usize;
-                if b > a {
-                    visit(a..b);
+                let chord = left.sqrt();
+                let xs = &self.xs[a..b];
+                let first = a + xs.partition_point(|&x| x < p.x - chord);
+                let last = a + xs.partition_point(|&x| x <= p.x + chord);
+                if last > first {
+                    visit(first..last);
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sssbake_profile::numerics::rng::Rng;
+
+    #[test]
+    fn a_gather_meets_every_point_within_its_ball_once() {
+        let mut rng = Rng::new(7, 0);
+        let mut point = || {
+            let mut c = || rng.uniform() as f32 * 10.0 - 5.0;
+            Vec3::new(c(), c(), 0.1 * c())
+        };
+        let points: Vec<Vec3> = (0..4000).map(|_| point()).collect();
+        for cell in [0.3, 1.0, 4.0, 50.0] {
+            let grid = Grid::new(&points, cell);
+            for _ in 0..50 {
+                let (p, radius) = (point(), 1.3);
+                let mut met = vec![0u32; points.len()];
+                grid.for_each_run(p, radius, |run| {
+                    for &i in &grid.order[run] {
+                        met[i as usize] += 1;
+                    }
+                });
+                for (q, &count) in points.iter().zip(&met) {
+                    assert!(count <= 1, "met twice");
+                    if q.distance(p) <= radius {
+                        assert_eq!(count, 1, "missed {q} from {p} with rows of {cell}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rows_coarsen_past_their_bound_and_hold_every_source() {
+        let points = [
+            Vec3::ZERO,
+            Vec3::new(0.0, 1.0e4, 1.0e4),
+            Vec3::new(f32::NAN, 0.0, 0.0),
+        ];
+        let grid = Grid::new(&points, 1e-3);
+        assert!(grid.starts.len() as f32 <= MOST_ROWS + 1.0);
+        let mut order = grid.order.clone();
+        order.sort_unstable();
+        assert_eq!(order, [0, 1, 2]);
+        let mut met = Vec::new();
+        grid.for_each_run(Vec3::ZERO, 1.0, |run| {
+            met.extend_from_slice(&grid.order[run])
+        });
+        assert!(met.contains(&0));
     }
 }
