@@ -218,7 +218,7 @@ pub fn prepare(
         colour,
         colour_split: request.colour_split.clamp(0.0, 1.0),
         dilation: OnceLock::new(),
-        opposites: OnceLock::new(),
+        opposites: Default::default(),
         seconds: start.elapsed().as_secs_f64(),
         lights,
         incidence: OnceLock::new(),
@@ -319,7 +319,6 @@ impl Prepared {
                 known_ball = Some(Arc::clone(&raised.ball));
             }
         }
-        let _ = self.opposites();
         let (uniform, stride) = self.uniform_sums(integrator, scattering, slab, control)?;
         let summed_across = integrator.carries().across;
         let (gains, _) = slab.gains(self.opposites(), &uniform, summed_across);

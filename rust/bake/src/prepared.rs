@@ -11,11 +11,11 @@ use crate::layout::Layout;
 use crate::rays::RayScene;
 use crate::surface::dilation::{MAX_REACH, SeamAwareDilation, seam_aware_dilation};
 use crate::surface::opposite::{Opposite, opposites};
-use crate::surface::texels::uv_jacobian;
 use crate::surface::turk::{place_points, relax};
 use crate::transport::sources::{OwnSource, Sources, Targets};
 use crate::walk::Enclosure;
 use glam::Vec3;
+use std::borrow::Cow;
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// An object ready to integrate: its layout and the light entering it.
@@ -29,8 +29,9 @@ pub struct Prepared {
     pub colour: Vec<[f32; 3]>,
     pub(crate) colour_split: f32,
     pub(crate) dilation: OnceLock<SeamAwareDilation>,
-    /// The face behind each texel, found on first use.
-    pub(crate) opposites: OnceLock<Vec<Option<Opposite>>>,
+    /// The face behind each texel, found on first use and shared with the
+    /// same object under other light ([`Prepared::relit`]).
+    pub(crate) opposites: Arc<OnceLock<Vec<Option<Opposite>>>>,
     pub(crate) seconds: f64,
     /// The lights and scene kept for splitting the light by incidence,
     /// when the material has an oblique kernel and scene lights light it.
@@ -206,15 +207,13 @@ impl Prepared {
     /// The same layout, faces behind and dilation under `irradiance` and
     /// `colour` (one per surfel), with no lights to split by incidence.
     fn relit(&self, irradiance: Vec<[f32; 3]>, colour: Vec<[f32; 3]>) -> Prepared {
-        let opposites = OnceLock::new();
-        let _ = opposites.set(self.opposites().to_vec());
         Prepared {
             layout: Arc::clone(&self.layout),
             irradiance,
             colour,
             colour_split: self.colour_split,
             dilation: self.dilation.clone(),
-            opposites,
+            opposites: Arc::clone(&self.opposites),
             seconds: 0.0,
             lights: None,
             incidence: OnceLock::new(),
@@ -228,7 +227,17 @@ impl Prepared {
         self.irradiance
             .iter()
             .zip(&self.colour)
-            .map(|(e, c)| [0, 1, 2].map(|k| e[k] * c[k].powf(alpha)))
+            // A colour of 1 (no colour map) leaves the light as it is,
+            // without a power per channel.
+            .map(|(e, c)| {
+                [0, 1, 2].map(|k| {
+                    if c[k] == 1.0 {
+                        e[k]
+                    } else {
+                        e[k] * c[k].powf(alpha)
+                    }
+                })
+            })
             .collect()
     }
 
@@ -285,40 +294,14 @@ impl Prepared {
     }
 
     /// The texels as sources of light.
-    pub fn texel_sources(&self) -> Sources {
-        let n = self.surfels.resolution as f32;
-        // Each texel's covered parallelogram, from texel units onto its
-        // triangle's plane, scaled to the area it stands for (which adds
-        // the shares of every triangle in the texel, at their own scale):
-        // a texel's own light then returns exactly R_total where the
-        // profile is sharper than the texel, neither more nor less.
-        let footprint = self
-            .surfels
-            .triangle
-            .iter()
-            .zip(&self.surfels.extent)
-            .zip(&self.surfels.area)
-            .map(|((&t, extent), &area)| {
-                let Some((du, dv)) = uv_jacobian(&self.mesh, &self.uvs, t as usize) else {
-                    return [Vec3::ZERO; 2];
-                };
-                let (du, dv) = (du.as_vec3() / n, dv.as_vec3() / n);
-                let edges = extent.map(|e| du * e.x + dv * e.y);
-                let spanned = edges[0].cross(edges[1]).length();
-                if spanned > 0.0 && area > 0.0 {
-                    edges.map(|e| e * (area / spanned).sqrt())
-                } else {
-                    [Vec3::ZERO; 2]
-                }
-            })
-            .collect();
+    pub fn texel_sources(&self) -> Sources<'_> {
         Sources {
-            position: self.surfels.position.clone(),
-            normal: self.surfels.normal.clone(),
-            area: self.surfels.area.clone(),
+            position: Cow::Borrowed(&self.surfels.position),
+            normal: Cow::Borrowed(&self.surfels.normal),
+            area: Cow::Borrowed(&self.surfels.area),
             irradiance: self.entering(),
-            footprint,
-            piece: self.surfels.piece.clone(),
+            footprint: Cow::Borrowed(self.texel_footprints()),
+            piece: Cow::Borrowed(&self.surfels.piece),
         }
     }
 
@@ -329,7 +312,7 @@ impl Prepared {
         count: usize,
         seed: u64,
         control: &Control,
-    ) -> Result<Sources, Error> {
+    ) -> Result<Sources<'static>, Error> {
         let (mut points, mut weights) = place_points(&self.mesh, count, seed);
         relax(&self.mesh, &mut points, &mut weights, 10);
         control.check()?;

@@ -390,7 +390,7 @@ fn the_oblique_exact_sum_makes_no_energy() {
         for c in 0..3 {
             let leaving: f64 = exitance
                 .iter()
-                .zip(&sources.area)
+                .zip(sources.area.iter())
                 .map(|(m, &a)| m[c] as f64 * a as f64)
                 .sum();
             // At most what the kernel returns of light entering at 60°

@@ -124,7 +124,7 @@ fn a_piece_in_shadow_receives_no_light_from_its_lit_neighbour() {
     // Gathering by 3-D distance alone, as if one medium filled the gap, the
     // second cube's top near the gap would glow: what the pieces prevent.
     let mut sources = prepared.texel_sources();
-    sources.piece.clear();
+    sources.piece = Default::default();
     let across_air = exact_sum_at(&prepared, &skin.kernel, &sources, &on_second);
     let leaked = across_air.iter().map(|m| m[0]).fold(0.0f32, f32::max);
     assert!(leaked > 1e-3, "across the air the gap would carry {leaked}");

@@ -70,6 +70,7 @@ impl Layout {
             source_vertex,
             surfels,
             relative_colour: Vec::new(),
+            footprints: Default::default(),
         };
         let decision = UvDecision {
             verdict,

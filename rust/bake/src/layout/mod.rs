@@ -5,8 +5,10 @@
 mod decide;
 
 use crate::mesh::Mesh;
-use crate::surface::texels::TexelSurfels;
-use glam::Vec2;
+use crate::surface::texels::{TexelSurfels, uv_jacobian};
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+use std::sync::OnceLock;
 
 /// Where an object's texels are: the mesh with the UVs the bake uses and
 /// the texels they cover. Made by the plan, shared by every stage after.
@@ -27,6 +29,9 @@ pub struct Layout {
     /// profile is built for, C/m (crate::colour); empty: the same colour
     /// everywhere. Set by the plan.
     pub relative_colour: Vec<[f32; 3]>,
+    /// Each texel's parallelogram on the surface ([`Layout::texel_footprints`]),
+    /// found on first use.
+    pub footprints: OnceLock<Vec<[Vec3; 2]>>,
 }
 
 /// The layout's verdict on an object's own UVs, and what it did.
@@ -43,6 +48,38 @@ pub struct UvDecision {
 }
 
 impl Layout {
+    /// Each texel's covered parallelogram, from texel units onto its
+    /// triangle's plane, scaled to the area it stands for (which adds the
+    /// shares of every triangle in the texel, at their own scale): a
+    /// texel's own light then returns exactly R_total where the profile is
+    /// sharper than the texel, neither more nor less. Edges in mm; zero
+    /// for a texel on a degenerate triangle. Found once, shared by every
+    /// light's sources.
+    pub fn texel_footprints(&self) -> &[[Vec3; 2]] {
+        self.footprints.get_or_init(|| {
+            let surfels = &self.surfels;
+            let n = surfels.resolution as f32;
+            (0..surfels.len())
+                .into_par_iter()
+                .map(|i| {
+                    let (t, extent, area) =
+                        (surfels.triangle[i], surfels.extent[i], surfels.area[i]);
+                    let Some((du, dv)) = uv_jacobian(&self.mesh, &self.uvs, t as usize) else {
+                        return [Vec3::ZERO; 2];
+                    };
+                    let (du, dv) = (du.as_vec3() / n, dv.as_vec3() / n);
+                    let edges = extent.map(|e| du * e.x + dv * e.y);
+                    let spanned = edges[0].cross(edges[1]).length();
+                    if spanned > 0.0 && area > 0.0 {
+                        edges.map(|e| e * (area / spanned).sqrt())
+                    } else {
+                        [Vec3::ZERO; 2]
+                    }
+                })
+                .collect()
+        })
+    }
+
     /// The centre of surfel `s`'s texel in UV space.
     pub(crate) fn texel_uv(&self, s: usize) -> Vec2 {
         let n = self.surfels.resolution;

@@ -150,6 +150,7 @@ mod tests {
             source_vertex: Vec::new(),
             surfels,
             relative_colour: Vec::new(),
+            footprints: Default::default(),
         }
     }
 

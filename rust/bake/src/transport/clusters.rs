@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 
 /// Clusters `texels` (sources with area and irradiance) around `centres`
 /// spaced about `spacing` mm apart. Cells that hold no texel are dropped.
-pub fn cluster(texels: &Sources, centres: &[Vec3], spacing: f32) -> Sources {
+pub fn cluster(texels: &Sources, centres: &[Vec3], spacing: f32) -> Sources<'static> {
     if centres.is_empty() || texels.is_empty() {
         return Sources::default();
     }
@@ -54,16 +54,18 @@ pub fn cluster(texels: &Sources, centres: &[Vec3], spacing: f32) -> Sources {
     let mut out = Sources::default();
     for ((_, piece), cell) in cells.into_iter().filter(|(_, c)| c.area > 0.0) {
         if pieces {
-            out.piece.push(piece);
+            out.piece.to_mut().push(piece);
         }
         let centre = if cell.light > 0.0 {
             cell.by_light / cell.light
         } else {
             cell.by_area / cell.area
         };
-        out.position.push(centre.as_vec3());
-        out.normal.push(cell.normal.normalize_or_zero().as_vec3());
-        out.area.push(cell.area as f32);
+        out.position.to_mut().push(centre.as_vec3());
+        out.normal
+            .to_mut()
+            .push(cell.normal.normalize_or_zero().as_vec3());
+        out.area.to_mut().push(cell.area as f32);
         out.irradiance
             .push(cell.flux.map(|f| (f / cell.area) as f32));
     }

@@ -81,7 +81,7 @@ fn plain_sum(
 /// other way (light crosses to it when the kernel transmits), of texels
 /// 0.4 mm by 0.5 mm, some stretched 3:1 and some without area, a third
 /// of them unlit; `shaped` gives each its parallelogram.
-fn folded_sheets(shaped: bool) -> Sources {
+fn folded_sheets(shaped: bool) -> Sources<'static> {
     let mut rng = Rng::new(14, 5);
     let mut s = Sources::default();
     for sheet in 0..2 {
@@ -103,14 +103,14 @@ fn folded_sheets(shaped: bool) -> Sources {
                         0.0
                     }
                 });
-                s.position.push(position);
-                s.normal.push(normal);
-                s.area.push(area);
+                s.position.to_mut().push(position);
+                s.normal.to_mut().push(normal);
+                s.area.to_mut().push(area);
                 s.irradiance.push(e);
                 if shaped {
                     let u = Vec3::X * du;
                     let v = if area > 0.0 { Vec3::Y * dv } else { Vec3::ZERO };
-                    s.footprint.push([u, v]);
+                    s.footprint.to_mut().push([u, v]);
                 }
             }
         }
@@ -121,8 +121,8 @@ fn folded_sheets(shaped: bool) -> Sources {
 /// Checks the walked sum against the plain one at every source as its own
 /// target and at points that are no source, within 1e-5 relative.
 fn assert_walk_is_the_plain_sum(kernel: &Kernel, sources: &Sources) {
-    let mut position = sources.position.clone();
-    let mut normal = sources.normal.clone();
+    let mut position = sources.position.to_vec();
+    let mut normal = sources.normal.to_vec();
     let mut own: Vec<Option<usize>> = (0..sources.len()).map(Some).collect();
     for k in 0..50 {
         position.push(Vec3::new(0.31 * k as f32, 0.17 * k as f32, 0.05));

@@ -34,9 +34,8 @@ impl Apart {
 
 /// Sources in a walking order, structure of arrays.
 pub(super) struct SourceTable {
-    pub position: Vec<Vec3>,
-    /// The positions' coordinates apart, so distances to a run of sources
-    /// are computed a vector at a time.
+    /// The positions' coordinates apart (mm), so distances to a run of
+    /// sources are computed a vector at a time ([`Self::position`]).
     pub x: Vec<f32>,
     pub y: Vec<f32>,
     pub z: Vec<f32>,
@@ -98,7 +97,6 @@ impl SourceTable {
             x: position.iter().map(|p| p.x).collect(),
             y: position.iter().map(|p| p.y).collect(),
             z: position.iter().map(|p| p.z).collect(),
-            position,
             normal: order.par_iter().map(|i| sources.normal[pick(i)]).collect(),
             flux: order
                 .par_iter()
@@ -129,6 +127,12 @@ impl SourceTable {
                 Vec::new()
             },
         }
+    }
+
+    /// Source `j`'s position (this order), mm.
+    #[inline]
+    pub fn position(&self, j: usize) -> Vec3 {
+        Vec3::new(self.x[j], self.y[j], self.z[j])
     }
 
     /// True when source `j` (this order) and a target on `piece` are
@@ -184,7 +188,7 @@ impl SourceTable {
             self.footprint_weight(disks, j, p, n)
         } else {
             let transmits = disks.kernel().transmits();
-            let (q, m) = (self.position[j], self.normal[j]);
+            let (q, m) = (self.position(j), self.normal[j]);
             let separation = if apart.straight {
                 Separation::straight(q, m, p, n, d2, transmits)
             } else {
@@ -217,7 +221,7 @@ impl SourceTable {
     fn footprint_weight(&self, disks: &DiskKernel, j: usize, p: Vec3, n: Vec3) -> Vec4 {
         let [u, v] = self.edges[j];
         let sub_slot = self.sub_slot[j];
-        let centre = self.position[j];
+        let centre = self.position(j);
         let (along_u, along_v) = sub_sample_offsets();
         let step = 1.0 / SUBDIVISIONS as f32;
         let mut w = Vec4::ZERO;

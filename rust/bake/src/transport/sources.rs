@@ -3,31 +3,34 @@
 
 use glam::{IVec2, Vec2, Vec3};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
-/// Samples light enters through, structure of arrays.
+/// Samples light enters through, structure of arrays. What does not
+/// change with the light may be borrowed (a layout's texels lend theirs,
+/// so the texels as sources cost their light alone).
 #[derive(Clone, Debug, Default)]
-pub struct Sources {
+pub struct Sources<'a> {
     /// Positions, mm.
-    pub position: Vec<Vec3>,
+    pub position: Cow<'a, [Vec3]>,
     /// Unit normals.
-    pub normal: Vec<Vec3>,
+    pub normal: Cow<'a, [Vec3]>,
     /// Area each stands for, mm².
-    pub area: Vec<f32>,
+    pub area: Cow<'a, [f32]>,
     /// Transmitted irradiance E_t, W/m² per channel.
     pub irradiance: Vec<[f32; 3]>,
     /// For texels: the edges of the parallelogram of surface each stands
     /// for, mm (one texel step along u and along v for a whole texel; the
     /// covered part's rectangle for a texel at a chart's edge); empty for
     /// samples without a shape.
-    pub footprint: Vec<[Vec3; 2]>,
+    pub footprint: Cow<'a, [[Vec3; 2]]>,
     /// The piece of the mesh each sample lies on (see
     /// [`crate::surface::medium::medium_pieces`]); empty when every
     /// sample is on one piece. Light travels only between samples of one
     /// piece.
-    pub piece: Vec<u32>,
+    pub piece: Cow<'a, [u32]>,
 }
 
-impl Sources {
+impl Sources<'_> {
     /// True when source `i` and a target on `piece` are joined by the
     /// medium: on one piece, or when either side does not say.
     #[inline]
@@ -48,7 +51,7 @@ impl Sources {
     /// Σ E_t·A per channel: the flux entering, W/m² · mm².
     pub fn flux(&self) -> [f64; 3] {
         let mut sum = [0.0f64; 3];
-        for (e, &a) in self.irradiance.iter().zip(&self.area) {
+        for (e, &a) in self.irradiance.iter().zip(self.area.iter()) {
             for c in 0..3 {
                 sum[c] += e[c] as f64 * a as f64;
             }

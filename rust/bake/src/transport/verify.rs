@@ -177,6 +177,8 @@ pub fn predict_error(
         return Ok(None);
     };
     let got = summer.at(&picked, control)?;
+    // The integrator's tree goes before the exact sum's table comes.
+    drop(summer);
     let sources = prepared.texel_sources();
     let listed = prepared.listed(&picked);
     let (exact, _) = brute::exact_sum(prepared, scattering, &sources, listed.targets(), control)?;

@@ -107,7 +107,7 @@ impl Sorted {
             let straight = d2.sqrt();
             let height = dx * n.x + dy * n.y + dz * n.z;
             let d = if may_cross_air(height, d2) {
-                path_length(table.position[j], table.normal[j], p, n, straight)
+                path_length(table.position(j), table.normal[j], p, n, straight)
             } else {
                 straight
             };
@@ -164,7 +164,7 @@ impl Sorted {
         let mut sum = Vec4::ZERO;
         let radius = reach.radius;
         for j in block {
-            let d2 = (self.table.position[j] - p).length_squared();
+            let d2 = (self.table.position(j) - p).length_squared();
             if d2 > radius * radius || !self.table.joins(j, piece) {
                 continue;
             }

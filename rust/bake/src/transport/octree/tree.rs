@@ -124,7 +124,7 @@ impl Octree {
                 continue;
             }
             for j in node.first as usize..(node.first + node.count) as usize {
-                let offset = self.table.position[j] - p;
+                let offset = self.table.position(j) - p;
                 let d2 = offset.length_squared();
                 if d2 > reach2 || !self.table.joins(j, piece) {
                     continue;
