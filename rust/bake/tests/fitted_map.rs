@@ -49,28 +49,42 @@ fn with_gathers(prepared: &Prepared, check: impl FnOnce(&dyn Summer, &Scattering
     check(&*summer, &skin, &direct);
 }
 
+/// The map of `prepared` carried from its first lattice at a 1%
+/// tolerance, checked over every texel (not only the probed ones) against
+/// `direct`, the summer's own sums: within its share of the tolerance,
+/// and carried (a lattice wider than one texel).
+fn carried_within_share(
+    prepared: &Prepared,
+    summer: &dyn Summer,
+    skin: &Scattering,
+    direct: &[[f32; 3]],
+) -> Vec<[f32; 3]> {
+    let step = first_step(half_light_texels(skin, &prepared.surfels));
+    let tolerance = 0.01;
+    let (map, fit) = fitted_map(
+        prepared,
+        summer,
+        &skin.kernel,
+        step,
+        tolerance,
+        &Control::new(),
+    )
+    .unwrap();
+    assert!(fit.step > 1, "{fit:?}");
+    assert!(fit.missed <= FIT_SHARE * tolerance, "{fit:?}");
+    let (relative, worst) = relative_errors(&map, direct);
+    assert!(relative <= FIT_SHARE * tolerance, "{relative} {fit:?}");
+    assert!(worst < 0.05, "worst {worst}");
+    map
+}
+
 #[test]
 fn a_map_carried_across_a_shadows_edge_keeps_within_its_share_of_the_tolerance() {
     let prepared = half_lit();
     with_gathers(&prepared, |summer, skin, direct| {
         let step = first_step(half_light_texels(skin, &prepared.surfels));
         assert!(step > 2, "the profile spans a few texels: step {step}");
-        let tolerance = 0.01;
-        let (map, fit) = fitted_map(
-            &prepared,
-            summer,
-            &skin.kernel,
-            step,
-            tolerance,
-            &Control::new(),
-        )
-        .unwrap();
-        assert!(fit.step > 1, "{fit:?}");
-        assert!(fit.missed <= FIT_SHARE * tolerance, "{fit:?}");
-        // Over every texel, not only the probed ones.
-        let (relative, worst) = relative_errors(&map, direct);
-        assert!(relative <= FIT_SHARE * tolerance, "{relative} {fit:?}");
-        assert!(worst < 0.05, "worst {worst}");
+        let map = carried_within_share(&prepared, summer, skin, direct);
         // Carried, not summed: most texels differ from their own sums.
         let carried = map.iter().zip(direct).filter(|(m, d)| m != d).count();
         assert!(carried > direct.len() / 2, "{carried} of {}", direct.len());
@@ -101,24 +115,11 @@ fn where_the_light_is_smooth_the_map_is_carried_whole_within_the_share() {
     let prepared = smoothly_lit();
     with_gathers(&prepared, |summer, skin, direct| {
         let step = first_step(half_light_texels(skin, &prepared.surfels));
-        let tolerance = 0.01;
         let every: Vec<usize> = (0..prepared.surfels.len()).collect();
-        let mut carrier = Carrier::split(&prepared, summer, &skin.kernel, tolerance);
+        let mut carrier = Carrier::split(&prepared, summer, &skin.kernel, 0.01);
         let whole = carrier.smooth_share_at(&every, step);
         assert!(whole > 0.5, "carried whole at {whole} of the texels");
-        let (map, fit) = fitted_map(
-            &prepared,
-            summer,
-            &skin.kernel,
-            step,
-            tolerance,
-            &Control::new(),
-        )
-        .unwrap();
-        assert!(fit.step > 1, "{fit:?}");
-        let (relative, worst) = relative_errors(&map, direct);
-        assert!(relative <= FIT_SHARE * tolerance, "{relative} {fit:?}");
-        assert!(worst < 0.05, "worst {worst}");
+        carried_within_share(&prepared, summer, skin, direct);
     });
     // Across a shadow's edge, the texels beside it keep their own N.
     let prepared = half_lit();

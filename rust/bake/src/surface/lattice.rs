@@ -89,24 +89,7 @@ impl Lattice {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::surface::texels::EMPTY;
-    use glam::Vec3;
-
-    /// A fully covered `n`² map of a plane, texel (x, y) at (x, y, 0).
-    fn plane(n: u32) -> TexelSurfels {
-        let count = (n * n) as usize;
-        TexelSurfels {
-            resolution: n,
-            index: (0..n * n).collect(),
-            texel: (0..n * n).collect(),
-            position: (0..n * n)
-                .map(|t| Vec3::new((t % n) as f32, (t / n) as f32, 0.0))
-                .collect(),
-            normal: vec![Vec3::Z; count],
-            area: vec![1.0; count],
-            ..TexelSurfels::default()
-        }
-    }
+    use crate::surface::texels::{EMPTY, unit_plane as plane};
 
     #[test]
     fn a_linear_field_is_carried_exactly_and_the_lattice_is_its_own() {

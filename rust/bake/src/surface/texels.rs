@@ -76,6 +76,25 @@ impl TexelSurfels {
     }
 }
 
+/// A fully covered `n`² map of a plane of unit texels, texel (x, y) at
+/// (x, y, 0) mm: the layout the lattice's tests carry fields over.
+#[cfg(test)]
+pub(crate) fn unit_plane(n: u32) -> TexelSurfels {
+    let count = (n * n) as usize;
+    TexelSurfels {
+        resolution: n,
+        index: (0..n * n).collect(),
+        texel: (0..n * n).collect(),
+        position: (0..n * n)
+            .map(|t| Vec3::new((t % n) as f32, (t / n) as f32, 0.0))
+            .collect(),
+        normal: vec![Vec3::Z; count],
+        area: vec![1.0; count],
+        stretch: vec![Vec2::ONE; count],
+        ..TexelSurfels::default()
+    }
+}
+
 /// One triangle prepared for rasterisation.
 struct Prepared {
     uv: TexelTriangle,

@@ -1,0 +1,308 @@
+//! One object's map carried from lattices of texels: N where the light is
+//! not smooth over a lattice's cells, the integrator's sums at the lattice
+//! texels, and each texel's route between them.
+
+use super::{NEAR_TEXELS, SAME_FACING, SMOOTH_SHARE, smooth};
+use crate::control::Control;
+use crate::error::Error;
+use crate::prepared::Prepared;
+use crate::surface::lattice::Lattice;
+use crate::surface::texels::TexelSurfels;
+use crate::transport::brute::{Reach, sum_within};
+use crate::transport::integrator::Summer;
+use crate::transport::kernel::Kernel;
+use crate::transport::sources::{OwnSource, Targets};
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// How one texel is carried: from the lattice of `step` texels (1: its
+/// own sum), and whether with its own N (where the light about it is not
+/// bilinear) or whole.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Route {
+    step: u32,
+    with_near: bool,
+}
+
+/// One object's map carried from lattices of texels: N where the light is
+/// not smooth over the cells (none when carried whole), and the
+/// integrator's sums at the lattice texels summed so far (NaN elsewhere).
+pub struct Carrier<'a> {
+    lit: &'a Prepared,
+    summer: &'a dyn Summer,
+    /// The kernel N is summed under; `None` when carried whole.
+    kernel: Option<&'a Kernel>,
+    /// The light entering per surfel (empty when carried whole).
+    light: Vec<[f32; 3]>,
+    /// The share of the light by which it may miss its bilinear mean where
+    /// the map is carried whole, N and all.
+    smooth_share: f32,
+    /// Per lattice step, per surfel: where the light is smooth.
+    smooth: HashMap<u32, Vec<bool>>,
+    /// N per surfel (NaN where not yet summed; empty when carried whole).
+    near: Vec<[f32; 3]>,
+    summed: Vec<[f32; 3]>,
+}
+
+impl<'a> Carrier<'a> {
+    /// The map of `lit` under `kernel` split as M = N + F, N (the sum
+    /// within [`NEAR_TEXELS`] mean texels, tapered) found where the light
+    /// is not within [`SMOOTH_SHARE`] of `tolerance` of bilinear over the
+    /// lattice's cells, and carried with F elsewhere.
+    pub fn split(
+        lit: &'a Prepared,
+        summer: &'a dyn Summer,
+        kernel: &'a Kernel,
+        tolerance: f64,
+    ) -> Self {
+        let texels = lit.surfels.len();
+        Carrier {
+            lit,
+            summer,
+            kernel: Some(kernel),
+            light: lit.entering(),
+            smooth_share: (SMOOTH_SHARE * tolerance) as f32,
+            smooth: HashMap::new(),
+            near: vec![[f32::NAN; 3]; texels],
+            summed: vec![[f32::NAN; 3]; texels],
+        }
+    }
+
+    /// `summer`'s sums over `lit` carried whole (N = 0): for a light with
+    /// no edges, whose sums change only over the profile's spread.
+    pub fn whole(lit: &'a Prepared, summer: &'a dyn Summer) -> Self {
+        let texels = lit.surfels.len();
+        Carrier {
+            lit,
+            summer,
+            kernel: None,
+            light: Vec::new(),
+            smooth_share: 0.0,
+            smooth: HashMap::new(),
+            near: Vec::new(),
+            summed: vec![[f32::NAN; 3]; texels],
+        }
+    }
+
+    /// The map at `texels`: each carried from the lattice of `step` texels
+    /// where it has four corners on its surface, else from the lattice of
+    /// half the step (rounding up), down to its own sum. The lattice texels
+    /// and the N it needs are summed once and kept.
+    pub fn at(
+        &mut self,
+        texels: &[usize],
+        step: u32,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Error> {
+        let routes = self.routes(texels, step);
+        let surfels = &self.lit.surfels;
+        let mut needed = vec![false; surfels.len()];
+        let mut missing = Vec::new();
+        for (&i, route) in texels.iter().zip(&routes) {
+            for j in self.corners(i, route.step).into_iter().flatten().flatten() {
+                if self.summed[j][0].is_nan() && !needed[j] {
+                    needed[j] = true;
+                    missing.push(j);
+                }
+            }
+        }
+        self.sum(&missing, control)?;
+        self.sum_near(texels, &routes, control)?;
+        Ok(texels
+            .par_iter()
+            .zip(&routes)
+            .map(|(&i, route)| self.carry(i, *route))
+            .collect())
+    }
+
+    /// Finds N wherever the map at `texels` carried from `step` needs it,
+    /// before the integrator's first sums, so the exact sum's table and the
+    /// integrator's are not held at once.
+    pub fn near_for(
+        &mut self,
+        texels: &[usize],
+        step: u32,
+        control: &Control,
+    ) -> Result<(), Error> {
+        let routes = self.routes(texels, step);
+        self.sum_near(texels, &routes, control)
+    }
+
+    /// The share of `texels` whose light is smooth at `step`: carried
+    /// whole, without their own N.
+    pub fn smooth_share_at(&mut self, texels: &[usize], step: u32) -> f64 {
+        let routes = self.routes(texels, step);
+        let whole = routes.iter().filter(|r| r.step > 1 && !r.with_near);
+        whole.count() as f64 / texels.len().max(1) as f64
+    }
+
+    /// How each of `texels` is carried from `step` down.
+    fn routes(&mut self, texels: &[usize], step: u32) -> Vec<Route> {
+        let mut routes = vec![
+            Route {
+                step: 1,
+                with_near: false,
+            };
+            texels.len()
+        ];
+        let mut pending: Vec<usize> = (0..texels.len()).collect();
+        let mut step = step.max(1);
+        while step > 1 && !pending.is_empty() {
+            self.smooth_at(step);
+            let smooth = self.smooth.get(&step);
+            let lattice = Lattice::new(&self.lit.surfels, step);
+            pending.retain(|&k| {
+                let i = texels[k];
+                if self.corners(i, step).is_none() {
+                    return true;
+                }
+                let on_lattice = lattice.holds(self.lit.surfels.texel[i]);
+                let smooth = smooth.is_none_or(|s| s[i]);
+                routes[k] = Route {
+                    step,
+                    with_near: !on_lattice && !smooth,
+                };
+                false
+            });
+            step = step.div_ceil(2);
+        }
+        routes
+    }
+
+    /// Finds where the light is smooth at `step`, once (nothing to find
+    /// when carried whole).
+    fn smooth_at(&mut self, step: u32) {
+        if self.kernel.is_none() || self.smooth.contains_key(&step) {
+            return;
+        }
+        let surfels = &self.lit.surfels;
+        let lattice = Lattice::new(surfels, step);
+        let near_reach = NEAR_TEXELS * surfels.mean_side();
+        let smooth = smooth::smooth_texels(
+            surfels,
+            &self.light,
+            &lattice,
+            near_reach,
+            self.smooth_share,
+            |i, j| alike(surfels, &lattice, i, j),
+        );
+        self.smooth.insert(step, smooth);
+    }
+
+    /// The lattice surfels texel `i` is carried from at `step`: itself
+    /// alone at step 1 or on the lattice, else its four corners on its
+    /// surface, `None` when it has not four.
+    fn corners(&self, i: usize, step: u32) -> Option<[Option<usize>; 4]> {
+        let surfels = &self.lit.surfels;
+        let lattice = Lattice::new(surfels, step);
+        if step <= 1 || lattice.holds(surfels.texel[i]) {
+            return Some([Some(i), None, None, None]);
+        }
+        let corners = lattice.corners(surfels, i, |j| alike(surfels, &lattice, i, j))?;
+        Some(corners.map(|(j, _)| Some(j)))
+    }
+
+    /// N at the texels of `texels` routed with it and at their corners,
+    /// where not yet summed.
+    fn sum_near(
+        &mut self,
+        texels: &[usize],
+        routes: &[Route],
+        control: &Control,
+    ) -> Result<(), Error> {
+        let Some(kernel) = self.kernel else {
+            return Ok(());
+        };
+        let mut needed = vec![false; self.near.len()];
+        let mut listed = Vec::new();
+        for (&i, route) in texels.iter().zip(routes) {
+            if !route.with_near {
+                continue;
+            }
+            let corners = self.corners(i, route.step).into_iter().flatten();
+            for j in std::iter::once(i).chain(corners.flatten()) {
+                if self.near[j][0].is_nan() && !needed[j] {
+                    needed[j] = true;
+                    listed.push(j);
+                }
+            }
+        }
+        if listed.is_empty() {
+            return Ok(());
+        }
+        let surfels = &self.lit.surfels;
+        let position: Vec<_> = listed.iter().map(|&j| surfels.position[j]).collect();
+        let normal: Vec<_> = listed.iter().map(|&j| surfels.normal[j]).collect();
+        let piece: Vec<u32> = if surfels.piece.len() == surfels.len() {
+            listed.iter().map(|&j| surfels.piece[j]).collect()
+        } else {
+            Vec::new()
+        };
+        let targets = Targets {
+            position: &position,
+            normal: &normal,
+            own: OwnSource::Listed(&listed),
+            piece: &piece,
+        };
+        let reach = Reach {
+            radius: (NEAR_TEXELS * surfels.mean_side()) as f32,
+            tapered: true,
+        };
+        let sources = self.lit.texel_sources();
+        let near = sum_within(kernel, &sources, targets, reach, control)?;
+        for (&j, n) in listed.iter().zip(near) {
+            self.near[j] = n;
+        }
+        Ok(())
+    }
+
+    /// The integrator's sums at `listed` (none known yet), kept.
+    fn sum(&mut self, listed: &[usize], control: &Control) -> Result<(), Error> {
+        for (&s, m) in listed.iter().zip(self.summer.at(listed, control)?) {
+            self.summed[s] = m;
+        }
+        Ok(())
+    }
+
+    /// Texel `i`'s exitance by `route`: its own sum at step 1 or on the
+    /// lattice; else the bilinear mean of the sums at the four lattice
+    /// texels around it, with its own N for theirs where the light about
+    /// it is not smooth.
+    fn carry(&self, i: usize, route: Route) -> [f32; 3] {
+        let surfels = &self.lit.surfels;
+        let lattice = Lattice::new(surfels, route.step);
+        if route.step <= 1 || lattice.holds(surfels.texel[i]) {
+            return self.summed[i];
+        }
+        let Some(corners) = lattice.corners(surfels, i, |j| alike(surfels, &lattice, i, j)) else {
+            return self.summed[i];
+        };
+        let near = |j: usize| -> [f32; 3] {
+            if route.with_near {
+                self.near[j]
+            } else {
+                [0.0; 3]
+            }
+        };
+        let far = |c: usize| -> f32 {
+            corners
+                .iter()
+                .map(|&(j, w)| w * (self.summed[j][c] - near(j)[c]))
+                .sum()
+        };
+        let own = near(i);
+        [0, 1, 2].map(|c| own[c] + far(c))
+    }
+}
+
+/// True when lattice texel `j` lies on texel `i`'s surface, so it carries
+/// its share of the map there: same medium, facing its way, within a
+/// cell's reach on the surface (a texel beside it in the layout may lie on
+/// another chart).
+fn alike(surfels: &TexelSurfels, lattice: &Lattice, i: usize, j: usize) -> bool {
+    let medium = |s: usize| surfels.piece.get(s).copied();
+    let within = 1.5 * lattice.step as f32 * surfels.stretch[i].length();
+    medium(j) == medium(i)
+        && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING
+        && surfels.position[j].distance_squared(surfels.position[i]) <= within * within
+}
