@@ -14,6 +14,7 @@ use crate::transport::kernel::Kernel;
 use crate::transport::sources::{OwnSource, Targets};
 use rayon::prelude::*;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// How one texel is carried: from the lattice of `step` texels (1: its
 /// own sum), and whether with its own N (where the light about it is not
@@ -95,17 +96,13 @@ impl<'a> Carrier<'a> {
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Error> {
         let routes = self.routes(texels, step);
-        let surfels = &self.lit.surfels;
-        let mut needed = vec![false; surfels.len()];
-        let mut missing = Vec::new();
-        for (&i, route) in texels.iter().zip(&routes) {
+        let missing = marked(self.summed.len(), texels, &routes, |i, route, mark| {
             for j in self.corners(i, route.step).into_iter().flatten().flatten() {
-                if self.summed[j][0].is_nan() && !needed[j] {
-                    needed[j] = true;
-                    missing.push(j);
+                if self.summed[j][0].is_nan() {
+                    mark(j);
                 }
             }
-        }
+        });
         self.sum(&missing, control)?;
         self.sum_near(texels, &routes, control)?;
         Ok(texels
@@ -151,19 +148,27 @@ impl<'a> Carrier<'a> {
             self.smooth_at(step);
             let smooth = self.smooth.get(&step);
             let lattice = Lattice::new(&self.lit.surfels, step);
-            pending.retain(|&k| {
-                let i = texels[k];
-                if self.corners(i, step).is_none() {
-                    return true;
+            let decided: Vec<Option<Route>> = pending
+                .par_iter()
+                .map(|&k| {
+                    let i = texels[k];
+                    self.corners(i, step)?;
+                    let on_lattice = lattice.holds(self.lit.surfels.texel[i]);
+                    let smooth = smooth.is_none_or(|s| s[i]);
+                    Some(Route {
+                        step,
+                        with_near: !on_lattice && !smooth,
+                    })
+                })
+                .collect();
+            let mut left = Vec::new();
+            for (k, route) in pending.into_iter().zip(decided) {
+                match route {
+                    Some(route) => routes[k] = route,
+                    None => left.push(k),
                 }
-                let on_lattice = lattice.holds(self.lit.surfels.texel[i]);
-                let smooth = smooth.is_none_or(|s| s[i]);
-                routes[k] = Route {
-                    step,
-                    with_near: !on_lattice && !smooth,
-                };
-                false
-            });
+            }
+            pending = left;
             step = step.div_ceil(2);
         }
         routes
@@ -213,20 +218,17 @@ impl<'a> Carrier<'a> {
         let Some(kernel) = self.kernel else {
             return Ok(());
         };
-        let mut needed = vec![false; self.near.len()];
-        let mut listed = Vec::new();
-        for (&i, route) in texels.iter().zip(routes) {
+        let listed = marked(self.near.len(), texels, routes, |i, route, mark| {
             if !route.with_near {
-                continue;
+                return;
             }
             let corners = self.corners(i, route.step).into_iter().flatten();
             for j in std::iter::once(i).chain(corners.flatten()) {
-                if self.near[j][0].is_nan() && !needed[j] {
-                    needed[j] = true;
-                    listed.push(j);
+                if self.near[j][0].is_nan() {
+                    mark(j);
                 }
             }
-        }
+        });
         if listed.is_empty() {
             return Ok(());
         }
@@ -293,6 +295,28 @@ impl<'a> Carrier<'a> {
         let own = near(i);
         [0, 1, 2].map(|c| own[c] + far(c))
     }
+}
+
+/// The surfels below `count` that `each` marks for any of `texels` (given
+/// each texel, its route and the mark), each once and in order; the
+/// texels are visited in parallel.
+fn marked(
+    count: usize,
+    texels: &[usize],
+    routes: &[Route],
+    each: impl Fn(usize, Route, &dyn Fn(usize)) + Sync,
+) -> Vec<usize> {
+    let marks: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
+    let mark = |j: usize| marks[j].store(true, Ordering::Relaxed);
+    texels
+        .par_iter()
+        .zip(routes)
+        .for_each(|(&i, &route)| each(i, route, &mark));
+    marks
+        .into_par_iter()
+        .enumerate()
+        .filter_map(|(j, m)| m.into_inner().then_some(j))
+        .collect()
 }
 
 /// True when lattice texel `j` lies on texel `i`'s surface, so it carries
