@@ -169,7 +169,11 @@ impl Grid {
             extent.max_element()
         };
         let across = Vec2::new(extent.y, extent.z);
-        while (across / cell).ceil().max(Vec2::ONE).element_product() > MOST_ROWS {
+        // Bounded even for a box without end (an infinite coordinate):
+        // the cell grows past any finite extent, or to infinity.
+        while cell.is_finite()
+            && (across / cell).ceil().max(Vec2::ONE).element_product() > MOST_ROWS
+        {
             cell *= 1.5;
         }
         let dims = (across / cell).floor().as_ivec2() + IVec2::ONE;
@@ -325,5 +329,9 @@ mod tests {
             met.extend_from_slice(&grid.order[run])
         });
         assert!(met.contains(&0));
+        // A coordinate without end still makes a grid, and holds every source.
+        let points = [Vec3::ZERO, Vec3::new(0.0, f32::INFINITY, 1.0)];
+        let grid = Grid::new(&points, 0.5);
+        assert_eq!(grid.order.len(), 2);
     }
 }
