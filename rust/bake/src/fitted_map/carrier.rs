@@ -2,16 +2,15 @@
 //! not smooth over a lattice's cells, the integrator's sums at the lattice
 //! texels, and each texel's route between them.
 
-use super::{NEAR_TEXELS, SAME_FACING, SMOOTH_SHARE, smooth};
+use super::{NEAR_TEXELS, SMOOTH_SHARE, smooth};
 use crate::control::Control;
 use crate::error::Error;
 use crate::prepared::Prepared;
-use crate::surface::lattice::Lattice;
+use crate::surface::lattice::{Lattice, on_surface_of};
 use crate::surface::texels::TexelSurfels;
 use crate::transport::brute::{Reach, sum_within};
 use crate::transport::integrator::Summer;
 use crate::transport::kernel::Kernel;
-use crate::transport::sources::{OwnSource, Targets};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -97,7 +96,7 @@ impl<'a> Carrier<'a> {
     ) -> Result<Vec<[f32; 3]>, Error> {
         let routes = self.routes(texels, step);
         let missing = marked(self.summed.len(), texels, &routes, |i, route, mark| {
-            for j in self.corners(i, route.step).into_iter().flatten().flatten() {
+            for (j, _) in self.corners(i, route.step).into_iter().flatten() {
                 if self.summed[j][0].is_nan() {
                     mark(j);
                 }
@@ -182,29 +181,28 @@ impl<'a> Carrier<'a> {
         }
         let surfels = &self.lit.surfels;
         let lattice = Lattice::new(surfels, step);
-        let near_reach = NEAR_TEXELS * surfels.mean_side();
         let smooth = smooth::smooth_texels(
             surfels,
             &self.light,
             &lattice,
-            near_reach,
+            near_reach(surfels),
             self.smooth_share,
             |i, j| alike(surfels, &lattice, i, j),
         );
         self.smooth.insert(step, smooth);
     }
 
-    /// The lattice surfels texel `i` is carried from at `step`: itself
-    /// alone at step 1 or on the lattice, else its four corners on its
-    /// surface, `None` when it has not four.
-    fn corners(&self, i: usize, step: u32) -> Option<[Option<usize>; 4]> {
+    /// The lattice surfels texel `i` is carried from at `step`, with their
+    /// bilinear weights: itself alone (weight 1) at step 1 or on the
+    /// lattice, else its four corners on its surface; `None` when it has
+    /// not four.
+    fn corners(&self, i: usize, step: u32) -> Option<[(usize, f32); 4]> {
         let surfels = &self.lit.surfels;
         let lattice = Lattice::new(surfels, step);
         if step <= 1 || lattice.holds(surfels.texel[i]) {
-            return Some([Some(i), None, None, None]);
+            return Some([(i, 1.0), (i, 0.0), (i, 0.0), (i, 0.0)]);
         }
-        let corners = lattice.corners(surfels, i, |j| alike(surfels, &lattice, i, j))?;
-        Some(corners.map(|(j, _)| Some(j)))
+        lattice.corners(surfels, i, |j| alike(surfels, &lattice, i, j))
     }
 
     /// N at the texels of `texels` routed with it and at their corners,
@@ -223,7 +221,7 @@ impl<'a> Carrier<'a> {
                 return;
             }
             let corners = self.corners(i, route.step).into_iter().flatten();
-            for j in std::iter::once(i).chain(corners.flatten()) {
+            for j in std::iter::once(i).chain(corners.map(|(j, _)| j)) {
                 if self.near[j][0].is_nan() {
                     mark(j);
                 }
@@ -232,26 +230,13 @@ impl<'a> Carrier<'a> {
         if listed.is_empty() {
             return Ok(());
         }
-        let surfels = &self.lit.surfels;
-        let position: Vec<_> = listed.iter().map(|&j| surfels.position[j]).collect();
-        let normal: Vec<_> = listed.iter().map(|&j| surfels.normal[j]).collect();
-        let piece: Vec<u32> = if surfels.piece.len() == surfels.len() {
-            listed.iter().map(|&j| surfels.piece[j]).collect()
-        } else {
-            Vec::new()
-        };
-        let targets = Targets {
-            position: &position,
-            normal: &normal,
-            own: OwnSource::Listed(&listed),
-            piece: &piece,
-        };
         let reach = Reach {
-            radius: (NEAR_TEXELS * surfels.mean_side()) as f32,
+            radius: near_reach(&self.lit.surfels) as f32,
             tapered: true,
         };
+        let targets = self.lit.listed(&listed);
         let sources = self.lit.texel_sources();
-        let near = sum_within(kernel, &sources, targets, reach, control)?;
+        let near = sum_within(kernel, &sources, targets.targets(), reach, control)?;
         for (&j, n) in listed.iter().zip(near) {
             self.near[j] = n;
         }
@@ -266,17 +251,12 @@ impl<'a> Carrier<'a> {
         Ok(())
     }
 
-    /// Texel `i`'s exitance by `route`: its own sum at step 1 or on the
-    /// lattice; else the bilinear mean of the sums at the four lattice
-    /// texels around it, with its own N for theirs where the light about
-    /// it is not smooth.
+    /// Texel `i`'s exitance by `route`: the bilinear mean of the sums at
+    /// the lattice texels it is carried from (its own sum at step 1 or on
+    /// the lattice), with its own N for theirs where the light about it is
+    /// not smooth.
     fn carry(&self, i: usize, route: Route) -> [f32; 3] {
-        let surfels = &self.lit.surfels;
-        let lattice = Lattice::new(surfels, route.step);
-        if route.step <= 1 || lattice.holds(surfels.texel[i]) {
-            return self.summed[i];
-        }
-        let Some(corners) = lattice.corners(surfels, i, |j| alike(surfels, &lattice, i, j)) else {
+        let Some(corners) = self.corners(i, route.step) else {
             return self.summed[i];
         };
         let near = |j: usize| -> [f32; 3] {
@@ -319,14 +299,16 @@ fn marked(
         .collect()
 }
 
-/// True when lattice texel `j` lies on texel `i`'s surface, so it carries
-/// its share of the map there: same medium, facing its way, within a
-/// cell's reach on the surface (a texel beside it in the layout may lie on
-/// another chart).
+/// True when lattice texel `j` lies on texel `i`'s surface
+/// ([`on_surface_of`]) within a cell's reach, so it carries its share of
+/// the map there.
 fn alike(surfels: &TexelSurfels, lattice: &Lattice, i: usize, j: usize) -> bool {
-    let medium = |s: usize| surfels.piece.get(s).copied();
     let within = 1.5 * lattice.step as f32 * surfels.stretch[i].length();
-    medium(j) == medium(i)
-        && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING
+    on_surface_of(surfels, i, j)
         && surfels.position[j].distance_squared(surfels.position[i]) <= within * within
+}
+
+/// N's reach, mm: [`NEAR_TEXELS`] mean texels of `surfels`.
+fn near_reach(surfels: &TexelSurfels) -> f64 {
+    NEAR_TEXELS * surfels.mean_side()
 }

@@ -72,10 +72,6 @@ const FEWEST_PROBED: usize = 1024;
 /// The most texels the fit is checked at.
 const MOST_PROBED: usize = 16_384;
 
-/// The cosine between two texels' normals above which one lies on the
-/// other's surface and carries its share of the map.
-const SAME_FACING: f32 = 0.9;
-
 /// How many of `texels` a fit is checked at: one in [`PROBED`], at least
 /// [`FEWEST_PROBED`] (every texel of a smaller object) and at most
 /// [`MOST_PROBED`], whose relative RMSE is then known within about 1%

@@ -21,7 +21,7 @@
 //! grows with the texels and the patches, not with their product.
 
 use crate::fast_hash::FastHash;
-use crate::surface::lattice::Lattice;
+use crate::surface::lattice::{Lattice, on_surface_of};
 use crate::surface::texels::TexelSurfels;
 use crate::transport::sources::Grid;
 use glam::{DVec3, IVec3, Vec3};
@@ -37,9 +37,6 @@ const PATCH: f32 = 0.35;
 /// so the faces of a box's edge see each other and a thin part's two
 /// faces do not.
 const FACING_AWAY: f32 = -0.5;
-/// The cosine between two texels' normals above which they lie on the
-/// same surface and one's curvature is carried to the other.
-const SAME_FACING: f32 = 0.9;
 /// The widest lattice of texels the curvature is found at, texels apart.
 const MOST_STEP: u32 = 16;
 /// The most patches an object is gathered into: past it they grow, so the
@@ -149,11 +146,7 @@ pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
             if !found.is_nan() {
                 return found;
             }
-            let alike = |j: usize| {
-                medium_of(surfels, j) == medium_of(surfels, i)
-                    && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING
-                    && !at_lattice[j].is_nan()
-            };
+            let alike = |j: usize| on_surface_of(surfels, i, j) && !at_lattice[j].is_nan();
             match lattice.corners(surfels, i, alike) {
                 Some(corners) => corners.iter().map(|&(j, w)| w * at_lattice[j]).sum(),
                 None => smooth_mean(i),

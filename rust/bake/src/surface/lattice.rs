@@ -5,6 +5,18 @@
 
 use crate::surface::texels::TexelSurfels;
 
+/// The cosine between two texels' normals above which one lies on the
+/// other's surface and carries what the lattice holds to it.
+pub const SAME_FACING: f32 = 0.9;
+
+/// True when texel `j` lies on texel `i`'s surface as far as the layout
+/// can tell: in its medium and facing its way (a texel beside it in the
+/// layout may lie on another chart, across a crease or on another piece).
+pub fn on_surface_of(surfels: &TexelSurfels, i: usize, j: usize) -> bool {
+    let medium = |s: usize| surfels.piece.get(s).copied();
+    medium(j) == medium(i) && surfels.normal[j].dot(surfels.normal[i]) > SAME_FACING
+}
+
 /// The texels `step` apart along u and along v of a `resolution`² map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Lattice {
