@@ -119,7 +119,8 @@ fn folded_sheets(shaped: bool) -> Sources<'static> {
 }
 
 /// Checks the walked sum against the plain one at every source as its own
-/// target and at points that are no source, within 1e-5 relative.
+/// target and at points that are no source, within 1e-5 relative; and the
+/// same of the walk that sums a unit light beside the light.
 fn assert_walk_is_the_plain_sum(kernel: &Kernel, sources: &Sources) {
     let mut position = sources.position.to_vec();
     let mut normal = sources.normal.to_vec();
@@ -137,20 +138,35 @@ fn assert_walk_is_the_plain_sum(kernel: &Kernel, sources: &Sources) {
         piece: &[],
     };
     let walked = brute::integrate(kernel, sources, targets, &Control::new()).unwrap();
+    let [lit, unit] =
+        brute::integrate_with_unit(kernel, sources, targets, &Control::new()).unwrap();
     let disks = texel_disks(kernel, sources);
-    let plain: Vec<[f64; 3]> = (0..position.len())
-        .map(|i| plain_sum(&disks, sources, position[i], normal[i], own[i]))
-        .collect();
-    let peak = plain.iter().flatten().cloned().fold(0.0f64, f64::max);
+    let plain_of = |sources: &Sources| -> Vec<[f64; 3]> {
+        (0..position.len())
+            .map(|i| plain_sum(&disks, sources, position[i], normal[i], own[i]))
+            .collect()
+    };
+    let mut unlit = sources.clone();
+    unlit.irradiance.fill([1.0; 3]);
+    let plain = plain_of(sources);
+    assert_within(&walked, &plain, "walked sum");
+    assert_within(&lit, &plain, "walked sum beside a unit light");
+    assert_within(&unit, &plain_of(&unlit), "unit light's walked sum");
+}
+
+/// `got` within 1e-5 relative of `want`, where `want` is above a
+/// millionth of its largest.
+fn assert_within(got: &[[f32; 3]], want: &[[f64; 3]], what: &str) {
+    let peak = want.iter().flatten().cloned().fold(0.0f64, f64::max);
     assert!(peak > 0.0);
     let mut worst = 0.0f64;
-    for (got, want) in walked.iter().zip(&plain) {
+    for (got, want) in got.iter().zip(want) {
         for c in 0..3 {
             let scale = want[c].abs().max(1e-6 * peak);
             worst = worst.max((got[c] as f64 - want[c]).abs() / scale);
         }
     }
-    assert!(worst <= 1e-5, "walked sum off the plain sum by {worst:e}");
+    assert!(worst <= 1e-5, "{what} off the plain sum by {worst:e}");
 }
 
 fn scattering(material: Material) -> Scattering {

@@ -43,6 +43,7 @@ pub(super) struct SourceTable {
     pub slot: Vec<Slot>,
     /// E·A per channel (fourth lane 0).
     pub flux: Vec<Vec4>,
+
     /// Each source's area, mm², for the weight of its own light when it has
     /// no parallelogram.
     pub area: Vec<f32>,
@@ -181,8 +182,23 @@ impl SourceTable {
         apart: Apart,
         own: Option<usize>,
     ) -> Vec4 {
+        self.weight4(disks, j, p, n, apart, own) * self.flux[j]
+    }
+
+    /// [`SourceTable::contribution4`] per unit of source `j`'s flux: P,
+    /// 1/mm², per channel.
+    #[inline(always)]
+    pub fn weight4(
+        &self,
+        disks: &DiskKernel,
+        j: usize,
+        p: Vec3,
+        n: Vec3,
+        apart: Apart,
+        own: Option<usize>,
+    ) -> Vec4 {
         let d2 = apart.distance2;
-        let w = if own == Some(j) {
+        if own == Some(j) {
             self.own_weight(disks, j)
         } else if d2 < self.near2[j] {
             self.footprint_weight(disks, j, p, n)
@@ -195,8 +211,7 @@ impl SourceTable {
                 Separation::new(q, m, p, n, d2, transmits)
             };
             disks.weight4(separation, self.slot[j])
-        };
-        w * self.flux[j]
+        }
     }
 
     /// Source `j`'s weight for its own light: the reflectance within its

@@ -68,32 +68,6 @@ pub fn estimate_error(
     let listed = prepared.listed(&gathered);
     let targets = listed.targets();
     let mut sources = prepared.texel_sources();
-    // The exact gains at the checked texels, from the exact sums under a
-    // unit light (the integration's gains were found under it too).
-    let exact_gains: Option<Vec<[f64; 3]>> = match (raised, slab) {
-        (Some(_), Some(slab)) => {
-            let mut unit = sources.clone();
-            unit.irradiance.fill([1.0; 3]);
-            let (uniform, _) = brute::exact_sum(prepared, scattering, &unit, targets, control)?;
-            let mut behind_uniform = uniform[picked.len()..].iter();
-            Some(
-                picked
-                    .iter()
-                    .zip(&behind)
-                    .zip(&uniform)
-                    .map(|((&i, behind), here)| {
-                        let (shares, _) = slab.shares_at(prepared.opposites()[i]);
-                        let there = match behind {
-                            Some(_) => behind_uniform.next().copied().unwrap_or(*here),
-                            None => *here,
-                        };
-                        slab.gain(&shares, (*here, there), true)
-                    })
-                    .collect(),
-            )
-        }
-        _ => None,
-    };
     // The light entering as the bake raised it where the surface ends.
     if let Some(raised) = raised {
         for (e, g) in sources.irradiance.iter_mut().zip(&raised.halves) {
@@ -102,7 +76,34 @@ pub fn estimate_error(
     }
     // The oblique exact sum where the material has one: the estimate then
     // counts what an azimuthal-mean method misses of each light's direction.
-    let (sums, _) = brute::exact_sum(prepared, scattering, &sources, targets, control)?;
+    // Where the bake raised its light, the exact sums under a unit light
+    // (the integration's gains were found under it too) give the exact
+    // gains at the checked texels; both sums walk the pairs once.
+    let (sums, exact_gains) = match (raised, slab) {
+        (Some(_), Some(slab)) => {
+            let [sums, uniform] =
+                brute::exact_sum_and_unit(prepared, scattering, &sources, targets, control)?;
+            let mut behind_uniform = uniform[picked.len()..].iter();
+            let gains: Vec<[f64; 3]> = picked
+                .iter()
+                .zip(&behind)
+                .zip(&uniform)
+                .map(|((&i, behind), here)| {
+                    let (shares, _) = slab.shares_at(prepared.opposites()[i]);
+                    let there = match behind {
+                        Some(_) => behind_uniform.next().copied().unwrap_or(*here),
+                        None => *here,
+                    };
+                    slab.gain(&shares, (*here, there), true)
+                })
+                .collect();
+            (sums, Some(gains))
+        }
+        _ => (
+            brute::exact_sum(prepared, scattering, &sources, targets, control)?.0,
+            None,
+        ),
+    };
     let mut others = sums[picked.len()..].iter();
     let exact: Vec<[f32; 3]> = picked
         .iter()

@@ -8,7 +8,7 @@
 
 mod sum;
 
-pub use sum::{Reach, exact_sum, integrate, sum_within};
+pub use sum::{Reach, exact_sum, exact_sum_and_unit, integrate, integrate_with_unit, sum_within};
 
 use super::Method;
 use super::integrator::{Carries, Integrated, Integrator, Work};

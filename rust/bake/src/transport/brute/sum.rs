@@ -24,36 +24,42 @@ const BLOCK: usize = 64;
 pub(super) struct Sorted {
     pub grid: Grid,
     pub table: SourceTable,
+    /// Whether a unit light's sum (each source's area for its flux) is
+    /// gathered beside the light's.
+    pub unit: bool,
 }
 
 impl Sorted {
-    pub fn new(sources: &Sources, cell: f32, disks: &DiskKernel) -> Self {
+    /// `sources` in grid order; with `unit`, a unit light's sum is gathered
+    /// beside theirs, and every source with an area is kept.
+    pub fn new(sources: &Sources, unit: bool, cell: f32, disks: &DiskKernel) -> Self {
         let lit: Vec<u32> = (0..sources.len() as u32)
             .into_par_iter()
             .filter(|&i| {
                 let (e, a) = (sources.irradiance[i as usize], sources.area[i as usize]);
-                e.iter().any(|&e| e * a != 0.0)
+                e.iter().any(|&e| e * a != 0.0) || (unit && a != 0.0)
             })
             .collect();
         let position: Vec<Vec3> = lit.iter().map(|&i| sources.position[i as usize]).collect();
         let grid = Grid::new(&position, cell);
         let order: Vec<u32> = grid.order.iter().map(|&k| lit[k as usize]).collect();
         let table = SourceTable::new(sources, &order, disks);
-        Sorted { grid, table }
+        Sorted { grid, table, unit }
     }
 
     /// Σ over sources within `reach` of the target of P·flux: `own` is the
     /// source the target is, if any, and sources on another piece of the
-    /// mesh than the target's send it nothing.
+    /// mesh than the target's send it nothing. The second sum is a unit
+    /// light's, Σ P·A (zero unless [`Sorted::unit`]).
     #[inline]
-    pub fn gather(&self, disks: &DiskKernel, target: Target, reach: Reach) -> [f64; 3] {
+    pub fn gather(&self, disks: &DiskKernel, target: Target, reach: Reach) -> [DVec3; 2] {
         // The target's own source by its place in the table.
         let target = Target {
             own: self.table.rank_of(target.own),
             ..target
         };
         let reflects_only = !disks.kernel().transmits();
-        let mut sum = DVec3::ZERO;
+        let mut sum = [DVec3::ZERO; 2];
         self.grid
             .for_each_run(target.position, reach.radius, |run| {
                 let mut start = run.start;
@@ -65,10 +71,12 @@ impl Sorted {
                     } else {
                         self.general_block(disks, block, target, reach)
                     };
-                    sum += part.truncate().as_dvec3();
+                    for (sum, part) in sum.iter_mut().zip(part) {
+                        *sum += part.truncate().as_dvec3();
+                    }
                 }
             });
-        sum.to_array()
+        sum
     }
 
     /// Σ P·flux over the sources in `block` (at most [`BLOCK`]) for a
@@ -81,7 +89,7 @@ impl Sorted {
         block: Range<usize>,
         target: Target,
         reach: Reach,
-    ) -> Vec4 {
+    ) -> [Vec4; 2] {
         let (p, n, piece) = (target.position, target.normal, target.piece);
         let table = &self.table;
         let (tapered, reach) = (reach.tapered, reach.radius);
@@ -129,25 +137,31 @@ impl Sorted {
             far_count += (kind == 1) as usize;
             near_count += (kind == 2) as usize;
         }
-        let mut sum = Vec4::ZERO;
+        let unit = self.unit;
+        let mut sum = [Vec4::ZERO; 2];
+        let mut add = |w: Vec4, j: usize, taper: f32| {
+            sum[0] += w * table.flux[j] * taper;
+            if unit {
+                sum[1] += w * table.area[j] * taper;
+            }
+        };
         if table.tabulated {
             for &k in &far[..far_count] {
                 let (k, j) = (k as usize, block.start + k as usize);
-                sum += disks.reflected_entry(table.slot[j], entry[k], fraction[k])
-                    * table.flux[j]
-                    * taper[k];
+                let w = disks.reflected_entry(table.slot[j], entry[k], fraction[k]);
+                add(w, j, taper[k]);
             }
         } else {
             for &k in &far[..far_count] {
                 let (k, j) = (k as usize, block.start + k as usize);
-                sum += table.contribution4(disks, j, p, n, Apart::unknown(squared[k]), Some(own))
-                    * taper[k];
+                let w = table.weight4(disks, j, p, n, Apart::unknown(squared[k]), Some(own));
+                add(w, j, taper[k]);
             }
         }
         for &k in &near[..near_count] {
             let (k, j) = (k as usize, block.start + k as usize);
-            sum += table.contribution4(disks, j, p, n, Apart::unknown(squared[k]), Some(own))
-                * taper[k];
+            let w = table.weight4(disks, j, p, n, Apart::unknown(squared[k]), Some(own));
+            add(w, j, taper[k]);
         }
         sum
     }
@@ -159,9 +173,9 @@ impl Sorted {
         block: Range<usize>,
         target: Target,
         reach: Reach,
-    ) -> Vec4 {
+    ) -> [Vec4; 2] {
         let (p, n, own, piece) = (target.position, target.normal, target.own, target.piece);
-        let mut sum = Vec4::ZERO;
+        let mut sum = [Vec4::ZERO; 2];
         let radius = reach.radius;
         for j in block {
             let d2 = (self.table.position(j) - p).length_squared();
@@ -173,10 +187,11 @@ impl Sorted {
             } else {
                 1.0
             };
-            sum += self
-                .table
-                .contribution4(disks, j, p, n, Apart::unknown(d2), own)
-                * taper;
+            let w = self.table.weight4(disks, j, p, n, Apart::unknown(d2), own);
+            sum[0] += w * self.table.flux[j] * taper;
+            if self.unit {
+                sum[1] += w * self.table.area[j] * taper;
+            }
         }
         sum
     }
@@ -244,15 +259,34 @@ pub fn sum_within(
         radius: reach.radius.clamp(0.0, kernel.d_max),
         ..reach
     };
+    let [sums, _] = sums_within(kernel, sources, false, targets, reach, control)?;
+    Ok(sums)
+}
+
+/// [`sum_within`] of the sources' light and, with `unit`, of a unit light
+/// at the same sources (else empty), both in one walk over the pairs.
+fn sums_within(
+    kernel: &Kernel,
+    sources: &Sources,
+    unit: bool,
+    targets: Targets,
+    reach: Reach,
+    control: &Control,
+) -> Result<[Vec<[f32; 3]>; 2], Cancelled> {
     let disks = texel_disks(kernel, sources);
-    let sorted = Sorted::new(sources, cell_size(reach.radius, sources), &disks);
-    let mut out = vec![[0.0f32; 3]; targets.position.len()];
+    let sorted = Sorted::new(sources, unit, cell_size(reach.radius, sources), &disks);
+    let mut out = vec![[[0.0f32; 3]; 2]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {
         sorted
             .gather(&disks, targets.at(i), reach)
-            .map(|v| v as f32)
+            .map(|v| v.to_array().map(|v| v as f32))
     })?;
-    Ok(out)
+    let (lit, unit) = if unit {
+        out.into_iter().map(|[a, b]| (a, b)).unzip()
+    } else {
+        (out.into_iter().map(|[a, _]| a).collect(), Vec::new())
+    };
+    Ok([lit, unit])
 }
 
 /// The exact sum of `prepared`'s texels at `targets` under `scattering`:
@@ -286,4 +320,45 @@ pub fn exact_sum(
         integrate(&scattering.kernel, sources, targets, control)?,
         false,
     ))
+}
+
+/// [`exact_sum`] of `sources`' light and of a unit light (1 W/m² in every
+/// channel) at the same sources: with the radially symmetric kernel both in
+/// one walk over the pairs, which then cost about one sum.
+pub fn exact_sum_and_unit(
+    prepared: &Prepared,
+    scattering: &Scattering,
+    sources: &Sources,
+    targets: Targets,
+    control: &Control,
+) -> Result<[Vec<[f32; 3]>; 2], Cancelled> {
+    if scattering.oblique.is_some() && prepared.incidence(control)?.is_some() {
+        let (lit, _) = exact_sum(prepared, scattering, sources, targets, control)?;
+        let unit = Sources {
+            position: sources.position.clone(),
+            normal: sources.normal.clone(),
+            area: sources.area.clone(),
+            irradiance: vec![[1.0; 3]; sources.len()],
+            footprint: sources.footprint.clone(),
+            piece: sources.piece.clone(),
+        };
+        let (unit, _) = exact_sum(prepared, scattering, &unit, targets, control)?;
+        return Ok([lit, unit]);
+    }
+    integrate_with_unit(&scattering.kernel, sources, targets, control)
+}
+
+/// [`integrate`] of `sources`' light and of a unit light (1 W/m² in every
+/// channel) at the same sources, W/m², in one walk over the pairs.
+pub fn integrate_with_unit(
+    kernel: &Kernel,
+    sources: &Sources,
+    targets: Targets,
+    control: &Control,
+) -> Result<[Vec<[f32; 3]>; 2], Cancelled> {
+    let reach = Reach {
+        radius: kernel.d_max,
+        tapered: false,
+    };
+    sums_within(kernel, sources, true, targets, reach, control)
 }
