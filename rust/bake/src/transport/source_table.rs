@@ -8,6 +8,7 @@ use super::kernel::{Kernel, Separation};
 use super::sources::Sources;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Sub-samples per side of a texel's parallelogram in the near field.
 pub(super) const SUBDIVISIONS: usize = 4;
@@ -33,7 +34,7 @@ impl Apart {
 }
 
 /// Sources in a walking order, structure of arrays.
-pub(super) struct SourceTable {
+pub(super) struct SourceTable<'a> {
     /// The positions' coordinates apart (mm), so distances to a run of
     /// sources are computed a vector at a time ([`Self::position`]).
     pub x: Vec<f32>,
@@ -50,11 +51,13 @@ pub(super) struct SourceTable {
     /// Each source's place in this order, by its index in the sources
     /// (`u32::MAX` for a source the order leaves out).
     pub rank: Vec<u32>,
-    /// Texel parallelograms (empty for shapeless samples).
-    pub edges: Vec<[Vec3; 2]>,
-    /// The slot of a parallelogram's sub-sample (empty for shapeless
-    /// samples).
-    pub sub_slot: Vec<Slot>,
+    /// Each source's index in the sources, by its place in this order
+    /// (empty for shapeless samples): where its parallelogram is read.
+    pub index: Vec<u32>,
+    /// The sources' parallelograms, by their index in the sources (empty
+    /// for shapeless samples); borrowed from the layout where the sources
+    /// borrow theirs.
+    pub footprint: Cow<'a, [[Vec3; 2]]>,
     /// The squared radius (mm²) within which a source is summed in
     /// sub-samples (0 for shapeless samples: never).
     pub near2: Vec<f32>,
@@ -64,29 +67,26 @@ pub(super) struct SourceTable {
     pub piece: Vec<u32>,
 }
 
-impl SourceTable {
+impl<'a> SourceTable<'a> {
     /// `sources` in `order` (indices into them, each at most once; sources
     /// left out are not in the table), with slots in `disks`.
-    pub fn new(sources: &Sources, order: &[u32], disks: &DiskKernel) -> Self {
+    pub fn new(sources: &Sources<'a>, order: &[u32], disks: &DiskKernel) -> Self {
         let pick = |i: &u32| *i as usize;
         let shaped = sources.footprint.len() == sources.len();
-        let sub = (SUBDIVISIONS * SUBDIVISIONS) as f32;
         let position: Vec<Vec3> = order
             .par_iter()
             .map(|i| sources.position[pick(i)])
             .collect();
-        let (near2, (edges, sub_slot)) = if shaped {
+        let near2 = if shaped {
             order
                 .par_iter()
                 .map(|i| {
                     let [u, v] = sources.footprint[pick(i)];
-                    let near = subdivision_radius(u, v);
-                    let slot = disks.slot(sources.area[pick(i)] / sub);
-                    (near * near, ([u, v], slot))
+                    subdivision_radius(u, v).powi(2)
                 })
-                .unzip()
+                .collect()
         } else {
-            (vec![0.0; order.len()], (Vec::new(), Vec::new()))
+            vec![0.0; order.len()]
         };
         let slot: Vec<Slot> = order
             .par_iter()
@@ -115,8 +115,12 @@ impl SourceTable {
                 }
                 rank
             },
-            edges,
-            sub_slot,
+            index: if shaped { order.to_vec() } else { Vec::new() },
+            footprint: if shaped {
+                sources.footprint.clone()
+            } else {
+                Cow::Borrowed(&[])
+            },
             near2,
             // Kept only where the sources lie on several pieces: a one-piece
             // object's pairs then skip the lookup.
@@ -214,6 +218,14 @@ impl SourceTable {
         }
     }
 
+    /// The edges of source `j`'s parallelogram (this order), mm, when the
+    /// sources have shapes.
+    #[inline]
+    fn edges(&self, j: usize) -> Option<[Vec3; 2]> {
+        let i = *self.index.get(j)?;
+        self.footprint.get(i as usize).copied()
+    }
+
     /// Source `j`'s weight for its own light: the reflectance within its
     /// parallelogram (a disk of its area when it has none) over its area,
     /// 1/mm², computed exactly rather than read between the table's sizes,
@@ -221,8 +233,8 @@ impl SourceTable {
     /// Computed when asked (once per target), so a check of a few texels
     /// does not pay for every texel's.
     fn own_weight(&self, disks: &DiskKernel, j: usize) -> Vec4 {
-        let [r, g, b] = match self.edges.get(j) {
-            Some(&[u, v]) if u.cross(v).length() > 0.0 => disks.kernel().parallelogram_mean(u, v),
+        let [r, g, b] = match self.edges(j) {
+            Some([u, v]) if u.cross(v).length() > 0.0 => disks.kernel().parallelogram_mean(u, v),
             _ => {
                 let radius = (self.area[j].max(0.0) * std::f32::consts::FRAC_1_PI).sqrt();
                 disks.kernel().disk_mean(0.0, radius)[0]
@@ -234,8 +246,10 @@ impl SourceTable {
     /// The mean weight over source `j`'s parallelogram, from SUBDIVISIONS²
     /// sub-samples each standing for its share of the area.
     fn footprint_weight(&self, disks: &DiskKernel, j: usize, p: Vec3, n: Vec3) -> Vec4 {
-        let [u, v] = self.edges[j];
-        let sub_slot = self.sub_slot[j];
+        let Some([u, v]) = self.edges(j) else {
+            return Vec4::ZERO;
+        };
+        let sub_slot = disks.slot(self.area[j] / SUB_SAMPLES as f32);
         let centre = self.position(j);
         let (along_u, along_v) = sub_sample_offsets();
         let step = 1.0 / SUBDIVISIONS as f32;

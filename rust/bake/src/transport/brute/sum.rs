@@ -21,18 +21,18 @@ const BLOCK: usize = 64;
 /// is a contiguous run. A source without flux adds exactly nothing to any
 /// target (P·0), so it is left out of the walk: in a half-lit scene that
 /// halves the pairs without changing a bit of the sum's terms.
-pub(super) struct Sorted {
+pub(super) struct Sorted<'a> {
     pub grid: Grid,
-    pub table: SourceTable,
+    pub table: SourceTable<'a>,
     /// Whether a unit light's sum (each source's area for its flux) is
     /// gathered beside the light's.
     pub unit: bool,
 }
 
-impl Sorted {
+impl<'a> Sorted<'a> {
     /// `sources` in grid order; with `unit`, a unit light's sum is gathered
     /// beside theirs, and every source with an area is kept.
-    pub fn new(sources: &Sources, unit: bool, cell: f32, disks: &DiskKernel) -> Self {
+    pub fn new(sources: &Sources<'a>, unit: bool, cell: f32, disks: &DiskKernel) -> Self {
         let lit: Vec<u32> = (0..sources.len() as u32)
             .into_par_iter()
             .filter(|&i| {

@@ -51,16 +51,16 @@ struct Node {
 }
 
 /// The tree over sources, with the sources in its leaf order.
-pub struct Octree {
+pub struct Octree<'a> {
     nodes: Vec<Node>,
-    table: SourceTable,
+    table: SourceTable<'a>,
 }
 
-impl Octree {
+impl<'a> Octree<'a> {
     /// The tree of `shape` over `sources` in leaf `order`: texels' weights
     /// come from `texels`, nodes' from `nodes` (see [`node_areas`]).
     fn new(
-        sources: &Sources,
+        sources: &Sources<'a>,
         shape: Shape,
         order: &[u32],
         texels: &DiskKernel,
@@ -348,7 +348,7 @@ fn node_areas(shape: &Shape, epsilon: f32, d_max: f32) -> (f32, f32) {
 /// The octree over one object's sources with what it weighs them by,
 /// built once and gathered at any targets.
 pub struct Gathering<'k> {
-    tree: Octree,
+    tree: Octree<'k>,
     texels: DiskKernel<'k>,
     nodes: DiskKernel<'k>,
     epsilon: f32,
@@ -357,7 +357,7 @@ pub struct Gathering<'k> {
 impl<'k> Gathering<'k> {
     /// The tree over `sources` for `kernel` with solid-angle threshold
     /// `epsilon` (steradians; 0 = exact).
-    pub fn new(kernel: &'k Kernel, sources: &Sources, epsilon: f32) -> Self {
+    pub fn new(kernel: &'k Kernel, sources: &Sources<'k>, epsilon: f32) -> Self {
         let epsilon = epsilon.max(0.0);
         let texels = texel_disks(kernel, sources);
         let (shape, order) = Shape::new(sources);
