@@ -215,7 +215,7 @@ pub fn prepare(
     Ok(Prepared {
         layout,
         irradiance,
-        colour,
+        colour: colour.into(),
         colour_split: request.colour_split.clamp(0.0, 1.0),
         dilation: OnceLock::new(),
         opposites: Default::default(),

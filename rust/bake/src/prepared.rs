@@ -26,7 +26,7 @@ pub struct Prepared {
     pub irradiance: Vec<[f32; 3]>,
     /// The base colour per surfel relative to the nominal colour the
     /// profile is built for (ones without a map).
-    pub colour: Vec<[f32; 3]>,
+    pub colour: Arc<[[f32; 3]]>,
     pub(crate) colour_split: f32,
     pub(crate) dilation: OnceLock<SeamAwareDilation>,
     /// The face behind each texel, found on first use and shared with the
@@ -192,7 +192,7 @@ impl Prepared {
             .zip(gains)
             .map(|(e, g)| [0, 1, 2].map(|c| e[c] * g[c]))
             .collect();
-        self.relit(irradiance, self.colour.clone())
+        self.relit(irradiance, Arc::clone(&self.colour))
     }
 
     /// The same object under a unit irradiance everywhere, colour 1 and no
@@ -201,12 +201,12 @@ impl Prepared {
     /// model sets beside a plane's ([`crate::transport::local_slab`]).
     pub fn uniformly_lit(&self) -> Prepared {
         let n = self.surfels.len();
-        self.relit(vec![[1.0; 3]; n], vec![[1.0; 3]; n])
+        self.relit(vec![[1.0; 3]; n], vec![[1.0; 3]; n].into())
     }
 
     /// The same layout, faces behind and dilation under `irradiance` and
     /// `colour` (one per surfel), with no lights to split by incidence.
-    fn relit(&self, irradiance: Vec<[f32; 3]>, colour: Vec<[f32; 3]>) -> Prepared {
+    fn relit(&self, irradiance: Vec<[f32; 3]>, colour: Arc<[[f32; 3]]>) -> Prepared {
         Prepared {
             layout: Arc::clone(&self.layout),
             irradiance,
@@ -226,7 +226,7 @@ impl Prepared {
         let alpha = self.colour_split;
         self.irradiance
             .iter()
-            .zip(&self.colour)
+            .zip(self.colour.iter())
             // A colour of 1 (no colour map) leaves the light as it is,
             // without a power per channel.
             .map(|(e, c)| {
@@ -280,7 +280,7 @@ impl Prepared {
                 control,
             )?;
             let alpha = self.colour_split;
-            for (h, colour) in split.iter_mut().zip(&self.colour) {
+            for (h, colour) in split.iter_mut().zip(self.colour.iter()) {
                 let scale = colour.map(|c| c.powf(alpha));
                 for v in h.iter_mut().flatten() {
                     for k in 0..3 {

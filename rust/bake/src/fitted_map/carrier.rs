@@ -20,7 +20,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// bilinear) or whole.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Route {
-    step: u32,
+    /// The lattice's step (a byte: a route's step is at most 255).
+    step: u8,
     with_near: bool,
 }
 
@@ -32,8 +33,6 @@ pub struct Carrier<'a> {
     summer: &'a dyn Summer,
     /// The kernel N is summed under; `None` when carried whole.
     kernel: Option<&'a Kernel>,
-    /// The light entering per surfel (empty when carried whole).
-    light: Vec<[f32; 3]>,
     /// The share of the light by which it may miss its bilinear mean where
     /// the map is carried whole, N and all.
     smooth_share: f32,
@@ -60,7 +59,6 @@ impl<'a> Carrier<'a> {
             lit,
             summer,
             kernel: Some(kernel),
-            light: lit.entering(),
             smooth_share: (SMOOTH_SHARE * tolerance) as f32,
             smooth: HashMap::new(),
             near: vec![[f32::NAN; 3]; texels],
@@ -76,7 +74,6 @@ impl<'a> Carrier<'a> {
             lit,
             summer,
             kernel: None,
-            light: Vec::new(),
             smooth_share: 0.0,
             smooth: HashMap::new(),
             near: Vec::new(),
@@ -94,15 +91,36 @@ impl<'a> Carrier<'a> {
         step: u32,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Error> {
+        self.carried(texels, step, false, control)
+    }
+
+    /// [`Carrier::at`] every texel, the last map asked for: the summer lets
+    /// go of its tree once the lattice is summed, before the map is carried
+    /// into memory of its own.
+    pub fn whole_map(mut self, step: u32, control: &Control) -> Result<Vec<[f32; 3]>, Error> {
+        let all: Vec<usize> = (0..self.lit.surfels.len()).collect();
+        self.carried(&all, step, true, control)
+    }
+
+    fn carried(
+        &mut self,
+        texels: &[usize],
+        step: u32,
+        last: bool,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Error> {
         let routes = self.routes(texels, step);
         let missing = marked(self.summed.len(), texels, &routes, |i, route, mark| {
-            for (j, _) in self.corners(i, route.step).into_iter().flatten() {
+            for (j, _) in self.corners(i, route.step.into()).into_iter().flatten() {
                 if self.summed[j][0].is_nan() {
                     mark(j);
                 }
             }
         });
         self.sum(&missing, control)?;
+        if last {
+            self.summer.release();
+        }
         self.sum_near(texels, &routes, control)?;
         Ok(texels
             .par_iter()
@@ -142,7 +160,7 @@ impl<'a> Carrier<'a> {
             texels.len()
         ];
         let mut pending: Vec<usize> = (0..texels.len()).collect();
-        let mut step = step.max(1);
+        let mut step = step.clamp(1, u8::MAX.into());
         while step > 1 && !pending.is_empty() {
             self.smooth_at(step);
             let smooth = self.smooth.get(&step);
@@ -155,7 +173,7 @@ impl<'a> Carrier<'a> {
                     let on_lattice = lattice.holds(self.lit.surfels.texel[i]);
                     let smooth = smooth.is_none_or(|s| s[i]);
                     Some(Route {
-                        step,
+                        step: step as u8,
                         with_near: !on_lattice && !smooth,
                     })
                 })
@@ -181,9 +199,13 @@ impl<'a> Carrier<'a> {
         }
         let surfels = &self.lit.surfels;
         let lattice = Lattice::new(surfels, step);
+        // The light entering is found here and dropped, not kept with the
+        // carrier, which lives while the integrator's tree is held (a finer
+        // step is asked for only where the first one's fit misses).
+        let light = self.lit.entering();
         let smooth = smooth::smooth_texels(
             surfels,
-            &self.light,
+            &light,
             &lattice,
             near_reach(surfels),
             self.smooth_share,
@@ -220,7 +242,7 @@ impl<'a> Carrier<'a> {
             if !route.with_near {
                 return;
             }
-            let corners = self.corners(i, route.step).into_iter().flatten();
+            let corners = self.corners(i, route.step.into()).into_iter().flatten();
             for j in std::iter::once(i).chain(corners.map(|(j, _)| j)) {
                 if self.near[j][0].is_nan() {
                     mark(j);
@@ -256,7 +278,7 @@ impl<'a> Carrier<'a> {
     /// the lattice), with its own N for theirs where the light about it is
     /// not smooth.
     fn carry(&self, i: usize, route: Route) -> [f32; 3] {
-        let Some(corners) = self.corners(i, route.step) else {
+        let Some(corners) = self.corners(i, route.step.into()) else {
             return self.summed[i];
         };
         let near = |j: usize| -> [f32; 3] {

@@ -147,7 +147,7 @@ pub fn fitted_map(
                 missed,
                 probed: probes.len(),
             };
-            return Ok((carrier.at(&all, step, control)?, fit));
+            return Ok((carrier.whole_map(step, control)?, fit));
         }
         step = step.div_ceil(2);
     }
@@ -156,5 +156,5 @@ pub fn fitted_map(
         missed: 0.0,
         probed: probes.len(),
     };
-    Ok((carrier.at(&all, 1, control)?, fit))
+    Ok((carrier.whole_map(1, control)?, fit))
 }

@@ -73,6 +73,10 @@ pub trait Summer: Sync {
     /// Radiant exitance (W/m²) at the texels `listed`, in order, before
     /// any correction.
     fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error>;
+
+    /// Lets go of what it holds between sums (an integrator's tree), for a
+    /// caller done summing; a later sum builds it again.
+    fn release(&self) {}
 }
 
 /// M(x) = ∫ P(|x − x_i|) E_t(x_i) dA at every texel of a prepared object.

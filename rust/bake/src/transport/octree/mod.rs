@@ -24,7 +24,7 @@ use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use serde::{Deserialize, Serialize};
-use std::sync::OnceLock;
+use std::sync::Mutex;
 
 /// The octree integrator over the texels.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -111,7 +111,7 @@ impl Integrator for OctreeIntegrator {
             prepared,
             scattering,
             epsilon: self.epsilon,
-            gathering: OnceLock::new(),
+            gathering: Mutex::new(None),
         }))
     }
 
@@ -148,23 +148,30 @@ impl Integrator for OctreeIntegrator {
 }
 
 /// The octree's sums at chosen texels of one object, its tree built at
-/// the first texels asked for and kept (so a caller may free memory of its
-/// own before the tree takes its share).
+/// the first texels asked for and kept until released (so a caller may
+/// free memory of its own before the tree takes its share, and the tree's
+/// before it takes more).
 struct OctreeSummer<'a> {
     prepared: &'a Prepared,
     scattering: &'a Scattering,
     epsilon: f32,
-    gathering: OnceLock<Gathering<'a>>,
+    gathering: Mutex<Option<Gathering<'a>>>,
 }
 
 impl Summer for OctreeSummer<'_> {
     fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error> {
-        let gathering = self.gathering.get_or_init(|| {
+        let mut held = self.gathering.lock().unwrap_or_else(|e| e.into_inner());
+        let gathering = held.get_or_insert_with(|| {
             let sources = self.prepared.texel_sources();
             Gathering::new(&self.scattering.kernel, &sources, self.epsilon)
         });
         let targets = self.prepared.listed(listed);
         Ok(gathering.at(targets.targets(), control)?)
+    }
+
+    fn release(&self) {
+        let mut held = self.gathering.lock().unwrap_or_else(|e| e.into_inner());
+        *held = None;
     }
 }
 
