@@ -171,26 +171,12 @@ impl<'a> SourceTable<'a> {
         apart: Apart,
         own: Option<usize>,
     ) -> [f32; 3] {
-        let m = self.contribution4(disks, j, p, n, apart, own);
+        let m = self.weight4(disks, j, p, n, apart, own) * self.flux[j];
         [m.x, m.y, m.z]
     }
 
-    /// [`SourceTable::contribution`] as a `Vec4` (the fourth lane 0).
-    #[inline(always)]
-    pub fn contribution4(
-        &self,
-        disks: &DiskKernel,
-        j: usize,
-        p: Vec3,
-        n: Vec3,
-        apart: Apart,
-        own: Option<usize>,
-    ) -> Vec4 {
-        self.weight4(disks, j, p, n, apart, own) * self.flux[j]
-    }
-
-    /// [`SourceTable::contribution4`] per unit of source `j`'s flux: P,
-    /// 1/mm², per channel.
+    /// [`SourceTable::contribution`] per unit of source `j`'s flux: P,
+    /// 1/mm², per channel, as a `Vec4` (the fourth lane 0).
     #[inline(always)]
     pub fn weight4(
         &self,

@@ -106,7 +106,7 @@ impl<'a> Sorted<'a> {
         let mut fraction = [0.0f32; BLOCK];
         let mut taper = [1.0f32; BLOCK];
         // 0: beyond the reach, 1: one read, 2: the own texel or the near
-        // field, weighed by `contribution4`.
+        // field, weighed by `weight4`.
         let mut kind = [0u8; BLOCK];
         for k in 0..xs.len().min(BLOCK) {
             let (dx, dy, dz) = (xs[k] - p.x, ys[k] - p.y, zs[k] - p.z);
