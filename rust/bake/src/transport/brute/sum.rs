@@ -275,17 +275,20 @@ fn sums_within(
 ) -> Result<[Vec<[f32; 3]>; 2], Cancelled> {
     let disks = texel_disks(kernel, sources);
     let sorted = Sorted::new(sources, unit, cell_size(reach.radius, sources), &disks);
+    let single = |v: DVec3| v.to_array().map(|v| v as f32);
+    if !unit {
+        // One light's sums alone, without room for a second.
+        let mut lit = vec![[0.0f32; 3]; targets.position.len()];
+        parallel_fill(&mut lit, 256, control, |i| {
+            single(sorted.gather(&disks, targets.at(i), reach)[0])
+        })?;
+        return Ok([lit, Vec::new()]);
+    }
     let mut out = vec![[[0.0f32; 3]; 2]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {
-        sorted
-            .gather(&disks, targets.at(i), reach)
-            .map(|v| v.to_array().map(|v| v as f32))
+        sorted.gather(&disks, targets.at(i), reach).map(single)
     })?;
-    let (lit, unit) = if unit {
-        out.into_iter().map(|[a, b]| (a, b)).unzip()
-    } else {
-        (out.into_iter().map(|[a, _]| a).collect(), Vec::new())
-    };
+    let (lit, unit) = out.into_iter().map(|[a, b]| (a, b)).unzip();
     Ok([lit, unit])
 }
 

@@ -160,6 +160,8 @@ struct OctreeSummer<'a> {
 
 impl Summer for OctreeSummer<'_> {
     fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error> {
+        // Held while gathering, which is parallel itself: callers ask for
+        // one list of texels at a time.
         let mut held = self.gathering.lock().unwrap_or_else(|e| e.into_inner());
         let gathering = held.get_or_insert_with(|| {
             let sources = self.prepared.texel_sources();
