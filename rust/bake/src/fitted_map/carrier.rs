@@ -161,8 +161,12 @@ impl<'a> Carrier<'a> {
         ];
         let mut pending: Vec<usize> = (0..texels.len()).collect();
         let mut step = step.clamp(1, u8::MAX.into());
+        // The light entering, found once for the steps that look for
+        // smooth light and dropped with the routes, not kept with the
+        // carrier, which lives while the integrator's tree is held.
+        let mut light = None;
         while step > 1 && !pending.is_empty() {
-            self.smooth_at(step);
+            self.smooth_at(step, &mut light);
             let smooth = self.smooth.get(&step);
             let lattice = Lattice::new(&self.lit.surfels, step);
             let decided: Vec<Option<Route>> = pending
@@ -192,20 +196,17 @@ impl<'a> Carrier<'a> {
     }
 
     /// Finds where the light is smooth at `step`, once (nothing to find
-    /// when carried whole).
-    fn smooth_at(&mut self, step: u32) {
+    /// when carried whole), with `light` the light entering once found.
+    fn smooth_at(&mut self, step: u32, light: &mut Option<Vec<[f32; 3]>>) {
         if self.kernel.is_none() || self.smooth.contains_key(&step) {
             return;
         }
         let surfels = &self.lit.surfels;
         let lattice = Lattice::new(surfels, step);
-        // The light entering is found here and dropped, not kept with the
-        // carrier, which lives while the integrator's tree is held (a finer
-        // step is asked for only where the first one's fit misses).
-        let light = self.lit.entering();
+        let light = light.get_or_insert_with(|| self.lit.entering());
         let smooth = smooth::smooth_texels(
             surfels,
-            &light,
+            light,
             &lattice,
             near_reach(surfels),
             self.smooth_share,
