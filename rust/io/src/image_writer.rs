@@ -12,7 +12,14 @@ pub enum Precision {
     Half,
 }
 
-/// `image` (rows top to bottom) as a lossless-compressed RGB EXR.
+/// `image` (rows top to bottom) as a lossless-compressed RGB EXR, in scan
+/// lines.
+///
+/// 32-bit maps are run-length encoded: the low bits of a baked value are
+/// noise, which deflate cannot shrink, so on a 4096² map ZIP saved 8% of
+/// the file for six times the encoding (2.2 s against 0.38 s on one map of
+/// the head). 16-bit maps keep ZIP, which halves them against run-lengths
+/// for about twice the time.
 pub fn exr_bytes(image: &Image, precision: Precision) -> Result<Vec<u8>, String> {
     use exr::prelude::*;
     let width = image.width;
@@ -23,7 +30,11 @@ pub fn exr_bytes(image: &Image, precision: Precision) -> Result<Vec<u8>, String>
         Precision::Float => Image::from_layer(Layer::new(
             size,
             LayerAttributes::named("rgb"),
-            Encoding::SMALL_LOSSLESS,
+            Encoding {
+                compression: Compression::RLE,
+                blocks: Blocks::ScanLines,
+                line_order: LineOrder::Increasing,
+            },
             SpecificChannels::rgb(|p| {
                 let c = texel(p);
                 (c[0], c[1], c[2])

@@ -43,6 +43,34 @@ fn exr_keeps_linear_values_in_float_and_to_three_digits_in_half() {
     }
 }
 
+/// A 32-bit map is run-length encoded: long runs (the black outside the
+/// charts, flat plateaus), noisy low bits and extreme values all come back
+/// bit for bit.
+#[test]
+fn exr_float_keeps_runs_noise_and_extremes_bit_for_bit() {
+    let (w, h) = (61, 19);
+    let mut state = 0x9e37_79b9u32;
+    let texels = (0..w * h)
+        .map(|i| match (i / w) % 4 {
+            0 => [0.0; 3],
+            1 => [0.5, 0.5, 0.5],
+            2 => [f32::MAX, f32::MIN_POSITIVE, 1e-42],
+            _ => std::array::from_fn(|_| {
+                state ^= state << 13;
+                state ^= state >> 17;
+                state ^= state << 5;
+                f32::from_bits(0x3e00_0000 | (state & 0x00ff_ffff))
+            }),
+        })
+        .collect();
+    let original = Image::new(w, h, texels).unwrap();
+    let read = round_trip("runs.exr", &exr_bytes(&original, Precision::Float).unwrap());
+    let bits = |image: &Image| -> Vec<u32> {
+        image.texels.iter().flatten().map(|v| v.to_bits()).collect()
+    };
+    assert_eq!(bits(&read), bits(&original));
+}
+
 #[test]
 fn png_is_srgb_within_a_step_and_clamps_above_one() {
     let original = gradient();
