@@ -37,8 +37,12 @@ pub fn every_nth_texel(layout: &Layout, stride: u32) -> Vec<u32> {
 /// ([`crate::surface::medium`]).
 pub struct Spread<'a> {
     layout: &'a Layout,
-    gathering: &'a [u32],
+    /// The gathering texels' positions, normals and pieces, by their place
+    /// in the gathering list: a texel's candidates are read side by side,
+    /// not each through its surfel.
     positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    pieces: Vec<Option<u32>>,
     grid: Grid,
     radius: f32,
 }
@@ -51,15 +55,24 @@ impl<'a> Spread<'a> {
             .iter()
             .map(|&s| surfels.position[s as usize])
             .collect();
+        let normals = gathering
+            .iter()
+            .map(|&s| surfels.normal[s as usize])
+            .collect();
+        let pieces = gathering
+            .iter()
+            .map(|&s| surfels.piece.get(s as usize).copied())
+            .collect();
         let area: f64 = surfels.area.iter().map(|&a| f64::from(a.max(0.0))).sum();
         // Two spacings of the gathering texels: a dozen of them in reach.
         let spacing = (area / gathering.len().max(1) as f64).sqrt() as f32;
         let radius = (2.0 * spacing).max(f32::MIN_POSITIVE);
         Spread {
             layout,
-            gathering,
             grid: Grid::new(&positions, radius),
             positions,
+            normals,
+            pieces,
             radius,
         }
     }
@@ -104,9 +117,8 @@ impl<'a> Spread<'a> {
             for &g in &self.grid.order[run] {
                 let g = g as usize;
                 let d2 = (self.positions[g] - p).length_squared();
-                let at = self.gathering[g] as usize;
-                let facing = surfels.normal[at].dot(n);
-                if d2 >= r2 || facing <= 0.0 || surfels.piece.get(at).copied() != piece {
+                let facing = self.normals[g].dot(n);
+                if d2 >= r2 || facing <= 0.0 || self.pieces[g] != piece {
                     continue;
                 }
                 visit(g, (1.0 - d2 / r2).powi(2) * facing * facing);
