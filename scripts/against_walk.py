@@ -4,7 +4,9 @@ release binary with margin 0, compared texel for texel. Per channel it prints th
 RMSE over covered texels, the median of bake/walk and the 90th percentile of |ln(bake/walk)|
 over texels with at least a tenth of the walk's brightest, and the ratio of their sums in bins
 of the walk's own light (as a share of its brightest): where the bake puts too much or too
-little light, lit skin or skin in shadow.
+little light, lit skin or skin in shadow. A second table splits the lit texels by the
+thickness the bake finds behind them (`thickness` map, thinner than 20 mm or not): how many
+are thin, what share of the texels past the 90th percentile they are, and each part's median.
 
     cargo build --release -p sssbake-cli
     .venv/bin/python scripts/against_walk.py [--scene examples/head/head.gltf] [--resolution 128]
@@ -38,9 +40,8 @@ def main():
         for method in ("auto", "walk"):
             out = folder / method
             extra = ["--light-check", "0", "--walk-samples", str(args.walks)]
-            seconds, summary = bake(
-                args.scene, out, args.resolution, method, args.preset, "subsurface,area", extra
-            )
+            outputs = "subsurface,area,thickness" if method == "auto" else "subsurface"
+            seconds, summary = bake(args.scene, out, args.resolution, method, args.preset, outputs, extra)
             walk = summary["objects"][0]["accuracy"].get("walk")
             noise = ""
             if walk:
@@ -48,8 +49,11 @@ def main():
                 noise = f", {walk['samples']} walks per texel, relative standard error {error} (R/G/B)"
             print(f"{method}: {seconds:.1f} s{noise}")
             stem = summary["objects"][0]["file_stem"]
-            maps[method] = (rgb(out / f"{stem}_subsurface.exr"), rgb(out / f"{stem}_area.exr"))
-    (baked, area), (walked, _) = maps["auto"], maps["walk"]
+            maps[method] = rgb(out / f"{stem}_subsurface.exr")
+            if method == "auto":
+                area = rgb(out / f"{stem}_area.exr")
+                thickness = rgb(out / f"{stem}_thickness.exr")[..., 0]
+    baked, walked = maps["auto"], maps["walk"]
     covered = area[..., 0] > 0
     print("| channel | rel. RMSE | median | p90 abs(ln) | " + " | ".join(bin_names()) + " |")
     print("|---" * (4 + len(BINS) - 1) + "|")
@@ -67,6 +71,25 @@ def main():
             f"| {name} | {100 * rmse:.1f}% | {numpy.median(ratio):.3f} | "
             f"{numpy.percentile(numpy.abs(numpy.log(ratio)), 90):.3f} | " + " | ".join(sums) + " |"
         )
+    by_thickness(baked, walked, covered, thickness)
+
+
+def by_thickness(baked, walked, covered, thickness, thin_mm=20.0):
+    """Lit texels thinner than `thin_mm` against the rest, per channel."""
+    print(
+        f"| channel | lit texels thinner than {thin_mm:g} mm | their share past p90 | median thin | median thick |"
+    )
+    print("|---|---|---|---|---|")
+    for c, name in enumerate("RGB"):
+        b, w, t = baked[..., c][covered], walked[..., c][covered], thickness[covered]
+        lit = w > 0.1 * w.max()
+        log_ratio = numpy.log(b[lit] / w[lit])
+        thin = t[lit] < thin_mm
+        past = numpy.abs(log_ratio) > numpy.percentile(numpy.abs(log_ratio), 90)
+        median = [
+            f"{numpy.exp(numpy.median(log_ratio[part])):.3f}" if part.any() else "-" for part in (thin, ~thin)
+        ]
+        print(f"| {name} | {thin.mean():.0%} | {thin[past].mean():.0%} | {median[0]} | {median[1]} |")
 
 
 def bin_names():
