@@ -403,8 +403,9 @@ fn a_small_ball_returns_the_light_of_the_walk() {
 /// 15 mm is the walk's; how the bake spreads it is not yet: a half-space's
 /// profile spreads red wider than a slab, which light leaves through both
 /// faces as it goes (printed; docs/accuracy.md). The slab's own profile
-/// ([`SlabProfiles`]) spreads it as light does: every ring of both faces
-/// within 7% of the walk in every channel (it is within 4%).
+/// ([`SlabProfiles`]) spreads red as light does: every ring of both faces
+/// within 7% of the walk (it is within 4%). Green and blue, whose
+/// diffusion lengths are shorter than 2 mm, are left to the half-space.
 #[test]
 fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {
     let skin = scattering_of("skin1", Model::Dipole);
@@ -418,10 +419,23 @@ fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {
         .filter(|&i| prepared.surfels.normal[i].z.abs() > 0.5 && radius(i) < 15.0)
         .collect();
     let slabs = SlabProfiles::new(&skin).unwrap();
-    assert!(slabs.thin_below > thickness.into(), "{}", slabs.thin_below);
+    // Thin in red only: 2 mm is 0.5 of red's diffusion length, 1.5 of
+    // green's, 3 of blue's.
+    let thin = [0, 1, 2].map(|c| slabs.is_thin(thickness.into(), c));
+    assert_eq!(thin, [true, false, false], "{:?}", slabs.thin_below);
     let ones = vec![[1.0f32; 3]; baked.len()];
+    let plain = BruteIntegrator
+        .integrate(&prepared, &skin, &Control::new())
+        .unwrap();
     let exitance = slabs
-        .exitance(&prepared, &faces, &ones, &ones, &Control::new())
+        .exitance(
+            &prepared,
+            &faces,
+            &ones,
+            &ones,
+            &plain.exitance,
+            &Control::new(),
+        )
         .unwrap();
     let mut by_slab = vec![[0.0f32; 3]; baked.len()];
     for (&i, m) in faces.iter().zip(exitance) {
@@ -446,19 +460,14 @@ fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {
                 .filter(|&i| (pair[0]..pair[1]).contains(&radius(i)))
                 .collect();
             let ratios = [0, 1, 2].map(|c| format!("{:.2}", ratio(&baked, &ring, c)));
-            let slab_ratios = [0, 1, 2].map(|c| ratio(&by_slab, &ring, c));
+            let by_slab_red = ratio(&by_slab, &ring, 0);
             eprintln!(
-                "top face {top}, {}–{} mm: {}; by the slab's profile {:.2} / {:.2} / {:.2}",
+                "top face {top}, {}–{} mm: {}; red by the slab's profile {by_slab_red:.2}",
                 pair[0],
                 pair[1],
                 ratios.join(" / "),
-                slab_ratios[0],
-                slab_ratios[1],
-                slab_ratios[2]
             );
-            for r in slab_ratios {
-                worst_ring = worst_ring.max((r - 1.0).abs());
-            }
+            worst_ring = worst_ring.max((by_slab_red - 1.0).abs());
         }
         for c in 0..3 {
             let whole = ratio(&baked, &face, c);

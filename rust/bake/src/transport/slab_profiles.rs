@@ -5,7 +5,12 @@
 //! slab's totals ([`super::local_slab`]).
 //!
 //! A slab spreads light less than a half-space: what goes sideways leaks
-//! out through both faces as it goes. The totals alone keep a half-space's
+//! out through both faces as it goes. A part's two faces are told apart by
+//! which way they face: a source on the face behind (facing away, deeper
+//! than half the part's thickness below the target) is weighed by T_t at
+//! its offset along the face, any other by R_t at its distance, and a
+//! surface deeper than one and a half thicknesses below, beyond the face
+//! behind, sends nothing through the part (it is not the slab's). The totals alone keep a half-space's
 //! spread, which on a thin part under a small light puts too little light
 //! near it and too much far away (docs/accuracy.md, "Thin parts spread red
 //! wider than light").
@@ -22,13 +27,16 @@
 //! This module is the reference sum of that model, at chosen texels; the
 //! bake's integrators do not read it yet.
 
-use crate::control::{Cancelled, Control};
+use crate::control::{Cancelled, Control, parallel_fill};
 use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::prepared::Prepared;
 use crate::scattering::{D_MAX_EPSILON, Scattering};
-use crate::transport::brute;
-use crate::transport::kernel::Kernel;
+use crate::transport::disk_kernel::Slot;
+use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::local_slab::MAX_GAIN;
+use crate::transport::source_table::texel_disks;
+use crate::transport::sources::Sources;
+use crate::transport::through_medium::longer_path;
 use rayon::prelude::*;
 use sssbake_profile::Rgb;
 use sssbake_profile::material::{Layer, Material, Optics};
@@ -36,11 +44,11 @@ use sssbake_profile::models::monte_carlo::profile::ProfileSettings;
 use sssbake_profile::models::tabulated::Tabulated;
 use sssbake_profile::profile::Profile;
 
-/// Parts thinner than this many of the material's longest diffusion
-/// length 1/σtr take their slab's profile; thicker parts keep the
-/// half-space's with the slab's totals. On the bundled head at Blender's
-/// default skin (red's 1/σtr 25 mm), red's p90 of |ln(bake/walk)| over
-/// lit texels was lowest with the line between 0.8 and 1.6 of it.
+/// Parts thinner than this many diffusion lengths 1/σtr of a channel take
+/// their slab's profile in that channel; thicker parts keep the
+/// half-space's, with the slab's totals ([`super::local_slab`]). Over a
+/// diffusion length a slab's spread has become a half-space's but for the
+/// light it still sends through, which the totals carry.
 const THIN_DIFFUSION_LENGTHS: f64 = 1.2;
 /// Rungs per factor e of thickness: neighbouring rungs 22% apart.
 const RUNGS_PER_E: f64 = 5.0;
@@ -67,8 +75,9 @@ struct Rung {
 /// The slabs of one material, by thickness.
 pub struct SlabProfiles {
     rungs: Vec<Rung>,
-    /// Parts at least this thick (mm) keep the half-space's profile.
-    pub thin_below: f64,
+    /// Per channel, parts at least this thick (mm) keep the half-space's
+    /// profile in that channel.
+    pub thin_below: [f64; 3],
 }
 
 /// The one semi-infinite layer of `scattering`'s material, where its slabs
@@ -92,23 +101,24 @@ fn diffusion_length(layer: &Layer, c: usize) -> f64 {
 
 impl SlabProfiles {
     /// The slabs of `scattering`'s material (one semi-infinite layer) that
-    /// parts thinner than [`THIN_DIFFUSION_LENGTHS`] need, simulated once
-    /// and kept in the cache folder; `None` for other materials.
+    /// parts thinner than [`THIN_DIFFUSION_LENGTHS`] need in some channel,
+    /// simulated once and kept in the cache folder; `None` for other
+    /// materials.
     pub fn new(scattering: &Scattering) -> Option<Self> {
         let layer = layer_of(scattering)?;
-        let longest = (0..3)
-            .map(|c| diffusion_length(layer, c))
-            .fold(0.0, f64::max);
-        let thin_below = (THIN_DIFFUSION_LENGTHS * longest).min(f64::from(scattering.kernel.d_max));
+        let d_max = f64::from(scattering.kernel.d_max);
+        let thin_below =
+            [0, 1, 2].map(|c| (THIN_DIFFUSION_LENGTHS * diffusion_length(layer, c)).min(d_max));
+        let thickest = thin_below.iter().copied().fold(0.0, f64::max);
         let finest = (0..3)
             .map(|c| 1.0 / (layer.sigma_a[c] + layer.sigma_s[c]))
             .fold(f64::INFINITY, f64::min);
         let thinnest = THINNEST_MEAN_FREE_PATHS * finest;
-        if !(thin_below.is_finite() && thinnest.is_finite() && thin_below > thinnest) {
+        if !(thickest.is_finite() && thinnest.is_finite() && thickest > thinnest) {
             return None;
         }
-        let count = ((thin_below / thinnest).ln() * RUNGS_PER_E).ceil() as usize + 1;
-        let step = (thin_below / thinnest).ln() / (count - 1) as f64;
+        let count = ((thickest / thinnest).ln() * RUNGS_PER_E).ceil() as usize + 1;
+        let step = (thickest / thinnest).ln() / (count - 1) as f64;
         let thickness: Vec<f64> = (0..count)
             .map(|i| thinnest * (step * i as f64).exp())
             .collect();
@@ -173,23 +183,29 @@ impl SlabProfiles {
         (above - 1, above, w)
     }
 
+    /// Whether a part `t` mm thick takes its slab's profile in channel `c`.
+    pub fn is_thin(&self, t: f64, c: usize) -> bool {
+        t < self.thin_below[c]
+    }
+
     /// The exitance (W/m², before the colour after scattering) at the
-    /// texels `picked` of `prepared`, each thinner than
-    /// [`Self::thin_below`] with a face behind it, by the profiles of their
-    /// slabs.
+    /// texels `picked` of `prepared`, by the profiles of their slabs in
+    /// each channel where the part is thin ([`Self::is_thin`]), and
+    /// `otherwise` (per texel of `prepared`) elsewhere.
     ///
     /// The light entering at every texel is raised by `halves` (√gain, as
-    /// [`crate::prepared::Raised`] has it) except at the picked texels,
-    /// whose gains are found here as the corrected model finds them
+    /// [`crate::prepared::Raised`] has it) except where a picked texel is
+    /// thin, whose gains are found here as the corrected model finds them
     /// ([`super::local_slab`]): their slab's total over their sum under a
     /// unit light, within [1, [`MAX_GAIN`]], times `ball`'s gain of convex
-    /// parts. Texels that are not thin, or have no face behind, give 0.
+    /// parts.
     pub fn exitance(
         &self,
         prepared: &Prepared,
         picked: &[usize],
         halves: &[[f32; 3]],
         ball: &[[f32; 3]],
+        otherwise: &[[f32; 3]],
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
         let opposites = prepared.opposites();
@@ -198,7 +214,9 @@ impl SlabProfiles {
             .map(|&i| {
                 let o = opposites.get(i).copied().flatten()?;
                 let t = f64::from(o.thickness);
-                (t < self.thin_below).then_some((t, o.surfel as usize))
+                (0..3)
+                    .any(|c| self.is_thin(t, c))
+                    .then_some((t, o.surfel as usize))
             })
             .collect();
         // Every picked texel's sums under each rung it reads, under a unit
@@ -215,6 +233,9 @@ impl SlabProfiles {
             );
             let b = ball.get(i).copied().unwrap_or([1.0; 3]);
             new_halves[i] = [0, 1, 2].map(|c| {
+                if !self.is_thin(t, c) {
+                    return halves[i][c];
+                }
                 let gain = expected[c] / f64::from(unit[k][c]);
                 let gain = if gain.is_finite() {
                     gain.clamp(1.0, MAX_GAIN)
@@ -231,7 +252,7 @@ impl SlabProfiles {
             .enumerate()
             .map(|(k, &i)| {
                 let Some((t, behind)) = thickness[k] else {
-                    return [0.0; 3];
+                    return otherwise[i];
                 };
                 let (a, b, w) = self.about(t);
                 let back = mix(
@@ -245,6 +266,9 @@ impl SlabProfiles {
                     w,
                 );
                 [0, 1, 2].map(|c| {
+                    if !self.is_thin(t, c) {
+                        return otherwise[i][c];
+                    }
                     let raised = |j: usize| f64::from(entering[j][c] * new_halves[j][c]);
                     let m =
                         f64::from(lit[k][c]) + back[c] * raised(i) + through[c] * raised(behind);
@@ -293,8 +317,7 @@ impl SlabProfiles {
             if reading.is_empty() {
                 continue;
             }
-            let listed = prepared.listed(&reading);
-            let sums = brute::integrate(&rung.kernel, &sources, listed.targets(), control)?;
+            let sums = slab_sums(prepared, &sources, &rung.kernel, &reading, control)?;
             for (&(k, weight), sum) in weights.iter().zip(sums) {
                 for c in 0..3 {
                     out[k][c] += weight * f64::from(sum[c]);
@@ -303,6 +326,75 @@ impl SlabProfiles {
         }
         Ok(out.iter().map(|v| v.map(|x| x as f32)).collect())
     }
+}
+
+/// Σ_j P(x_i, x_j)·E_j·A_j at each texel `i` of `reading`, P the slab's
+/// kernel read as its reflection where the pair lies on one face of the
+/// part and as its transmission, at the offset along the face, where the
+/// source lies on the face behind (facing away, deeper than half the
+/// part's thickness below the target): a part's faces are told apart by
+/// which way they face, not blended by their normals.
+fn slab_sums(
+    prepared: &Prepared,
+    sources: &Sources,
+    kernel: &Kernel,
+    reading: &[usize],
+    control: &Control,
+) -> Result<Vec<[f32; 3]>, Cancelled> {
+    let disks = texel_disks(kernel, sources);
+    let slots: Vec<Slot> = sources.area.iter().map(|&a| disks.slot(a)).collect();
+    let opposites = prepared.opposites();
+    let surfels = &prepared.surfels;
+    let reach2 = kernel.d_max * kernel.d_max;
+    let mut out = vec![[0.0f32; 3]; reading.len()];
+    parallel_fill(&mut out, 16, control, |k| {
+        let i = reading[k];
+        let (p, n, piece) = (surfels.position[i], surfels.normal[i], surfels.piece[i]);
+        let half = 0.5 * opposites[i].map_or(0.0, |o| o.thickness);
+        let mut sum = [0.0f64; 3];
+        for (j, &slot) in slots.iter().enumerate() {
+            let (q, m) = (sources.position[j], sources.normal[j]);
+            let d = q - p;
+            let d2 = d.length_squared();
+            if d2 > reach2 || sources.piece.get(j).is_some_and(|&s| s != piece) {
+                continue;
+            }
+            let along = d.dot(n);
+            let separation = if let Some(length) = longer_path(q, m, p, n, d2) {
+                Separation {
+                    distance: length,
+                    across: length,
+                    t: 0.0,
+                }
+            } else if m.dot(n) < 0.0 && along < -half {
+                // Deeper than the face behind: another surface beyond the
+                // part, which its slab does not join to this face.
+                if along < -3.0 * half {
+                    continue;
+                }
+                let across = (d2 - along * along).max(0.0).sqrt();
+                Separation {
+                    distance: d2.sqrt(),
+                    across,
+                    t: 1.0,
+                }
+            } else {
+                let distance = d2.sqrt();
+                Separation {
+                    distance,
+                    across: distance,
+                    t: 0.0,
+                }
+            };
+            let w = disks.weight(separation, slot);
+            let flux = sources.irradiance[j].map(|e| f64::from(e) * f64::from(sources.area[j]));
+            for c in 0..3 {
+                sum[c] += f64::from(w[c]) * flux[c];
+            }
+        }
+        sum.map(|v| v as f32)
+    })?;
+    Ok(out)
 }
 
 fn mix(a: Rgb, b: Rgb, w: f64) -> Rgb {
