@@ -486,23 +486,7 @@ fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {
 /// 0.45), Radius (1, 0.35, 0.2), Subsurface Scale 0.05 m, as Cycles reads
 /// it (red's diffusion length 25 mm, its mean free path 4 mm).
 fn blender_default_skin() -> Scattering {
-    let material = sssbake::materials::Principled {
-        name: "skin".into(),
-        base_colour: [0.8, 0.55, 0.45],
-        subsurface_weight: 1.0,
-        radius: [1.0, 0.35, 0.2],
-        scale_mm: 50.0,
-        method: sssbake::materials::SubsurfaceMethod::RandomWalk,
-        ior: 1.4,
-        specular_ior_level: 0.5,
-        subsurface_ior: 1.4,
-        anisotropy: 0.0,
-        roughness: 0.0,
-        albedo: sssbake::materials::AlbedoMapping::Cycles,
-    }
-    .to_material()
-    .unwrap();
-    scattering_for(&material, Model::Dipole)
+    scattering_for(&principled_skin(50.0), Model::Dipole)
 }
 
 /// The bake over the walk in rings (inner and outer radius, mm) about the

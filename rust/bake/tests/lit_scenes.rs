@@ -86,6 +86,28 @@ pub fn scattering_for(material: &Material, model: Model) -> Scattering {
     Scattering::new(material.clone(), Some(model), 6, D_MAX_EPSILON).unwrap()
 }
 
+/// Skin as Blender's Principled BSDF gives it and Cycles reads it:
+/// Random Walk, Base Color (0.8, 0.55, 0.45), Radius (1, 0.35, 0.2), IOR
+/// 1.4, at Subsurface Scale `scale_mm` (Blender's default 50 mm).
+pub fn principled_skin(scale_mm: f64) -> Material {
+    sssbake::materials::Principled {
+        name: "skin".into(),
+        base_colour: [0.8, 0.55, 0.45],
+        subsurface_weight: 1.0,
+        radius: [1.0, 0.35, 0.2],
+        scale_mm,
+        method: sssbake::materials::SubsurfaceMethod::RandomWalk,
+        ior: 1.4,
+        specular_ior_level: 0.5,
+        subsurface_ior: 1.4,
+        anisotropy: 0.0,
+        roughness: 0.0,
+        albedo: sssbake::materials::AlbedoMapping::Cycles,
+    }
+    .to_material()
+    .unwrap()
+}
+
 /// A request for `resolution`² maps of skin1.
 pub fn request(resolution: u32) -> BakeRequest {
     BakeRequest {

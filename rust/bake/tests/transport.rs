@@ -156,25 +156,10 @@ fn texels_of_two_sizes_and_shapes_return_the_total_reflectance() {
     }
 }
 
-/// The bundled head's skin as Cycles reads it: mean free paths of 0.16,
-/// 0.06 and 0.03 mm.
+/// The bundled head's skin as Cycles reads it at Subsurface Scale 2 mm:
+/// mean free paths of 0.16, 0.06 and 0.03 mm.
 fn head_skin() -> Material {
-    sssbake::materials::Principled {
-        name: "skin".into(),
-        base_colour: [0.8, 0.55, 0.45],
-        subsurface_weight: 1.0,
-        radius: [1.0, 0.35, 0.2],
-        scale_mm: 2.0,
-        method: sssbake::materials::SubsurfaceMethod::RandomWalk,
-        ior: 1.4,
-        specular_ior_level: 0.5,
-        subsurface_ior: 1.4,
-        anisotropy: 0.0,
-        roughness: 0.0,
-        albedo: sssbake::materials::AlbedoMapping::Cycles,
-    }
-    .to_material()
-    .unwrap()
+    principled_skin(2.0)
 }
 
 /// ∫ over the half-plane x' > 0 of R(|p − x'|) for a point at signed
