@@ -35,8 +35,9 @@ use crate::transport::disk_kernel::Slot;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::local_slab::MAX_GAIN;
 use crate::transport::source_table::texel_disks;
-use crate::transport::sources::Sources;
+use crate::transport::sources::{Grid, Sources};
 use crate::transport::through_medium::longer_path;
+use glam::Vec3;
 use rayon::prelude::*;
 use sssbake_profile::Rgb;
 use sssbake_profile::material::{Layer, Material, Optics};
@@ -345,56 +346,75 @@ fn slab_sums(
     let slots: Vec<Slot> = sources.area.iter().map(|&a| disks.slot(a)).collect();
     let opposites = prepared.opposites();
     let surfels = &prepared.surfels;
-    let reach2 = kernel.d_max * kernel.d_max;
+    let reach = kernel.d_max;
+    // Rows a quarter of the reach wide hug the ball a target gathers from.
+    let grid = Grid::new(&sources.position, (0.25 * reach).max(f32::MIN_POSITIVE));
     let mut out = vec![[0.0f32; 3]; reading.len()];
     parallel_fill(&mut out, 16, control, |k| {
         let i = reading[k];
-        let (p, n, piece) = (surfels.position[i], surfels.normal[i], surfels.piece[i]);
+        let (p, n) = (surfels.position[i], surfels.normal[i]);
+        let piece = Some(surfels.piece[i]);
         let half = 0.5 * opposites[i].map_or(0.0, |o| o.thickness);
         let mut sum = [0.0f64; 3];
-        for (j, &slot) in slots.iter().enumerate() {
-            let (q, m) = (sources.position[j], sources.normal[j]);
-            let d = q - p;
-            let d2 = d.length_squared();
-            if d2 > reach2 || sources.piece.get(j).is_some_and(|&s| s != piece) {
-                continue;
-            }
-            let along = d.dot(n);
-            let separation = if let Some(length) = longer_path(q, m, p, n, d2) {
-                Separation {
-                    distance: length,
-                    across: length,
-                    t: 0.0,
-                }
-            } else if m.dot(n) < 0.0 && along < -half {
-                // Deeper than the face behind: another surface beyond the
-                // part, which its slab does not join to this face.
-                if along < -3.0 * half {
+        grid.for_each_run(p, reach, |run| {
+            for &j in &grid.order[run] {
+                let j = j as usize;
+                if !sources.joins(j, piece) {
                     continue;
                 }
-                let across = (d2 - along * along).max(0.0).sqrt();
-                Separation {
-                    distance: d2.sqrt(),
-                    across,
-                    t: 1.0,
+                let (q, m) = (sources.position[j], sources.normal[j]);
+                let Some(separation) = separation(p, n, half, q, m, reach) else {
+                    continue;
+                };
+                let w = disks.weight(separation, slots[j]);
+                let area = f64::from(sources.area[j]);
+                for c in 0..3 {
+                    sum[c] += f64::from(w[c]) * f64::from(sources.irradiance[j][c]) * area;
                 }
-            } else {
-                let distance = d2.sqrt();
-                Separation {
-                    distance,
-                    across: distance,
-                    t: 0.0,
-                }
-            };
-            let w = disks.weight(separation, slot);
-            let flux = sources.irradiance[j].map(|e| f64::from(e) * f64::from(sources.area[j]));
-            for c in 0..3 {
-                sum[c] += f64::from(w[c]) * flux[c];
             }
-        }
+        });
         sum.map(|v| v as f32)
     })?;
     Ok(out)
+}
+
+/// How a source at `q` (normal `m`) sits from a target at `p` (normal
+/// `n`) on a part `2·half` mm thick, for the slab's kernel: across the
+/// face behind (read as T at the offset along the face), along the same
+/// face or round a crease (read as R), or `None` beyond `reach` mm or
+/// deeper than the face behind.
+fn separation(p: Vec3, n: Vec3, half: f32, q: Vec3, m: Vec3, reach: f32) -> Option<Separation> {
+    let d = q - p;
+    let d2 = d.length_squared();
+    if d2 > reach * reach {
+        return None;
+    }
+    if let Some(length) = longer_path(q, m, p, n, d2) {
+        return Some(Separation {
+            distance: length,
+            across: length,
+            t: 0.0,
+        });
+    }
+    let along = d.dot(n);
+    let distance = d2.sqrt();
+    if m.dot(n) < 0.0 && along < -half {
+        // Deeper than the face behind: another surface beyond the part,
+        // which its slab does not join to this face.
+        if along < -3.0 * half {
+            return None;
+        }
+        return Some(Separation {
+            distance,
+            across: (d2 - along * along).max(0.0).sqrt(),
+            t: 1.0,
+        });
+    }
+    Some(Separation {
+        distance,
+        across: distance,
+        t: 0.0,
+    })
 }
 
 fn mix(a: Rgb, b: Rgb, w: f64) -> Rgb {
