@@ -404,7 +404,7 @@ fn a_small_ball_returns_the_light_of_the_walk() {
 /// profile spreads red wider than a slab, which light leaves through both
 /// faces as it goes (printed; docs/accuracy.md). The slab's own profile
 /// ([`SlabProfiles`]) spreads red as light does: every ring of both faces
-/// within 7% of the walk (it is within 4%). Green and blue, whose
+/// within 7% of the walk (it is within 3%). Green and blue, whose
 /// diffusion lengths are shorter than 2 mm, are left to the half-space.
 #[test]
 fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {

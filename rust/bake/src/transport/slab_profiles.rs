@@ -1,25 +1,27 @@
-//! Thin parts by the profile of their own slab: each texel thinner than a
-//! few diffusion lengths gathers with R_t(r) and T_t(r), the light a slab
-//! of its thickness returns and sends through at distance r, simulated by
-//! the Monte Carlo, instead of a half-space's profile re-shared by the
-//! slab's totals ([`super::local_slab`]).
+//! Thin parts by the profile of their own slab: in each channel where a
+//! part is thinner than about a diffusion length, a texel gathers with
+//! R_t(r) and T_t(r), the light a slab of its thickness returns and sends
+//! through at distance r, simulated by the Monte Carlo, instead of a
+//! half-space's profile re-shared by the slab's totals
+//! ([`super::local_slab`]).
 //!
 //! A slab spreads light less than a half-space: what goes sideways leaks
-//! out through both faces as it goes. A part's two faces are told apart by
-//! which way they face: a source on the face behind (facing away, deeper
-//! than half the part's thickness below the target) is weighed by T_t at
-//! its offset along the face, any other by R_t at its distance, and a
-//! surface deeper than one and a half thicknesses below, beyond the face
-//! behind, sends nothing through the part (it is not the slab's). The totals alone keep a half-space's
-//! spread, which on a thin part under a small light puts too little light
-//! near it and too much far away (docs/accuracy.md, "Thin parts spread red
-//! wider than light").
+//! out through both faces as it goes. The totals alone keep a
+//! half-space's spread, which on a thin part under a small light puts too
+//! little light near it and too much far away (docs/accuracy.md, "Thin
+//! parts spread red wider than light").
 //!
-//! Each rung of a thickness ladder is one simulated slab, its tallies of
-//! R and T by radius ([`sssbake_profile::models::monte_carlo`], kept in the
-//! cache folder) tabulated as a [`Kernel`], whose reflection and transmission the exact sum already
-//! blends by the pair's normals (Mikkelsen §3.1). A texel takes the two
-//! rungs about its thickness, linearly in ln t. The light that leaves
+//! Each rung of a thickness ladder is one simulated slab, its tallies of R
+//! and T by radius ([`sssbake_profile::models::monte_carlo`], kept in the
+//! cache folder) tabulated as a [`Kernel`] and read as the exact sum reads
+//! a kernel: disk means, a texel's own light over its parallelogram, and
+//! sub-samples of the texels near the target. A texel takes the two rungs about its thickness, linearly in
+//! ln t. A part's two faces are told apart by which way they face, not
+//! blended by the pair's normals: a source on the face behind (facing
+//! away, deeper than half the part's thickness below the target) is
+//! weighed by T_t at its offset along the face, any other by R_t at its
+//! distance, and a surface deeper than one and a half thicknesses, beyond
+//! the face behind, sends nothing through the part. The light that leaves
 //! without scattering (straight through, or back after internal
 //! reflections) is a point at the texel behind or at the texel itself, and
 //! is added there rather than spread by a profile.
@@ -31,13 +33,12 @@ use crate::control::{Cancelled, Control, parallel_fill};
 use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::prepared::Prepared;
 use crate::scattering::{D_MAX_EPSILON, Scattering};
-use crate::transport::disk_kernel::Slot;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::local_slab::MAX_GAIN;
-use crate::transport::source_table::texel_disks;
+use crate::transport::source_table::{SourceTable, texel_disks};
 use crate::transport::sources::{Grid, Sources};
 use crate::transport::through_medium::longer_path;
-use glam::Vec3;
+use glam::{DVec3, Vec3, Vec4};
 use rayon::prelude::*;
 use sssbake_profile::Rgb;
 use sssbake_profile::material::{Layer, Material, Optics};
@@ -343,37 +344,36 @@ fn slab_sums(
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
     let disks = texel_disks(kernel, sources);
-    let slots: Vec<Slot> = sources.area.iter().map(|&a| disks.slot(a)).collect();
+    let reach = kernel.d_max;
+    // Rows a quarter of the reach wide hug the ball a target gathers from;
+    // the table walks the sources in the grid's order.
+    let grid = Grid::new(&sources.position, (0.25 * reach).max(f32::MIN_POSITIVE));
+    let table = SourceTable::new(sources, &grid.order, &disks);
     let opposites = prepared.opposites();
     let surfels = &prepared.surfels;
-    let reach = kernel.d_max;
-    // Rows a quarter of the reach wide hug the ball a target gathers from.
-    let grid = Grid::new(&sources.position, (0.25 * reach).max(f32::MIN_POSITIVE));
     let mut out = vec![[0.0f32; 3]; reading.len()];
     parallel_fill(&mut out, 16, control, |k| {
         let i = reading[k];
         let (p, n) = (surfels.position[i], surfels.normal[i]);
         let piece = Some(surfels.piece[i]);
+        // The texels are the sources, in the same order.
+        let own = table.rank_of(Some(i));
         let half = 0.5 * opposites[i].map_or(0.0, |o| o.thickness);
-        let mut sum = [0.0f64; 3];
+        let separate = |q: Vec3, m: Vec3| separation(p, n, half, q, m, reach);
+        // Each row's part in single precision, the whole in double.
+        let mut sum = DVec3::ZERO;
         grid.for_each_run(p, reach, |run| {
-            for &j in &grid.order[run] {
-                let j = j as usize;
-                if !sources.joins(j, piece) {
+            let mut part = Vec4::ZERO;
+            for j in run {
+                let d2 = (table.position(j) - p).length_squared();
+                if d2 > reach * reach || !table.joins(j, piece) {
                     continue;
                 }
-                let (q, m) = (sources.position[j], sources.normal[j]);
-                let Some(separation) = separation(p, n, half, q, m, reach) else {
-                    continue;
-                };
-                let w = disks.weight(separation, slots[j]);
-                let area = f64::from(sources.area[j]);
-                for c in 0..3 {
-                    sum[c] += f64::from(w[c]) * f64::from(sources.irradiance[j][c]) * area;
-                }
+                part += table.weight_placed(&disks, j, d2, own, &separate) * table.flux[j];
             }
+            sum += part.truncate().as_dvec3();
         });
-        sum.map(|v| v as f32)
+        sum.to_array().map(|v| v as f32)
     })?;
     Ok(out)
 }

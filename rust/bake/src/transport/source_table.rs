@@ -212,6 +212,44 @@ impl<'a> SourceTable<'a> {
         self.footprint.get(i as usize).copied()
     }
 
+    /// [`Self::weight4`] with each pair placed by `separate` (from a
+    /// source point and its normal, how it sits from the exit at `p`, or
+    /// `None` where the pair exchanges nothing) instead of by the kernel's
+    /// blend of reflection and transmission: for a kernel whose faces the
+    /// caller tells apart ([`super::slab_profiles`]). `d2` is the squared
+    /// distance to the source's centre; the own texel and texels near `p`
+    /// are weighed over their parallelograms as there.
+    #[inline]
+    pub fn weight_placed(
+        &self,
+        disks: &DiskKernel,
+        j: usize,
+        d2: f32,
+        own: Option<usize>,
+        separate: &impl Fn(Vec3, Vec3) -> Option<Separation>,
+    ) -> Vec4 {
+        if own == Some(j) {
+            return self.own_weight(disks, j);
+        }
+        let m = self.normal[j];
+        if d2 < self.near2[j]
+            && let Some([u, v]) = self.edges(j)
+        {
+            let sub_slot = disks.slot(self.area[j] / SUB_SAMPLES as f32);
+            let centre = self.position(j);
+            let (along_u, along_v) = sub_sample_offsets();
+            let mut w = Vec4::ZERO;
+            for k in 0..SUB_SAMPLES {
+                let q = centre + (u * along_u[k] + v * along_v[k]);
+                if let Some(separation) = separate(q, m) {
+                    w += disks.weight4(separation, sub_slot);
+                }
+            }
+            return w / SUB_SAMPLES as f32;
+        }
+        separate(self.position(j), m).map_or(Vec4::ZERO, |s| disks.weight4(s, self.slot[j]))
+    }
+
     /// Source `j`'s weight for its own light: the reflectance within its
     /// parallelogram (a disk of its area when it has none) over its area,
     /// 1/mm², computed exactly rather than read between the table's sizes,
