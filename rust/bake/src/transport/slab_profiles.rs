@@ -233,7 +233,7 @@ impl SlabProfiles {
                 self.rungs[b].scattered_total,
                 w,
             );
-            let b = ball.get(i).copied().unwrap_or([1.0; 3]);
+            let convex = ball.get(i).copied().unwrap_or([1.0; 3]);
             new_halves[i] = [0, 1, 2].map(|c| {
                 if !self.is_thin(t, c) {
                     return halves[i][c];
@@ -244,7 +244,7 @@ impl SlabProfiles {
                 } else {
                     1.0
                 };
-                (gain * f64::from(b[c])).min(MAX_GAIN).sqrt() as f32
+                (gain * f64::from(convex[c])).min(MAX_GAIN).sqrt() as f32
             });
         }
         let lit = self.sums(prepared, picked, &thickness, Some(&new_halves), control)?;
