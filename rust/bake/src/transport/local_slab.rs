@@ -194,7 +194,7 @@ impl LocalSlab {
 
     /// The one semi-infinite layer a slab of `scattering`'s material is
     /// made of, where it is defined (see [`Self::of`]).
-    fn layer_of(scattering: &Scattering) -> Option<&Layer> {
+    pub(crate) fn layer_of(scattering: &Scattering) -> Option<&Layer> {
         let material = &scattering.material;
         let Optics::Layers(layers) = &material.optics else {
             return None;
@@ -235,13 +235,8 @@ impl LocalSlab {
         if t.is_nan() || t > last {
             return None;
         }
-        let above = self.thickness.partition_point(|&rung| rung < t);
-        if above == 0 {
-            return self.shares.first().copied();
-        }
-        let (t0, t1) = (self.thickness[above - 1], self.thickness[above]);
-        let w = ((t / t0).ln() / (t1 / t0).ln()).clamp(0.0, 1.0);
-        let (a, b) = (self.shares[above - 1], self.shares[above]);
+        let (below, above, w) = rungs_about(&self.thickness, t);
+        let (a, b) = (self.shares[below], self.shares[above]);
         let mix = |x: [f64; 3], y: [f64; 3]| [0, 1, 2].map(|c| x[c] + w * (y[c] - x[c]));
         Some(SlabShares {
             kept: mix(a.kept, b.kept),
@@ -370,6 +365,21 @@ impl LocalSlab {
             })
             .collect()
     }
+}
+
+/// The two rungs of the ladder `thickness` (mm, increasing) about `t` mm
+/// and the weight of the second, linear in ln t: the thinnest rung alone
+/// (weight 0) below it and the thickest alone (weight 1) above it. The
+/// ladder has at least one rung.
+pub(crate) fn rungs_about(thickness: &[f64], t: f64) -> (usize, usize, f64) {
+    let last = thickness.len() - 1;
+    if last == 0 {
+        return (0, 0, 0.0);
+    }
+    let above = thickness.partition_point(|&rung| rung < t).clamp(1, last);
+    let (t0, t1) = (thickness[above - 1], thickness[above]);
+    let w = ((t.max(t0) / t0).ln() / (t1 / t0).ln()).clamp(0.0, 1.0);
+    (above - 1, above, w)
 }
 
 #[cfg(test)]

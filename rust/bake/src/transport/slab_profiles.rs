@@ -34,7 +34,7 @@ use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::prepared::Prepared;
 use crate::scattering::{D_MAX_EPSILON, Scattering};
 use crate::transport::kernel::{Kernel, Separation};
-use crate::transport::local_slab::MAX_GAIN;
+use crate::transport::local_slab::{LocalSlab, MAX_GAIN, rungs_about};
 use crate::transport::source_table::{SourceTable, texel_disks};
 use crate::transport::sources::{Grid, Sources};
 use crate::transport::through_medium::longer_path;
@@ -60,8 +60,6 @@ const THINNEST_MEAN_FREE_PATHS: f64 = 0.05;
 
 /// One simulated slab.
 struct Rung {
-    /// Thickness, mm.
-    thickness: f64,
     /// R_t(r) and T_t(r), tabulated.
     kernel: Kernel,
     /// Light returned without scattering (internal reflections of the
@@ -76,29 +74,12 @@ struct Rung {
 
 /// The slabs of one material, by thickness.
 pub struct SlabProfiles {
+    /// The ladder's thicknesses, mm, increasing: one per rung.
+    thickness: Vec<f64>,
     rungs: Vec<Rung>,
     /// Per channel, parts at least this thick (mm) keep the half-space's
     /// profile in that channel.
     pub thin_below: [f64; 3],
-}
-
-/// The one semi-infinite layer of `scattering`'s material, where its slabs
-/// are defined.
-fn layer_of(scattering: &Scattering) -> Option<&Layer> {
-    let Optics::Layers(layers) = &scattering.material.optics else {
-        return None;
-    };
-    match layers.as_slice() {
-        [layer] if layer.thickness_mm.is_none() => Some(layer),
-        _ => None,
-    }
-}
-
-/// 1/σtr of channel `c`, mm (infinite for a medium that does not absorb).
-fn diffusion_length(layer: &Layer, c: usize) -> f64 {
-    let m = layer.medium(c);
-    let sigma_tr = (3.0 * m.sigma_a * (m.sigma_a + m.sigma_s_reduced)).sqrt();
-    1.0 / sigma_tr
 }
 
 impl SlabProfiles {
@@ -107,10 +88,10 @@ impl SlabProfiles {
     /// simulated once and kept in the cache folder; `None` for other
     /// materials.
     pub fn new(scattering: &Scattering) -> Option<Self> {
-        let layer = layer_of(scattering)?;
+        let layer = LocalSlab::layer_of(scattering)?;
         let d_max = f64::from(scattering.kernel.d_max);
         let thin_below =
-            [0, 1, 2].map(|c| (THIN_DIFFUSION_LENGTHS * diffusion_length(layer, c)).min(d_max));
+            [0, 1, 2].map(|c| (THIN_DIFFUSION_LENGTHS / layer.medium(c).sigma_tr()).min(d_max));
         let thickest = thin_below.iter().copied().fold(0.0, f64::max);
         let finest = (0..3)
             .map(|c| 1.0 / (layer.sigma_a[c] + layer.sigma_s[c]))
@@ -128,7 +109,11 @@ impl SlabProfiles {
             .par_iter()
             .map(|&t| Self::rung(&scattering.material, layer, t))
             .collect::<Option<Vec<Rung>>>()?;
-        Some(Self { rungs, thin_below })
+        Some(Self {
+            thickness,
+            rungs,
+            thin_below,
+        })
     }
 
     fn rung(material: &Material, layer: &Layer, thickness: f64) -> Option<Rung> {
@@ -160,7 +145,6 @@ impl SlabProfiles {
         let kernel = Kernel::new(&profile, D_MAX_EPSILON);
         let (reflected, sent) = (profile.total_reflectance(), profile.total_transmittance());
         Some(Rung {
-            thickness,
             kernel,
             unscattered_back: tallies.unscattered_reflectance,
             unscattered_through: tallies.unscattered_transmittance,
@@ -169,20 +153,14 @@ impl SlabProfiles {
     }
 
     /// The thicknesses of the rungs, mm.
-    pub fn thicknesses(&self) -> Vec<f64> {
-        self.rungs.iter().map(|r| r.thickness).collect()
+    pub fn thicknesses(&self) -> &[f64] {
+        &self.thickness
     }
 
-    /// The two rungs about `t` mm and the weight of the second, linear in
-    /// ln t (the thinnest rung alone below it).
+    /// The two rungs about `t` mm and the weight of the second
+    /// ([`rungs_about`]).
     fn about(&self, t: f64) -> (usize, usize, f64) {
-        let above = self
-            .rungs
-            .partition_point(|r| r.thickness < t)
-            .clamp(1, self.rungs.len() - 1);
-        let (t0, t1) = (self.rungs[above - 1].thickness, self.rungs[above].thickness);
-        let w = ((t.max(t0) / t0).ln() / (t1 / t0).ln()).clamp(0.0, 1.0);
-        (above - 1, above, w)
+        rungs_about(&self.thickness, t)
     }
 
     /// Whether a part `t` mm thick takes its slab's profile in channel `c`.
@@ -223,7 +201,8 @@ impl SlabProfiles {
             .collect();
         // Every picked texel's sums under each rung it reads, under a unit
         // light first (for its gain), then under the raised light.
-        let unit = self.sums(prepared, picked, &thickness, None, control)?;
+        let texels = prepared.texel_sources();
+        let unit = self.sums(prepared, &texels, picked, &thickness, None, control)?;
         let mut new_halves = halves.to_vec();
         for (k, &i) in picked.iter().enumerate() {
             let Some((t, _)) = thickness[k] else { continue };
@@ -247,8 +226,15 @@ impl SlabProfiles {
                 (gain * f64::from(convex[c])).min(MAX_GAIN).sqrt() as f32
             });
         }
-        let lit = self.sums(prepared, picked, &thickness, Some(&new_halves), control)?;
-        let entering = prepared.texel_sources().irradiance;
+        let lit = self.sums(
+            prepared,
+            &texels,
+            picked,
+            &thickness,
+            Some(&new_halves),
+            control,
+        )?;
+        let entering = &texels.irradiance;
         Ok(picked
             .iter()
             .enumerate()
@@ -281,17 +267,19 @@ impl SlabProfiles {
     }
 
     /// The exact sums at `picked` (thin where `thickness` says) under the
-    /// rungs about each thickness, mixed in ln t: of the light raised by
-    /// `halves`, or of a unit light where `None`.
+    /// rungs about each thickness, mixed in ln t: of the light of `texels`
+    /// (the object's texels as sources) raised by `halves`, or of a unit
+    /// light where `None`.
     fn sums(
         &self,
         prepared: &Prepared,
+        texels: &Sources,
         picked: &[usize],
         thickness: &[Option<(f64, usize)>],
         halves: Option<&[[f32; 3]]>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        let mut sources = prepared.texel_sources();
+        let mut sources = texels.clone();
         for (j, e) in sources.irradiance.iter_mut().enumerate() {
             *e = match halves {
                 Some(h) => [0, 1, 2].map(|c| e[c] * h[j][c]),

@@ -233,19 +233,10 @@ impl<'a> SourceTable<'a> {
         }
         let m = self.normal[j];
         if d2 < self.near2[j]
-            && let Some([u, v]) = self.edges(j)
+            && let Some(edges) = self.edges(j)
         {
             let sub_slot = disks.slot(self.area[j] / SUB_SAMPLES as f32);
-            let centre = self.position(j);
-            let (along_u, along_v) = sub_sample_offsets();
-            let mut w = Vec4::ZERO;
-            for k in 0..SUB_SAMPLES {
-                let q = centre + (u * along_u[k] + v * along_v[k]);
-                if let Some(separation) = separate(q, m) {
-                    w += disks.weight4(separation, sub_slot);
-                }
-            }
-            return w / SUB_SAMPLES as f32;
+            return self.sub_sampled(disks, j, edges, sub_slot, |q| separate(q, m));
         }
         separate(self.position(j), m).map_or(Vec4::ZERO, |s| disks.weight4(s, self.slot[j]))
     }
@@ -267,6 +258,31 @@ impl<'a> SourceTable<'a> {
         Vec4::new(r, g, b, 0.0)
     }
 
+    /// The mean over source `j`'s parallelogram (`edges`) of the weights,
+    /// in `sub_slot`, of its SUBDIVISIONS² sub-samples, each placed from the
+    /// exit by `separate` (`None`: it sends nothing).
+    #[inline]
+    fn sub_sampled(
+        &self,
+        disks: &DiskKernel,
+        j: usize,
+        [u, v]: [Vec3; 2],
+        sub_slot: Slot,
+        separate: impl Fn(Vec3) -> Option<Separation>,
+    ) -> Vec4 {
+        let centre = self.position(j);
+        let (along_u, along_v) = sub_sample_offsets();
+        let mut w = Vec4::ZERO;
+        for k in 0..SUB_SAMPLES {
+            let q = centre + (u * along_u[k] + v * along_v[k]);
+            if let Some(separation) = separate(q) {
+                w += disks.weight4(separation, sub_slot);
+            }
+        }
+        let step = 1.0 / SUBDIVISIONS as f32;
+        w * (step * step)
+    }
+
     /// The mean weight over source `j`'s parallelogram, from SUBDIVISIONS²
     /// sub-samples each standing for its share of the area.
     fn footprint_weight(&self, disks: &DiskKernel, j: usize, p: Vec3, n: Vec3) -> Vec4 {
@@ -274,20 +290,18 @@ impl<'a> SourceTable<'a> {
             return Vec4::ZERO;
         };
         let sub_slot = disks.slot(self.area[j] / SUB_SAMPLES as f32);
+        let transmits = disks.kernel().transmits();
+        if transmits || !sub_slot.tabulated() {
+            let m = self.normal[j];
+            return self.sub_sampled(disks, j, [u, v], sub_slot, |q| {
+                let d2 = (q - p).length_squared();
+                Some(Separation::new(q, m, p, n, d2, transmits))
+            });
+        }
         let centre = self.position(j);
         let (along_u, along_v) = sub_sample_offsets();
         let step = 1.0 / SUBDIVISIONS as f32;
         let mut w = Vec4::ZERO;
-        let transmits = disks.kernel().transmits();
-        if transmits || !sub_slot.tabulated() {
-            for k in 0..SUB_SAMPLES {
-                let q = centre + (u * along_u[k] + v * along_v[k]);
-                let d2 = (q - p).length_squared();
-                let separation = Separation::new(q, self.normal[j], p, n, d2, transmits);
-                w += disks.weight4(separation, sub_slot);
-            }
-            return w * (step * step);
-        }
         // Reflection only: the sub-samples' distances a vector at a time,
         // then one read each.
         let mut distance = [0.0f32; SUB_SAMPLES];
