@@ -9,10 +9,12 @@ sees only the light that crossed the 3 mm) are compared with Cycles':
   enters for a bake's view along the normal, scoring the irradiance where it leaves): within
   3% in every channel, on both faces;
 - the default bake within 5% in green and blue. Red's diffusion length 1/σtr at this reach
-  (25 mm, for a mean free path of 4 mm) is most of the slab's 30 mm side: the profile's light
-  beyond the slab's rim, which in the slab comes out of its faces, is brought back by raising
-  the light where the surface ends within reach (measured: 0.95 and 0.96, 0.82 before), and
-  red is within 8%.
+  (25 mm, for a mean free path of 4 mm) is most of the slab's 30 mm side. The slab's faces
+  gather with its own slab's profile, which spreads light as a slab does; its sides, 3 mm
+  tall and 30 mm apart, read rounder than they are thick at red's scale and keep the
+  half-space's profile, raised where the surface ends within reach (measured: red 0.95 on
+  both faces, 0.97 when the sides too took the slab's profile, 0.82 by the half-space's
+  profile alone, unraised), and red is within 8%.
 
 The top face is mapped onto the left half of the image, the bottom face onto the right
 half; the rim onto a strip along the bottom edge, outside what is compared. Cycles' noise

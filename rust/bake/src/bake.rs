@@ -133,6 +133,11 @@ pub struct Corrected {
     /// Texels with a face behind them nearer than the profile's reach,
     /// whose light was re-shared by the slab of that thickness.
     pub thin_texels: usize,
+    /// Texels on parts thinner than about a diffusion length of some
+    /// channel, which gathered with their own slab's profile in that
+    /// channel ([`crate::transport::slab_profiles`]).
+    #[serde(default)]
+    pub slab_profile_texels: usize,
     /// Texels raised by more than 1% towards a plane's or a slab's light
     /// where the surface the profile reaches ends (a rim, a small part),
     /// or towards a ball's where the surface bulges.
@@ -307,6 +312,10 @@ fn scatter(
                             .flatten()
                             .filter(|o| slab.at(o.thickness).is_some())
                             .count(),
+                        slab_profile_texels: integration
+                            .raised
+                            .as_ref()
+                            .map_or(0, |r| r.by_slab_profile),
                         raised_texels: integration.raised.as_ref().map_or(0, |r| r.count),
                         uniform_stride: integration.raised.as_ref().map_or(1, |r| r.stride),
                         kept: integration.kept,
@@ -675,8 +684,11 @@ impl fmt::Display for Summary {
                 let [r, g, b] = corrected.level;
                 writeln!(
                     f,
-                    "{}: corrected model: light's level ×{r:.3} / {g:.3} / {b:.3} (R/G/B, the Monte Carlo's total over the profile's); {} texels through thin parts by the slab of their thickness; {} raised where the surface within reach ends or bulges",
-                    p.name, corrected.thin_texels, corrected.raised_texels
+                    "{}: corrected model: light's level ×{r:.3} / {g:.3} / {b:.3} (R/G/B, the Monte Carlo's total over the profile's); {} texels through thin parts by the slab of their thickness, {} of them by their own slab's profile; {} raised where the surface within reach ends or bulges",
+                    p.name,
+                    corrected.thin_texels,
+                    corrected.slab_profile_texels,
+                    corrected.raised_texels
                 )?;
                 if let Some([r, g, b]) = corrected.kept {
                     writeln!(

@@ -222,6 +222,7 @@ pub fn prepare(
         seconds: start.elapsed().as_secs_f64(),
         lights,
         incidence: OnceLock::new(),
+        curvature: Default::default(),
         raised: Mutex::new(None),
     })
 }
@@ -332,16 +333,26 @@ impl Prepared {
             .zip(ball.iter())
             .map(|(g, b)| [0, 1, 2].map(|c| (g[c] * b[c]).min(MAX_GAIN as f32)))
             .collect();
-        let count = gains
+        let mut halves: Vec<[f32; 3]> = gains.iter().map(|g| g.map(f32::sqrt)).collect();
+        // Thin parts' gains by their own slab's profile, where they take it.
+        let mut by_slab_profile = 0;
+        if let Some(profiles) = scattering.slab_profiles() {
+            let thin = profiles.thin_texels(self, None);
+            let epsilon = integrator.thin_epsilon();
+            profiles.gains(self, &thin, &mut halves, &ball, epsilon, stride, control)?;
+            by_slab_profile = thin.texels().len();
+        }
+        let count = halves
             .iter()
-            .filter(|g| g.iter().any(|&g| f64::from(g) > RAISED))
+            .filter(|h| h.iter().any(|&h| f64::from(h * h) > RAISED))
             .count();
         let raised = Arc::new(Raised {
             key,
             scattering: scattered_by,
-            halves: gains.iter().map(|g| g.map(f32::sqrt)).collect(),
+            halves,
             ball,
             count,
+            by_slab_profile,
             stride,
         });
         *self.raised.lock().unwrap_or_else(|e| e.into_inner()) = Some(Arc::clone(&raised));
@@ -410,6 +421,32 @@ impl Prepared {
         })
     }
 
+    /// The exitance of the texels on thin parts, in each channel where the
+    /// part is thin, by their own slab's profile
+    /// ([`crate::transport::slab_profiles`]), gathered through the octree
+    /// at `integrator`'s ε for them, the light entering raised as `raised`
+    /// has it (with those texels' gains by the slab).
+    fn thin_by_their_slab(
+        &self,
+        scattering: &Scattering,
+        integrator: &dyn Integrator,
+        raised: &Raised,
+        integrated: &mut Integrated,
+        control: &Control,
+    ) -> Result<(), Error> {
+        let Some(profiles) = scattering.slab_profiles() else {
+            return Ok(());
+        };
+        let thin = profiles.thin_texels(self, None);
+        let epsilon = integrator.thin_epsilon();
+        let lit = profiles.lit(self, &thin, &raised.halves, epsilon, control)?;
+        for (t, m) in thin.texels().iter().zip(lit) {
+            let old = &mut integrated.exitance[t.texel];
+            *old = [0, 1, 2].map(|c| m[c].unwrap_or(old[c]));
+        }
+        Ok(())
+    }
+
     /// Integrates with `integrator` under `scattering` and applies the
     /// colour after scattering. Where the integrator sums at chosen texels,
     /// the map is carried from a lattice of them within a share of
@@ -462,6 +499,7 @@ impl Prepared {
         let mut kept = None;
         if let Some(raised) = &raised {
             raised.leaving(&mut integrated.exitance);
+            self.thin_by_their_slab(scattering, integrator, raised, &mut integrated, control)?;
             kept = self.make_no_energy(&mut integrated.exitance);
         }
         for (i, m) in integrated.exitance.iter_mut().enumerate() {

@@ -9,6 +9,7 @@ use crate::irradiance::incidence::{IncidentHarmonics, incident_harmonics};
 use crate::irradiance::{IrradianceSettings, Receivers};
 use crate::layout::Layout;
 use crate::rays::RayScene;
+use crate::surface::curvature::mean_curvature;
 use crate::surface::dilation::{MAX_REACH, SeamAwareDilation, seam_aware_dilation};
 use crate::surface::opposite::{Opposite, opposites};
 use crate::surface::turk::{place_points, relax};
@@ -38,11 +39,18 @@ pub struct Prepared {
     pub(crate) lights: Option<SceneLighting>,
     /// The light split by incidence, made on first use.
     pub(crate) incidence: OnceLock<Vec<IncidentHarmonics>>,
+    /// The mean curvature at every surfel at the scale it was last asked
+    /// for (mm), shared with the same object under other light.
+    pub(crate) curvature: Arc<Mutex<Option<Curvature>>>,
     /// The light entering raised where the surface within reach ends,
     /// found by the last profile method that integrated, for its
     /// scattering and settings.
     pub(crate) raised: Mutex<Option<Arc<Raised>>>,
 }
+
+/// The mean curvature at every surfel (1/mm) and the scale it was seen at
+/// (mm).
+pub(crate) type Curvature = (f32, Arc<Vec<f32>>);
 
 /// How much the light at each surfel is raised where the surface within
 /// the profile's reach ends ([`crate::transport::local_slab`]): by the
@@ -65,6 +73,9 @@ pub struct Raised {
     pub ball: Arc<Vec<[f32; 3]>>,
     /// Surfels raised by more than 1% in some channel.
     pub count: usize,
+    /// Surfels on parts thin enough in some channel to gather with their
+    /// own slab's profile there ([`crate::transport::slab_profiles`]).
+    pub by_slab_profile: usize,
     /// Texels apart, along u and along v, at which the sums under a unit
     /// light were taken and fitted between; 1 where they were summed at
     /// every texel.
@@ -175,6 +186,20 @@ impl Prepared {
             .get_or_init(|| opposites(&Enclosure::new(&self.mesh, &self.uvs), &self.surfels))
     }
 
+    /// The mean curvature at every surfel, 1/mm, seen at `scale` mm
+    /// ([`mean_curvature`]), found once for the last scale asked.
+    pub fn mean_curvature(&self, scale: f32) -> Arc<Vec<f32>> {
+        let mut kept = self.curvature.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((at, curvature)) = kept.as_ref()
+            && *at == scale
+        {
+            return Arc::clone(curvature);
+        }
+        let curvature = Arc::new(mean_curvature(&self.surfels, scale));
+        *kept = Some((scale, Arc::clone(&curvature)));
+        curvature
+    }
+
     /// True when some texel has a face behind it nearer than `reach` mm.
     pub fn has_thin_parts(&self, reach: f32) -> bool {
         self.opposites()
@@ -217,6 +242,7 @@ impl Prepared {
             seconds: 0.0,
             lights: None,
             incidence: OnceLock::new(),
+            curvature: Arc::clone(&self.curvature),
             raised: Mutex::new(None),
         }
     }

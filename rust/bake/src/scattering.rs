@@ -6,6 +6,7 @@ use crate::error::Error;
 use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
 use crate::transport::kernel::Kernel;
 use crate::transport::local_slab::LocalSlab;
+use crate::transport::slab_ladder::SlabProfiles;
 use sssbake_profile::Material;
 use sssbake_profile::boundary::surface::Surface;
 use sssbake_profile::model::{Model, ModelError, build_profile};
@@ -40,6 +41,9 @@ pub struct Scattering {
     /// How a slab of each thickness shares out the light, simulated on
     /// first use (only a bake with thin parts needs it).
     local_slab: OnceLock<Option<LocalSlab>>,
+    /// The profiles of thin slabs of the material, each simulated when a
+    /// part of its thickness is first met.
+    slab_profiles: OnceLock<Option<SlabProfiles>>,
 }
 
 impl std::fmt::Debug for Scattering {
@@ -138,6 +142,7 @@ impl Scattering {
             surface,
             oblique: None,
             local_slab: OnceLock::new(),
+            slab_profiles: OnceLock::new(),
         }
     }
 
@@ -146,6 +151,23 @@ impl Scattering {
     /// [`LocalSlab::of`]). Simulated once, on first use.
     pub fn local_slab(&self) -> Option<&LocalSlab> {
         self.local_slab.get_or_init(|| LocalSlab::of(self)).as_ref()
+    }
+
+    /// The profiles of slabs of the material by thickness, for the bake's
+    /// thin parts; `None` where a slab of it is not defined (see
+    /// [`SlabProfiles::new`]).
+    pub fn slab_profiles(&self) -> Option<&SlabProfiles> {
+        self.slab_profiles
+            .get_or_init(|| {
+                let layer = LocalSlab::layer_of(self)?;
+                let reach = f64::from(self.kernel.d_max);
+                let scale = [0, 1, 2]
+                    .map(|c| self.kernel.sample_radius(c, 0.5))
+                    .into_iter()
+                    .fold(0.0, f32::max);
+                SlabProfiles::new(&self.material, layer, reach, D_MAX_EPSILON, scale)
+            })
+            .as_ref()
     }
 
     /// Per channel, the share of the light entering a plane of the

@@ -17,7 +17,6 @@ use sssbake::transport::accuracy::relative_errors;
 use sssbake::transport::brute::BruteIntegrator;
 use sssbake::transport::integrator::Integrator;
 use sssbake::transport::octree::OctreeIntegrator;
-use sssbake::transport::slab_profiles::SlabProfiles;
 use sssbake::transport::verify::estimate_error;
 use sssbake::transport::walk::walk_surfels;
 use sssbake::walk::{StartDirection, WalkMedium, WalkSettings};
@@ -285,14 +284,18 @@ fn a_thick_body_keeps_the_half_space_at_the_level_of_light() {
 }
 
 /// A small thin part, a 12 mm square 3 mm thick in skin1: red reaches
-/// past its rim, and a half-space's profile hands each texel the light of
-/// surface beyond the rim that is not there. Raised to the slab's sum of
-/// weights, the bake returns what the walk returns: red within 3% on both
-/// faces (it was 7% dark, p90 of |ln ratio| 0.29 and 0.35). Green and blue
-/// are nearly half-spaces here; their spread is at the square's edges,
-/// where the medium beyond the edge is missing and light that a
-/// half-space absorbs comes out (not modelled: their medians are 4–5%
-/// low).
+/// past its rim, and a profile hands each texel the light of surface
+/// beyond the rim that is not there. Red takes the slab's own profile
+/// here, right in the middle of the square; past the rim the light meets
+/// the square's side, and the share F_dr the boundary reflects comes
+/// back. So raised, the bake returns what the walk returns: red within 2%
+/// on both faces, p90 of |ln ratio| under 0.09, held to 3% and 0.12 (the
+/// half-space's profile was 7% dark, p90 0.29 and 0.35; raised by the
+/// whole shortfall, 1.03 and 1.03, p90 0.12 and 0.16; the slab's raised
+/// by the whole, 7% bright). Green and blue are nearly half-spaces here;
+/// their spread is at the square's edges, where the medium beyond the
+/// edge is missing and light that a half-space absorbs comes out (not
+/// modelled: their medians are 2–3% low).
 #[test]
 fn a_small_thin_part_returns_the_light_of_the_walk() {
     let skin = scattering_of("skin1", Model::Dipole);
@@ -309,7 +312,7 @@ fn a_small_thin_part_returns_the_light_of_the_walk() {
         let agrees = agreement(&baked, &walked, &noise, |i| texels.contains(&i));
         eprintln!("{name} face: {agrees:?}");
         assert!(
-            (agrees.median_ratio[0] - 1.0).abs() < 0.05 && agrees.p90_log[0] < 0.2,
+            (agrees.median_ratio[0] - 1.0).abs() < 0.03 && agrees.p90_log[0] < 0.12,
             "{name} face, red: {agrees:?}"
         );
         for c in 1..3 {
@@ -399,13 +402,15 @@ fn a_small_ball_returns_the_light_of_the_walk() {
 
 /// Where a thin part's light goes sideways: a 2 mm slab of skin1 under a
 /// point light 2 mm above its top face, the bake's light over the walk's
-/// in rings about the point beneath the light. Each face's light within
-/// 15 mm is the walk's; how the bake spreads it is not yet: a half-space's
-/// profile spreads red wider than a slab, which light leaves through both
-/// faces as it goes (printed; docs/accuracy.md). The slab's own profile
-/// ([`SlabProfiles`]) spreads red as light does: every ring of both faces
-/// within 7% of the walk (it is within 3%). Green and blue, whose
-/// diffusion lengths are shorter than 2 mm, are left to the half-space.
+/// in rings about the point beneath the light. A half-space's profile
+/// spread red wider than a slab, which light leaves through both faces as
+/// it goes (rings 0.77–1.46 of the walk; docs/accuracy.md); the slab's own
+/// profile (`SlabProfiles`), which the bake takes where a part is
+/// thinner than about a diffusion length, spreads red as light does:
+/// every ring of both faces within 7% of the walk, by the exact sum and
+/// by the octree. Green and blue, whose diffusion lengths are shorter
+/// than 2 mm, keep the half-space's profile; each face's whole within
+/// 15 mm is the walk's.
 #[test]
 fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {
     let skin = scattering_of("skin1", Model::Dipole);
@@ -414,33 +419,24 @@ fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {
     let light = point_light_at(Vec3::new(0.0, 0.0, thickness / 2.0 + 2.0));
     let scene = scene(vec![slab], vec![light]);
     let (prepared, baked, walked, _) = bake_and_walk(&scene, "slab", 64, &skin);
+    let by_octree = prepared
+        .integrate(
+            &skin,
+            &OctreeIntegrator::default(),
+            DEFAULT_TOLERANCE,
+            &Control::new(),
+        )
+        .unwrap()
+        .exitance;
     let radius = |i: usize| prepared.surfels.position[i].truncate().length();
     let faces: Vec<usize> = (0..baked.len())
         .filter(|&i| prepared.surfels.normal[i].z.abs() > 0.5 && radius(i) < 15.0)
         .collect();
-    let slabs = SlabProfiles::new(&skin).unwrap();
+    let slabs = skin.slab_profiles().unwrap();
     // Thin in red only: 2 mm is 0.5 of red's diffusion length, 1.5 of
     // green's, 3 of blue's.
     let thin = [0, 1, 2].map(|c| slabs.is_thin(thickness.into(), c));
     assert_eq!(thin, [true, false, false], "{:?}", slabs.thin_below);
-    let ones = vec![[1.0f32; 3]; baked.len()];
-    let plain = BruteIntegrator
-        .integrate(&prepared, &skin, &Control::new())
-        .unwrap();
-    let exitance = slabs
-        .exitance(
-            &prepared,
-            &faces,
-            &ones,
-            &ones,
-            &plain.exitance,
-            &Control::new(),
-        )
-        .unwrap();
-    let mut by_slab = vec![[0.0f32; 3]; baked.len()];
-    for (&i, m) in faces.iter().zip(exitance) {
-        by_slab[i] = prepared.after_scattering(i, m);
-    }
     let rings = [0.0, 2.0, 4.0, 6.0, 8.0, 11.0, 15.0];
     let mut wholes = Vec::new();
     let mut worst_ring = 0.0f64;
@@ -460,14 +456,16 @@ fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {
                 .filter(|&i| (pair[0]..pair[1]).contains(&radius(i)))
                 .collect();
             let ratios = [0, 1, 2].map(|c| format!("{:.2}", ratio(&baked, &ring, c)));
-            let by_slab_red = ratio(&by_slab, &ring, 0);
+            let octree_red = ratio(&by_octree, &ring, 0);
             eprintln!(
-                "top face {top}, {}–{} mm: {}; red by the slab's profile {by_slab_red:.2}",
+                "top face {top}, {}–{} mm: {}; red by the octree {octree_red:.2}",
                 pair[0],
                 pair[1],
                 ratios.join(" / "),
             );
-            worst_ring = worst_ring.max((by_slab_red - 1.0).abs());
+            for red in [ratio(&baked, &ring, 0), octree_red] {
+                worst_ring = worst_ring.max((red - 1.0).abs());
+            }
         }
         for c in 0..3 {
             let whole = ratio(&baked, &face, c);
@@ -476,10 +474,7 @@ fn a_thin_slab_under_a_point_light_keeps_each_face_s_light() {
         }
     }
     assert!(wholes.iter().all(|w| (w - 1.0).abs() < 0.15), "{wholes:?}");
-    assert!(
-        worst_ring < 0.07,
-        "by the slab's profile, a ring {worst_ring:.3} off"
-    );
+    assert!(worst_ring < 0.07, "a ring of red {worst_ring:.3} off");
 }
 
 /// Blender's default skin: Principled, Random Walk, Base Color (0.8, 0.55,

@@ -105,6 +105,14 @@ pub trait Integrator: Send + Sync + std::fmt::Debug {
         Ok(())
     }
 
+    /// The octree's solid angle (sr) at which it gathers thin parts by
+    /// their own slab's profile ([`super::slab_profiles`]), a kernel per
+    /// target that only the octree's walk carries: the octree's default,
+    /// its own ε for the octree, 0 (every pair apart) for the exact sum.
+    fn thin_epsilon(&self) -> f32 {
+        OctreeIntegrator::default().epsilon
+    }
+
     /// Its settings made more exact, after it missed `tolerance` with
     /// relative error `error`: `true` when they changed (the octree's ε),
     /// so `auto` runs it once more before a more exact method.

@@ -125,6 +125,23 @@ impl Kernel {
                 }
             }
         }
+        Self::tabulated(profile, d_max)
+    }
+
+    /// [`Kernel::new`] reaching at most `most` mm: for a profile whose
+    /// tallies cannot say where its light ends (a slab so thin that what
+    /// it scatters is within their noise), the reach of a thicker body.
+    pub fn within(profile: &dyn Profile, epsilon: f64, most: f64) -> Self {
+        let kernel = Self::new(profile, epsilon);
+        if f64::from(kernel.d_max) <= most {
+            return kernel;
+        }
+        Self::tabulated(profile, most)
+    }
+
+    /// `profile` tabulated out to `d_max` mm.
+    fn tabulated(profile: &dyn Profile, d_max: f64) -> Self {
+        let transmits = profile.total_transmittance().iter().any(|&t| t > 0.0);
         let d_max = if d_max.is_finite() && d_max > 0.0 {
             d_max
         } else {

@@ -68,6 +68,7 @@ use crate::scattering::Scattering;
 use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::ball_gain::BallGain;
+use crate::transport::slab_ladder::rungs_about;
 use crate::transport::slab_totals::slab_totals;
 use sssbake_profile::material::{Layer, Optics, TopLayer};
 use sssbake_profile::model::Model;
@@ -365,21 +366,6 @@ impl LocalSlab {
             })
             .collect()
     }
-}
-
-/// The two rungs of the ladder `thickness` (mm, increasing) about `t` mm
-/// and the weight of the second, linear in ln t: the thinnest rung alone
-/// (weight 0) below it and the thickest alone (weight 1) above it. The
-/// ladder has at least one rung.
-pub(crate) fn rungs_about(thickness: &[f64], t: f64) -> (usize, usize, f64) {
-    let last = thickness.len() - 1;
-    if last == 0 {
-        return (0, 0, 0.0);
-    }
-    let above = thickness.partition_point(|&rung| rung < t).clamp(1, last);
-    let (t0, t1) = (thickness[above - 1], thickness[above]);
-    let w = ((t.max(t0) / t0).ln() / (t1 / t0).ln()).clamp(0.0, 1.0);
-    (above - 1, above, w)
 }
 
 #[cfg(test)]

@@ -24,346 +24,332 @@
 //! the face behind, sends nothing through the part. The light that leaves
 //! without scattering (straight through, or back after internal
 //! reflections) is a point at the texel behind or at the texel itself, and
-//! is added there rather than spread by a profile.
+//! is added there rather than spread by a profile. A thin texel's light
+//! is raised where its slab's light would pass the part's rim by the share
+//! of it the rim's boundary reflects back ([`SlabProfiles::gains`]).
 //!
-//! This module is the reference sum of that model, at chosen texels; the
-//! bake's integrators do not read it yet.
+//! Every profile method bakes thin parts this way, through the octree
+//! (at the method's own solid angle ε; the exact sum's is 0, every pair
+//! apart): a kernel per target does not fit a texture-space blur or a
+//! shared tree's summaries of one kernel. The estimate checks it by the
+//! exact sum at its texels.
 
-use crate::control::{Cancelled, Control, parallel_fill};
-use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
+use crate::control::{Cancelled, Control};
+use crate::error::Error;
+use crate::fitted_map::Carrier;
 use crate::prepared::Prepared;
-use crate::scattering::{D_MAX_EPSILON, Scattering};
+use crate::transport::integrator::Summer;
 use crate::transport::kernel::{Kernel, Separation};
-use crate::transport::local_slab::{LocalSlab, MAX_GAIN, rungs_about};
-use crate::transport::source_table::{SourceTable, texel_disks};
-use crate::transport::sources::{Grid, Sources};
+use crate::transport::local_slab::MAX_GAIN;
+use crate::transport::octree::Gathering;
+use crate::transport::slab_ladder::{SlabProfiles, mix};
+use crate::transport::sources::Sources;
 use crate::transport::through_medium::longer_path;
-use glam::{DVec3, Vec3, Vec4};
-use rayon::prelude::*;
-use sssbake_profile::Rgb;
-use sssbake_profile::material::{Layer, Material, Optics};
-use sssbake_profile::models::monte_carlo::profile::ProfileSettings;
-use sssbake_profile::models::tabulated::Tabulated;
-use sssbake_profile::profile::Profile;
+use glam::Vec3;
+use std::sync::Mutex;
 
-/// Parts thinner than this many diffusion lengths 1/σtr of a channel take
-/// their slab's profile in that channel; thicker parts keep the
-/// half-space's, with the slab's totals ([`super::local_slab`]). Over a
-/// diffusion length a slab's spread has become a half-space's but for the
-/// light it still sends through, which the totals carry.
-const THIN_DIFFUSION_LENGTHS: f64 = 1.2;
-/// Rungs per factor e of thickness: neighbouring rungs 22% apart.
-const RUNGS_PER_E: f64 = 5.0;
-/// The thinnest rung, as a share of the finest mean free path; thinner
-/// parts take it.
-const THINNEST_MEAN_FREE_PATHS: f64 = 0.05;
-
-/// One simulated slab.
-struct Rung {
-    /// R_t(r) and T_t(r), tabulated.
-    kernel: Kernel,
-    /// Light returned without scattering (internal reflections of the
-    /// entering beam), per unit flux entering.
-    unscattered_back: Rgb,
-    /// Light sent straight through without scattering.
-    unscattered_through: Rgb,
-    /// The scattered light the slab returns and sends through (the
-    /// kernel holds all but a share [`D_MAX_EPSILON`] of it).
-    scattered_total: Rgb,
+/// A texel on a part thin in some channel.
+#[derive(Clone, Copy, Debug)]
+pub struct ThinTexel {
+    /// The texel.
+    pub(crate) texel: usize,
+    /// The part's thickness there, mm.
+    pub(crate) thickness: f64,
+    /// The texel across the part.
+    pub(crate) behind: usize,
 }
 
-/// The slabs of one material, by thickness.
-pub struct SlabProfiles {
-    /// The ladder's thicknesses, mm, increasing: one per rung.
-    thickness: Vec<f64>,
-    rungs: Vec<Rung>,
-    /// Per channel, parts at least this thick (mm) keep the half-space's
-    /// profile in that channel.
-    pub thin_below: [f64; 3],
+/// The texels of one object on thin parts, with the rungs they read.
+pub struct ThinParts {
+    texels: Vec<ThinTexel>,
+    /// The rungs simulated for them, `first..=last`.
+    first: usize,
+    last: usize,
+}
+
+impl ThinParts {
+    /// The texels on thin parts.
+    pub fn texels(&self) -> &[ThinTexel] {
+        &self.texels
+    }
 }
 
 impl SlabProfiles {
-    /// The slabs of `scattering`'s material (one semi-infinite layer) that
-    /// parts thinner than [`THIN_DIFFUSION_LENGTHS`] need in some channel,
-    /// simulated once and kept in the cache folder; `None` for other
-    /// materials.
-    pub fn new(scattering: &Scattering) -> Option<Self> {
-        let layer = LocalSlab::layer_of(scattering)?;
-        let d_max = f64::from(scattering.kernel.d_max);
-        let thin_below =
-            [0, 1, 2].map(|c| (THIN_DIFFUSION_LENGTHS / layer.medium(c).sigma_tr()).min(d_max));
-        let thickest = thin_below.iter().copied().fold(0.0, f64::max);
-        let finest = (0..3)
-            .map(|c| 1.0 / (layer.sigma_a[c] + layer.sigma_s[c]))
-            .fold(f64::INFINITY, f64::min);
-        let thinnest = THINNEST_MEAN_FREE_PATHS * finest;
-        if !(thickest.is_finite() && thinnest.is_finite() && thickest > thinnest) {
-            return None;
-        }
-        let count = ((thickest / thinnest).ln() * RUNGS_PER_E).ceil() as usize + 1;
-        let step = (thickest / thinnest).ln() / (count - 1) as f64;
-        let thickness: Vec<f64> = (0..count)
-            .map(|i| thinnest * (step * i as f64).exp())
-            .collect();
-        let rungs = thickness
-            .par_iter()
-            .map(|&t| Self::rung(&scattering.material, layer, t))
-            .collect::<Option<Vec<Rung>>>()?;
-        Some(Self {
-            thickness,
-            rungs,
-            thin_below,
-        })
-    }
-
-    fn rung(material: &Material, layer: &Layer, thickness: f64) -> Option<Rung> {
-        let slab = Material {
-            optics: Optics::Layers(vec![Layer {
-                thickness_mm: Some(thickness),
-                ..layer.clone()
-            }]),
-            ..material.clone()
+    /// The texels of `picked` (all of `prepared`'s where `None`) on a part
+    /// thin in some channel and thinner than its radius of curvature, with the rungs from the thinnest to the
+    /// thickest they read simulated; none when a rung cannot be simulated
+    /// (the half-space's profile then serves).
+    pub fn thin_texels(&self, prepared: &Prepared, picked: Option<&[usize]>) -> ThinParts {
+        let opposites = prepared.opposites();
+        let curvature = prepared.mean_curvature(self.curvature_scale);
+        let of = |i: usize| {
+            let o = opposites.get(i).copied().flatten()?;
+            let thickness = f64::from(o.thickness);
+            // A slab is thinner than its faces' radius of curvature; a part
+            // as thick as it is round (a ball, whose thickness is its
+            // diameter) keeps the half-space's profile and a ball's gain.
+            let slab_like = thickness * f64::from(curvature[i]) < 1.0;
+            (slab_like && (0..3).any(|c| self.is_thin(thickness, c))).then_some(ThinTexel {
+                texel: i,
+                thickness,
+                behind: o.surfel as usize,
+            })
         };
-        let simulated =
-            monte_carlo_profile(&slab, &ProfileSettings::default(), cache_dir().as_deref())?;
-        // The tallies as they are: the smoothing fit of the Monte Carlo
-        // profile loses a slab's far tail (red 10% short 11–15 mm from a
-        // light on 2 mm of skin1), and a kernel reads the near field
-        // through its disk means, which average the tallies' noise there.
-        let tallies = simulated.tallies();
-        let binned: Vec<usize> = (0..tallies.radii_mm.len())
-            .filter(|&i| tallies.radii_mm[i] > 0.0)
+        let texels: Vec<ThinTexel> = match picked {
+            Some(picked) => picked.iter().filter_map(|&i| of(i)).collect(),
+            None => (0..opposites.len()).filter_map(of).collect(),
+        };
+        let (mut first, mut last) = (usize::MAX, 0);
+        for t in &texels {
+            let (a, b, _) = self.about(t.thickness);
+            first = first.min(a);
+            last = last.max(b);
+        }
+        let rungs: Vec<usize> = (first..=last).collect();
+        if texels.is_empty() || !self.simulate(&rungs) {
+            return ThinParts {
+                texels: Vec::new(),
+                first: 0,
+                last: 0,
+            };
+        }
+        ThinParts {
+            texels,
+            first,
+            last,
+        }
+    }
+
+    /// `halves` (√gain per texel, as [`crate::prepared::Raised`] has it)
+    /// with each of `parts`' texels' gains in each channel where its part
+    /// is thin: of its slab's scattered total, the share its sum under a
+    /// unit light misses is light the slab would carry past the part's
+    /// rim, where it meets the rim's own surface and leaves through it but
+    /// for the share F_dr the boundary reflects back (`rim_return`);
+    /// so the gain is 1 + F_dr·(total / sum − 1), within [1,
+    /// [`MAX_GAIN`]], times `ball`'s gain of convex parts. (In the middle
+    /// of a 12 mm square of skin1 3 mm thick the slab's profile alone is
+    /// the walk's; raised by the whole shortfall, as a half-space's is
+    /// where the surface ends, it was 4% over, and 9% near the rim.) The sums are the octree's at solid angle `epsilon` (0:
+    /// exact), as shares of the slab's total, on a lattice `stride` texels
+    /// apart and carried between ([`Carrier::whole`]; 1: at every texel):
+    /// like the half-space's, they change over the profile's spread.
+    #[allow(clippy::too_many_arguments)]
+    pub fn gains(
+        &self,
+        prepared: &Prepared,
+        parts: &ThinParts,
+        halves: &mut [[f32; 3]],
+        ball: &[[f32; 3]],
+        epsilon: f32,
+        stride: u32,
+        control: &Control,
+    ) -> Result<(), Error> {
+        if parts.texels.is_empty() {
+            return Ok(());
+        }
+        let held = HeldShares {
+            profiles: self,
+            prepared,
+            parts,
+            epsilon,
+            gathering: Mutex::new(None),
+        };
+        let texels: Vec<usize> = parts.texels.iter().map(|t| t.texel).collect();
+        let shares = Carrier::whole(prepared, &held).at(&texels, stride.max(1), control)?;
+        for (t, share) in parts.texels.iter().zip(shares) {
+            let convex = ball.get(t.texel).copied().unwrap_or([1.0; 3]);
+            let half = &mut halves[t.texel];
+            for c in 0..3 {
+                if !self.is_thin(t.thickness, c) {
+                    continue;
+                }
+                let missing = 1.0 / f64::from(share[c]) - 1.0;
+                let gain = if missing.is_finite() {
+                    (1.0 + self.rim_return * missing.max(0.0)).min(MAX_GAIN)
+                } else {
+                    1.0
+                };
+                half[c] = (gain * f64::from(convex[c])).min(MAX_GAIN).sqrt() as f32;
+            }
+        }
+        Ok(())
+    }
+
+    /// The exitance (W/m², before the colour after scattering) at each of
+    /// `parts`' texels by the profiles of their slabs, the light entering
+    /// every texel raised by `halves` and again where it leaves, through
+    /// the octree at solid angle `epsilon` (0: exact); `None` in the
+    /// channels where a texel's part is not thin.
+    pub fn lit(
+        &self,
+        prepared: &Prepared,
+        parts: &ThinParts,
+        halves: &[[f32; 3]],
+        epsilon: f32,
+        control: &Control,
+    ) -> Result<Vec<[Option<f32>; 3]>, Cancelled> {
+        if parts.texels.is_empty() {
+            return Ok(Vec::new());
+        }
+        let texels = prepared.texel_sources();
+        let mut sources = texels.clone();
+        for (e, h) in sources.irradiance.iter_mut().zip(halves) {
+            *e = [0, 1, 2].map(|c| e[c] * h[c]);
+        }
+        let gathering = self.gathering(parts, &sources, epsilon);
+        let at: Vec<(usize, f64)> = parts
+            .texels
+            .iter()
+            .map(|t| (t.texel, t.thickness))
             .collect();
-        let profile = Tabulated::new(
-            "slab",
-            binned.iter().map(|&i| tallies.radii_mm[i]).collect(),
-            binned.iter().map(|&i| tallies.reflectance[i]).collect(),
-            binned.iter().map(|&i| tallies.transmittance[i]).collect(),
-            tallies.total_reflectance,
-            tallies.total_transmittance,
-        );
-        let kernel = Kernel::new(&profile, D_MAX_EPSILON);
-        let (reflected, sent) = (profile.total_reflectance(), profile.total_transmittance());
-        Some(Rung {
-            kernel,
-            unscattered_back: tallies.unscattered_reflectance,
-            unscattered_through: tallies.unscattered_transmittance,
-            scattered_total: [0, 1, 2].map(|c| reflected[c] + sent[c]),
-        })
+        let sums = self.sums(&gathering, parts.first, prepared, &at, control)?;
+        let entering = &texels.irradiance;
+        Ok(parts
+            .texels
+            .iter()
+            .zip(sums)
+            .map(|(t, sum)| {
+                let (a, b, w) = self.rungs_at(t.thickness);
+                let back = mix(a.unscattered_back, b.unscattered_back, w);
+                let through = mix(a.unscattered_through, b.unscattered_through, w);
+                [0, 1, 2].map(|c| {
+                    if !self.is_thin(t.thickness, c) {
+                        return None;
+                    }
+                    let raised = |j: usize| f64::from(entering[j][c] * halves[j][c]);
+                    let m = f64::from(sum[c])
+                        + back[c] * raised(t.texel)
+                        + through[c] * raised(t.behind);
+                    Some((m * f64::from(halves[t.texel][c])) as f32)
+                })
+            })
+            .collect())
     }
 
-    /// The thicknesses of the rungs, mm.
-    pub fn thicknesses(&self) -> &[f64] {
-        &self.thickness
-    }
-
-    /// The two rungs about `t` mm and the weight of the second
-    /// ([`rungs_about`]).
-    fn about(&self, t: f64) -> (usize, usize, f64) {
-        rungs_about(&self.thickness, t)
-    }
-
-    /// Whether a part `t` mm thick takes its slab's profile in channel `c`.
-    pub fn is_thin(&self, t: f64, c: usize) -> bool {
-        t < self.thin_below[c]
-    }
-
-    /// The exitance (W/m², before the colour after scattering) at the
-    /// texels `picked` of `prepared`, by the profiles of their slabs in
-    /// each channel where the part is thin ([`Self::is_thin`]), and
-    /// `otherwise` (per texel of `prepared`) elsewhere.
-    ///
-    /// The light entering at every texel is raised by `halves` (√gain, as
-    /// [`crate::prepared::Raised`] has it) except where a picked texel is
-    /// thin, whose gains are found here as the corrected model finds them
-    /// ([`super::local_slab`]): their slab's total over their sum under a
-    /// unit light, within [1, [`MAX_GAIN`]], times `ball`'s gain of convex
-    /// parts.
+    /// The exact exitance (W/m², before the colour after scattering) at
+    /// the texels `picked` of `prepared`, by the profiles of their slabs in
+    /// each channel where the part is thin (`None` elsewhere):
+    /// [`Self::gains`] at the picked texels, the light entering elsewhere
+    /// raised by `halves`, then [`Self::lit`].
     pub fn exitance(
         &self,
         prepared: &Prepared,
         picked: &[usize],
         halves: &[[f32; 3]],
         ball: &[[f32; 3]],
-        otherwise: &[[f32; 3]],
         control: &Control,
-    ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        let opposites = prepared.opposites();
-        let thickness: Vec<Option<(f64, usize)>> = picked
-            .iter()
-            .map(|&i| {
-                let o = opposites.get(i).copied().flatten()?;
-                let t = f64::from(o.thickness);
-                (0..3)
-                    .any(|c| self.is_thin(t, c))
-                    .then_some((t, o.surfel as usize))
-            })
-            .collect();
-        // Every picked texel's sums under each rung it reads, under a unit
-        // light first (for its gain), then under the raised light.
-        let texels = prepared.texel_sources();
-        let unit = self.sums(prepared, &texels, picked, &thickness, None, control)?;
-        let mut new_halves = halves.to_vec();
-        for (k, &i) in picked.iter().enumerate() {
-            let Some((t, _)) = thickness[k] else { continue };
-            let (a, b, w) = self.about(t);
-            let expected = mix(
-                self.rungs[a].scattered_total,
-                self.rungs[b].scattered_total,
-                w,
-            );
-            let convex = ball.get(i).copied().unwrap_or([1.0; 3]);
-            new_halves[i] = [0, 1, 2].map(|c| {
-                if !self.is_thin(t, c) {
-                    return halves[i][c];
-                }
-                let gain = expected[c] / f64::from(unit[k][c]);
-                let gain = if gain.is_finite() {
-                    gain.clamp(1.0, MAX_GAIN)
-                } else {
-                    1.0
-                };
-                (gain * f64::from(convex[c])).min(MAX_GAIN).sqrt() as f32
-            });
-        }
-        let lit = self.sums(
-            prepared,
-            &texels,
-            picked,
-            &thickness,
-            Some(&new_halves),
-            control,
-        )?;
-        let entering = &texels.irradiance;
+    ) -> Result<Vec<[Option<f32>; 3]>, Error> {
+        let parts = self.thin_texels(prepared, Some(picked));
+        let mut exact_halves = halves.to_vec();
+        self.gains(prepared, &parts, &mut exact_halves, ball, 0.0, 1, control)?;
+        let lit = self.lit(prepared, &parts, &exact_halves, 0.0, control)?;
+        let mut at = parts.texels.iter().zip(lit).peekable();
         Ok(picked
             .iter()
-            .enumerate()
-            .map(|(k, &i)| {
-                let Some((t, behind)) = thickness[k] else {
-                    return otherwise[i];
-                };
-                let (a, b, w) = self.about(t);
-                let back = mix(
-                    self.rungs[a].unscattered_back,
-                    self.rungs[b].unscattered_back,
-                    w,
-                );
-                let through = mix(
-                    self.rungs[a].unscattered_through,
-                    self.rungs[b].unscattered_through,
-                    w,
-                );
-                [0, 1, 2].map(|c| {
-                    if !self.is_thin(t, c) {
-                        return otherwise[i][c];
-                    }
-                    let raised = |j: usize| f64::from(entering[j][c] * new_halves[j][c]);
-                    let m =
-                        f64::from(lit[k][c]) + back[c] * raised(i) + through[c] * raised(behind);
-                    (m * f64::from(new_halves[i][c])) as f32
-                })
+            .map(|&i| {
+                // The thin texels follow the picked ones, in order.
+                at.next_if(|(t, _)| t.texel == i)
+                    .map_or([None; 3], |(_, m)| m)
             })
             .collect())
     }
 
-    /// The exact sums at `picked` (thin where `thickness` says) under the
-    /// rungs about each thickness, mixed in ln t: of the light of `texels`
-    /// (the object's texels as sources) raised by `halves`, or of a unit
-    /// light where `None`.
+    /// The octree over `sources` under `parts`' rungs, at solid angle
+    /// `epsilon`.
+    fn gathering<'a>(
+        &'a self,
+        parts: &ThinParts,
+        sources: &Sources<'a>,
+        epsilon: f32,
+    ) -> Gathering<'a> {
+        let kernels: Vec<&Kernel> = (parts.first..=parts.last)
+            .map(|r| &self.rung_simulated(r).kernel)
+            .collect();
+        Gathering::mixing(&kernels, sources, epsilon)
+    }
+
+    /// The sums of `gathering` (over the rungs from `first`) at texels
+    /// `at` of `prepared`, each under the two rungs about its thickness
+    /// (mm), mixed in ln t, its pairs placed by [`separation`].
     fn sums(
         &self,
+        gathering: &Gathering,
+        first: usize,
         prepared: &Prepared,
-        texels: &Sources,
-        picked: &[usize],
-        thickness: &[Option<(f64, usize)>],
-        halves: Option<&[[f32; 3]]>,
+        at: &[(usize, f64)],
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        let mut sources = texels.clone();
-        for (j, e) in sources.irradiance.iter_mut().enumerate() {
-            *e = match halves {
-                Some(h) => [0, 1, 2].map(|c| e[c] * h[j][c]),
-                None => [1.0; 3],
-            };
-        }
-        let mut out = vec![[0.0f64; 3]; picked.len()];
-        for (r, rung) in self.rungs.iter().enumerate() {
-            // The picked texels that read this rung, with its weight.
-            let (reading, weights): (Vec<usize>, Vec<(usize, f64)>) = thickness
-                .iter()
-                .enumerate()
-                .filter_map(|(k, t)| {
-                    let (a, b, w) = self.about(t.as_ref()?.0);
-                    let weight = if r == a {
-                        1.0 - w
-                    } else if r == b {
-                        w
-                    } else {
-                        0.0
-                    };
-                    (weight > 0.0).then_some((picked[k], (k, weight)))
+        let reading: Vec<usize> = at.iter().map(|&(i, _)| i).collect();
+        let listed = prepared.listed(&reading);
+        let opposites = prepared.opposites();
+        let surfels = &prepared.surfels;
+        gathering.at_placed(
+            listed.targets(),
+            |k| {
+                let (i, t) = at[k];
+                let (a, b, w) = self.about(t);
+                let mix = [(a - first, 1.0 - w as f32), (b - first, w as f32)];
+                let (p, n) = (surfels.position[i], surfels.normal[i]);
+                let half = 0.5 * opposites[i].map_or(0.0, |o| o.thickness);
+                let reach = self.rung_simulated(a).kernel.d_max;
+                let reach = reach.max(self.rung_simulated(b).kernel.d_max);
+                (mix, move |q: Vec3, m: Vec3| {
+                    separation(p, n, half, q, m, reach)
                 })
-                .unzip();
-            if reading.is_empty() {
-                continue;
-            }
-            let sums = slab_sums(prepared, &sources, &rung.kernel, &reading, control)?;
-            for (&(k, weight), sum) in weights.iter().zip(sums) {
-                for c in 0..3 {
-                    out[k][c] += weight * f64::from(sum[c]);
-                }
-            }
-        }
-        Ok(out.iter().map(|v| v.map(|x| x as f32)).collect())
+            },
+            control,
+        )
     }
 }
 
-/// Σ_j P(x_i, x_j)·E_j·A_j at each texel `i` of `reading`, P the slab's
-/// kernel read as its reflection where the pair lies on one face of the
-/// part and as its transmission, at the offset along the face, where the
-/// source lies on the face behind (facing away, deeper than half the
-/// part's thickness below the target): a part's faces are told apart by
-/// which way they face, not blended by their normals.
-fn slab_sums(
-    prepared: &Prepared,
-    sources: &Sources,
-    kernel: &Kernel,
-    reading: &[usize],
-    control: &Control,
-) -> Result<Vec<[f32; 3]>, Cancelled> {
-    let disks = texel_disks(kernel, sources);
-    let reach = kernel.d_max;
-    // Rows a quarter of the reach wide hug the ball a target gathers from;
-    // the table walks the sources in the grid's order.
-    let grid = Grid::new(&sources.position, (0.25 * reach).max(f32::MIN_POSITIVE));
-    let table = SourceTable::new(sources, &grid.order, &disks);
-    let opposites = prepared.opposites();
-    let surfels = &prepared.surfels;
-    let mut out = vec![[0.0f32; 3]; reading.len()];
-    parallel_fill(&mut out, 16, control, |k| {
-        let i = reading[k];
-        let (p, n) = (surfels.position[i], surfels.normal[i]);
-        let piece = Some(surfels.piece[i]);
-        // The texels are the sources, in the same order.
-        let own = table.rank_of(Some(i));
-        let half = 0.5 * opposites[i].map_or(0.0, |o| o.thickness);
-        let separate = |q: Vec3, m: Vec3| separation(p, n, half, q, m, reach);
-        // Each row's part in single precision, the whole in double.
-        let mut sum = DVec3::ZERO;
-        grid.for_each_run(p, reach, |run| {
-            let mut part = Vec4::ZERO;
-            for j in run {
-                let d2 = (table.position(j) - p).length_squared();
-                if d2 > reach * reach || !table.joins(j, piece) {
-                    continue;
-                }
-                part += table.weight_placed(&disks, j, d2, own, &separate) * table.flux[j];
-            }
-            sum += part.truncate().as_dvec3();
+/// The share of its slab's scattered light (R and T) each texel's surface
+/// gathers under a unit light, its thickness held within the rungs
+/// simulated (the thickest where it has none): summed at chosen texels
+/// for [`Carrier::whole`], the octree built at the first texels asked for.
+struct HeldShares<'a> {
+    profiles: &'a SlabProfiles,
+    prepared: &'a Prepared,
+    parts: &'a ThinParts,
+    epsilon: f32,
+    gathering: Mutex<Option<Gathering<'a>>>,
+}
+
+impl Summer for HeldShares<'_> {
+    fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error> {
+        let profiles = self.profiles;
+        let (first, last) = (self.parts.first, self.parts.last);
+        let (thinnest, thickest) = (profiles.thickness[first], profiles.thickness[last]);
+        let opposites = self.prepared.opposites();
+        let at: Vec<(usize, f64)> = listed
+            .iter()
+            .map(|&i| {
+                let t = opposites[i].map_or(thickest, |o| f64::from(o.thickness));
+                (i, t.clamp(thinnest, thickest))
+            })
+            .collect();
+        // Held while summing, which is parallel itself.
+        let mut held = self.gathering.lock().unwrap_or_else(|e| e.into_inner());
+        let gathering = held.get_or_insert_with(|| {
+            let mut sources = self.prepared.texel_sources();
+            sources.irradiance.iter_mut().for_each(|e| *e = [1.0; 3]);
+            profiles.gathering(self.parts, &sources, self.epsilon)
         });
-        sum.to_array().map(|v| v as f32)
-    })?;
-    Ok(out)
+        let sums = profiles.sums(gathering, first, self.prepared, &at, control)?;
+        Ok(at
+            .iter()
+            .zip(sums)
+            .map(|(&(_, t), sum)| {
+                let (a, b, w) = profiles.rungs_at(t);
+                let expected = mix(a.scattered_total, b.scattered_total, w);
+                [0, 1, 2].map(|c| (f64::from(sum[c]) / expected[c]) as f32)
+            })
+            .collect())
+    }
+
+    fn release(&self) {
+        *self.gathering.lock().unwrap_or_else(|e| e.into_inner()) = None;
+    }
 }
 
 /// How a source at `q` (normal `m`) sits from a target at `p` (normal
@@ -403,8 +389,4 @@ fn separation(p: Vec3, n: Vec3, half: f32, q: Vec3, m: Vec3, reach: f32) -> Opti
         across: distance,
         t: 0.0,
     })
-}
-
-fn mix(a: Rgb, b: Rgb, w: f64) -> Rgb {
-    [0, 1, 2].map(|c| a[c] + w * (b[c] - a[c]))
 }

@@ -154,29 +154,14 @@ impl<'a> SourceTable<'a> {
             .map(|&r| r as usize)
     }
 
-    /// P·flux of source `j` (this order) at exit `p` with normal `n`,
-    /// `apart` being how far the pair is within the kernel's reach. A
+    /// P of source `j` (this order) at exit `p` with normal `n`, per unit
+    /// of its flux, 1/mm², per channel, as a `Vec4` (the fourth lane 0);
+    /// `apart` is how far the pair is within the kernel's reach. A
     /// texel's own light (`own`) is weighed by the reflectance within its
     /// parallelogram; texels near `p` are integrated over their
     /// parallelogram in sub-samples rather than as one disk: a stretched
     /// texel's footprint is long and thin, and texels crowded at a UV pole
     /// overlap as disks.
-    #[inline]
-    pub fn contribution(
-        &self,
-        disks: &DiskKernel,
-        j: usize,
-        p: Vec3,
-        n: Vec3,
-        apart: Apart,
-        own: Option<usize>,
-    ) -> [f32; 3] {
-        let m = self.weight4(disks, j, p, n, apart, own) * self.flux[j];
-        [m.x, m.y, m.z]
-    }
-
-    /// [`SourceTable::contribution`] per unit of source `j`'s flux: P,
-    /// 1/mm², per channel, as a `Vec4` (the fourth lane 0).
     #[inline(always)]
     pub fn weight4(
         &self,

@@ -105,7 +105,7 @@ pub fn estimate_error(
         ),
     };
     let mut others = sums[picked.len()..].iter();
-    let exact: Vec<[f32; 3]> = picked
+    let left: Vec<[f32; 3]> = picked
         .iter()
         .zip(&sums)
         .zip(&behind)
@@ -122,7 +122,7 @@ pub fn estimate_error(
                 (None, _) => here,
             };
             let kept = kept.unwrap_or([1.0; 3]);
-            let left = raised.map_or(corrected, |r| {
+            raised.map_or(corrected, |r| {
                 let h = r.halves[i];
                 // The bake's gain h², the exact one g: the light entering
                 // and leaving both scale by g/h² to first order.
@@ -136,9 +136,25 @@ pub fn estimate_error(
                     })
                 });
                 [0, 1, 2].map(|c| corrected[c] * h[c] * kept[c] * g[c])
-            });
-            prepared.after_scattering(i, left)
+            })
         })
+        .collect();
+    // Thin parts by their slab's profile, exactly, where the bake took it.
+    let left = match (raised, scattering.slab_profiles()) {
+        (Some(r), Some(profiles)) => {
+            let kept = kept.unwrap_or([1.0; 3]);
+            let by_slab = profiles.exitance(prepared, &picked, &r.halves, &r.ball, control)?;
+            left.iter()
+                .zip(by_slab)
+                .map(|(m, by)| [0, 1, 2].map(|c| by[c].map_or(m[c], |v| v * kept[c])))
+                .collect()
+        }
+        _ => left,
+    };
+    let exact: Vec<[f32; 3]> = picked
+        .iter()
+        .zip(left)
+        .map(|(&i, m)| prepared.after_scattering(i, m))
         .collect();
     let got: Vec<[f32; 3]> = picked.iter().map(|&i| exitance[i]).collect();
     let (relative_rmse, _) = relative_errors(&got, &exact);

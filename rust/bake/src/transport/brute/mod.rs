@@ -40,6 +40,10 @@ impl Integrator for BruteIntegrator {
         work.texels * work.neighbours
     }
 
+    fn thin_epsilon(&self) -> f32 {
+        0.0
+    }
+
     fn integrate(
         &self,
         prepared: &Prepared,

@@ -84,6 +84,10 @@ impl Integrator for OctreeIntegrator {
         work.n_log_n()
     }
 
+    fn thin_epsilon(&self) -> f32 {
+        self.epsilon
+    }
+
     fn refine(&mut self, error: f64, tolerance: f64) -> bool {
         match finer_epsilon(self.epsilon, error, tolerance) {
             Some(finer) => {

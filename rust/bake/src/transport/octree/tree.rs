@@ -16,7 +16,7 @@ use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::source_table::{Apart, SourceTable, texel_disks};
 use crate::transport::sources::{Sources, Target, Targets};
 use crate::transport::through_medium::may_cross_air;
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4};
 use rayon::prelude::*;
 
 /// Sources per leaf.
@@ -86,13 +86,101 @@ impl<'a> Octree<'a> {
         epsilon: f32,
     ) -> [f64; 3] {
         let (p, n, piece) = (target.position, target.normal, target.piece);
-        let kernel = texels.kernel();
+        let transmits = texels.kernel().transmits();
         let own = self.table.rank_of(target.own);
-        let mut sum = [0.0f64; 3];
+        self.walk(
+            texels.kernel().d_max,
+            target,
+            epsilon,
+            |node| {
+                let d2 = (node.centre - p).length_squared();
+                let separation = Separation::new(node.centre, node.normal, p, n, d2, transmits);
+                nodes.weight4(separation, node.slot) * node.flux4()
+            },
+            |j, offset, d2| {
+                if !self.table.joins(j, piece) {
+                    return Vec4::ZERO;
+                }
+                let apart = Apart {
+                    distance2: d2,
+                    straight: !may_cross_air(offset.dot(n), d2),
+                };
+                self.table.weight4(texels, j, p, n, apart, own) * self.table.flux[j]
+            },
+        )
+    }
+
+    /// [`Self::gather`] under a mix of kernels, `mix` their indices in
+    /// `texels` and `nodes` (whose disk means are sized alike) with their
+    /// weights, with every pair, a node's taken whole as a texel's, placed
+    /// by `separate` (from a source point and its normal, how it sits from
+    /// the target, or `None` where the pair exchanges nothing;
+    /// [`SourceTable::weight_placed`]).
+    fn gather_placed(
+        &self,
+        texels: &[DiskKernel],
+        nodes: &[DiskKernel],
+        mix: &[(usize, f32)],
+        target: Target,
+        epsilon: f32,
+        separate: &impl Fn(Vec3, Vec3) -> Option<Separation>,
+    ) -> [f64; 3] {
+        let piece = target.piece;
+        let own = self.table.rank_of(target.own);
+        // A target between two rungs often sits on one.
+        let mix: Vec<(usize, f32)> = mix.iter().copied().filter(|&(_, w)| w > 0.0).collect();
+        let mix = mix.as_slice();
+        let reach = mix
+            .iter()
+            .map(|&(k, _)| texels[k].kernel().d_max)
+            .fold(0.0, f32::max);
+        self.walk(
+            reach,
+            target,
+            epsilon,
+            |node| match separate(node.centre, node.normal) {
+                Some(separation) => {
+                    let mut w = Vec4::ZERO;
+                    for &(k, share) in mix {
+                        w += share * nodes[k].weight4(separation, node.slot);
+                    }
+                    w * node.flux4()
+                }
+                None => Vec4::ZERO,
+            },
+            |j, _, d2| {
+                if !self.table.joins(j, piece) {
+                    return Vec4::ZERO;
+                }
+                let mut w = Vec4::ZERO;
+                for &(k, share) in mix {
+                    w += share * self.table.weight_placed(&texels[k], j, d2, own, separate);
+                }
+                w * self.table.flux[j]
+            },
+        )
+    }
+
+    /// Walks the tree from `target` within `reach` mm: `whole` weighs a
+    /// node taken whole (below the solid-angle threshold `epsilon`), `leaf`
+    /// a source of an opened leaf (its index in the table, its offset from
+    /// the target and the offset's squared length, within the reach).
+    /// Nodes of another piece of the mesh than the target's are skipped.
+    #[inline(always)]
+    fn walk(
+        &self,
+        reach: f32,
+        target: Target,
+        epsilon: f32,
+        whole: impl Fn(&Node) -> Vec4,
+        leaf: impl Fn(usize, Vec3, f32) -> Vec4,
+    ) -> [f64; 3] {
+        let (p, piece) = (target.position, target.piece);
+        let mut sum = DVec3::ZERO;
         if self.nodes.is_empty() {
-            return sum;
+            return sum.to_array();
         }
-        let reach2 = kernel.d_max * kernel.d_max;
+        let reach2 = reach * reach;
         let mut stack: Vec<u32> = Vec::with_capacity(64);
         stack.push(0);
         while let Some(at) = stack.pop() {
@@ -110,36 +198,33 @@ impl<'a> Octree<'a> {
                 // The solid angle from the node's nearest point, not its
                 // centre: a long node beside the target is near, whatever
                 // its centre's distance.
-                let d2 = (node.centre - p).length_squared();
                 if node.piece != MIXED && node.area < epsilon * outside.length_squared() {
-                    let separation =
-                        Separation::new(node.centre, node.normal, p, n, d2, kernel.transmits());
-                    let w = nodes.weight(separation, node.slot);
-                    for c in 0..3 {
-                        sum[c] += (w[c] * node.flux[c]) as f64;
-                    }
+                    sum += whole(node).truncate().as_dvec3();
                 } else {
                     stack.extend(node.first..node.first + node.count);
                 }
                 continue;
             }
+            let mut part = Vec4::ZERO;
             for j in node.first as usize..(node.first + node.count) as usize {
                 let offset = self.table.position(j) - p;
                 let d2 = offset.length_squared();
-                if d2 > reach2 || !self.table.joins(j, piece) {
-                    continue;
-                }
-                let apart = Apart {
-                    distance2: d2,
-                    straight: !may_cross_air(offset.dot(n), d2),
-                };
-                let m = self.table.contribution(texels, j, p, n, apart, own);
-                for c in 0..3 {
-                    sum[c] += m[c] as f64;
+                if d2 <= reach2 {
+                    part += leaf(j, offset, d2);
                 }
             }
+            sum += part.truncate().as_dvec3();
         }
-        sum
+        sum.to_array()
+    }
+}
+
+impl Node {
+    /// The node's flux as a `Vec4` (the fourth lane 0).
+    #[inline(always)]
+    fn flux4(&self) -> Vec4 {
+        let [r, g, b] = self.flux;
+        Vec4::new(r, g, b, 0.0)
     }
 }
 
@@ -346,11 +431,14 @@ fn node_areas(shape: &Shape, epsilon: f32, d_max: f32) -> (f32, f32) {
 }
 
 /// The octree over one object's sources with what it weighs them by,
-/// built once and gathered at any targets.
+/// built once and gathered at any targets: one kernel, or several that
+/// each target mixes in its own shares.
 pub struct Gathering<'k> {
     tree: Octree<'k>,
-    texels: DiskKernel<'k>,
-    nodes: DiskKernel<'k>,
+    /// Per kernel, its disk means for texels and for nodes taken whole,
+    /// sized alike for every kernel, so a sample's slot is one for all.
+    texels: Vec<DiskKernel<'k>>,
+    nodes: Vec<DiskKernel<'k>>,
     epsilon: f32,
 }
 
@@ -358,12 +446,23 @@ impl<'k> Gathering<'k> {
     /// The tree over `sources` for `kernel` with solid-angle threshold
     /// `epsilon` (steradians; 0 = exact).
     pub fn new(kernel: &'k Kernel, sources: &Sources<'k>, epsilon: f32) -> Self {
+        Self::mixing(&[kernel], sources, epsilon)
+    }
+
+    /// The tree over `sources` for each of `kernels` (at least one) with
+    /// solid-angle threshold `epsilon` (steradians; 0 = exact).
+    pub fn mixing(kernels: &[&'k Kernel], sources: &Sources<'k>, epsilon: f32) -> Self {
         let epsilon = epsilon.max(0.0);
-        let texels = texel_disks(kernel, sources);
+        // The texels' disk means are sized by the sources' areas alone.
+        let texels: Vec<DiskKernel> = kernels.iter().map(|k| texel_disks(k, sources)).collect();
         let (shape, order) = Shape::new(sources);
-        let (small, large) = node_areas(&shape, epsilon, kernel.d_max);
-        let nodes = DiskKernel::new(kernel, small, large);
-        let tree = Octree::new(sources, shape, &order, &texels, &nodes);
+        let reach = kernels.iter().map(|k| k.d_max).fold(0.0, f32::max);
+        let (small, large) = node_areas(&shape, epsilon, reach);
+        let nodes: Vec<DiskKernel> = kernels
+            .iter()
+            .map(|k| DiskKernel::new(k, small, large))
+            .collect();
+        let tree = Octree::new(sources, shape, &order, &texels[0], &nodes[0]);
         Gathering {
             tree,
             texels,
@@ -372,12 +471,46 @@ impl<'k> Gathering<'k> {
         }
     }
 
-    /// Radiant exitance (W/m²) at each of `targets`.
+    /// Radiant exitance (W/m²) at each of `targets` under the first
+    /// kernel.
     pub fn at(&self, targets: Targets, control: &Control) -> Result<Vec<[f32; 3]>, Cancelled> {
         let mut out = vec![[0.0f32; 3]; targets.position.len()];
         parallel_fill(&mut out, 256, control, |i| {
             self.tree
-                .gather(&self.texels, &self.nodes, targets.at(i), self.epsilon)
+                .gather(&self.texels[0], &self.nodes[0], targets.at(i), self.epsilon)
+                .map(|v| v as f32)
+        })?;
+        Ok(out)
+    }
+
+    /// Radiant exitance (W/m²) at each of `targets`, target `i` under the
+    /// kernels `mix` of `placing(i)` (indices into this gathering's
+    /// kernels with their shares) and its pairs placed by `separate` of
+    /// `placing(i)` (from a source point and its normal, how it sits from
+    /// the target, or `None` where the pair exchanges nothing), for
+    /// kernels whose faces the caller tells apart
+    /// ([`crate::transport::slab_profiles`]).
+    pub fn at_placed<S>(
+        &self,
+        targets: Targets,
+        placing: impl Fn(usize) -> ([(usize, f32); 2], S) + Sync,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Cancelled>
+    where
+        S: Fn(Vec3, Vec3) -> Option<Separation>,
+    {
+        let mut out = vec![[0.0f32; 3]; targets.position.len()];
+        parallel_fill(&mut out, 64, control, |i| {
+            let (mix, separate) = placing(i);
+            self.tree
+                .gather_placed(
+                    &self.texels,
+                    &self.nodes,
+                    &mix,
+                    targets.at(i),
+                    self.epsilon,
+                    &separate,
+                )
                 .map(|v| v as f32)
         })?;
         Ok(out)
