@@ -81,24 +81,29 @@ impl SlabProfiles {
     /// (the half-space's profile then serves).
     pub fn thin_texels(&self, prepared: &Prepared, picked: Option<&[usize]>) -> ThinParts {
         let opposites = prepared.opposites();
-        let curvature = prepared.mean_curvature(self.curvature_scale);
-        let of = |i: usize| {
+        let thin = |i: usize| {
             let o = opposites.get(i).copied().flatten()?;
             let thickness = f64::from(o.thickness);
-            // A slab is thinner than its faces' radius of curvature; a part
-            // as thick as it is round (a ball, whose thickness is its
-            // diameter) keeps the half-space's profile and a ball's gain.
-            let slab_like = thickness * f64::from(curvature[i]) < 1.0;
-            (slab_like && (0..3).any(|c| self.is_thin(thickness, c))).then_some(ThinTexel {
-                texel: i,
-                thickness,
-                behind: o.surfel as usize,
-            })
+            (0..3)
+                .any(|c| self.is_thin(thickness, c))
+                .then_some(ThinTexel {
+                    texel: i,
+                    thickness,
+                    behind: o.surfel as usize,
+                })
         };
-        let texels: Vec<ThinTexel> = match picked {
-            Some(picked) => picked.iter().filter_map(|&i| of(i)).collect(),
-            None => (0..opposites.len()).filter_map(of).collect(),
+        let mut texels: Vec<ThinTexel> = match picked {
+            Some(picked) => picked.iter().filter_map(|&i| thin(i)).collect(),
+            None => (0..opposites.len()).filter_map(thin).collect(),
         };
+        // A slab is thinner than its faces' radius of curvature; a part as
+        // thick as it is round (a ball, whose thickness is its diameter)
+        // keeps the half-space's profile and a ball's gain. The curvature
+        // is found only for an object with thin parts.
+        if !texels.is_empty() {
+            let curvature = prepared.mean_curvature(self.curvature_scale);
+            texels.retain(|t| t.thickness * f64::from(curvature[t.texel]) < 1.0);
+        }
         let (mut first, mut last) = (usize::MAX, 0);
         for t in &texels {
             let (a, b, _) = self.about(t.thickness);
