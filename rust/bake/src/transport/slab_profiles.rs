@@ -11,22 +11,23 @@
 //! little light near it and too much far away (docs/accuracy.md, "Thin
 //! parts spread red wider than light").
 //!
-//! Each rung of a thickness ladder is one simulated slab, its tallies of R
-//! and T by radius ([`sssbake_profile::models::monte_carlo`], kept in the
-//! cache folder) tabulated as a [`Kernel`] and read as the exact sum reads
-//! a kernel: disk means, a texel's own light over its parallelogram, and
-//! sub-samples of the texels near the target. A texel takes the two rungs about its thickness, linearly in
-//! ln t. A part's two faces are told apart by which way they face, not
-//! blended by the pair's normals: a source on the face behind (facing
-//! away, deeper than half the part's thickness below the target) is
-//! weighed by T_t at its offset along the face, any other by R_t at its
-//! distance, and a surface deeper than one and a half thicknesses, beyond
-//! the face behind, sends nothing through the part. The light that leaves
-//! without scattering (straight through, or back after internal
+//! Each rung of a thickness ladder ([`super::slab_ladder`]) is one
+//! simulated slab, its tallies of R and T by radius
+//! ([`sssbake_profile::models::monte_carlo`], kept in the cache folder)
+//! tabulated as a [`Kernel`] and read as the exact sum reads a kernel: disk
+//! means, a texel's own light over its parallelogram, and sub-samples of
+//! the texels near the target. A texel takes the two rungs about its
+//! thickness, linearly in ln t. A part's two faces are told apart by which
+//! way they face, not blended by the pair's normals: a source on the face
+//! behind (facing away, deeper than half the part's thickness below the
+//! target) is weighed by T_t at its offset along the face, any other by R_t
+//! at its distance, and a surface deeper than one and a half thicknesses,
+//! beyond the face behind, sends nothing through the part. The light that
+//! leaves without scattering (straight through, or back after internal
 //! reflections) is a point at the texel behind or at the texel itself, and
-//! is added there rather than spread by a profile. A thin texel's light
-//! is raised where its slab's light would pass the part's rim by the share
-//! of it the rim's boundary reflects back ([`SlabProfiles::gains`]).
+//! is added there rather than spread by a profile. A thin texel's light is
+//! raised where its slab's light would pass the part's rim by the share of
+//! it the rim's boundary reflects back ([`SlabProfiles::gains`]).
 //!
 //! Every profile method bakes thin parts this way, through the octree
 //! (at the method's own solid angle ε; the exact sum's is 0, every pair
@@ -76,9 +77,10 @@ impl ThinParts {
 
 impl SlabProfiles {
     /// The texels of `picked` (all of `prepared`'s where `None`) on a part
-    /// thin in some channel and thinner than its radius of curvature, with the rungs from the thinnest to the
-    /// thickest they read simulated; none when a rung cannot be simulated
-    /// (the half-space's profile then serves).
+    /// thin in some channel and thinner than its radius of curvature, with
+    /// the rungs from the thinnest to the thickest they read simulated;
+    /// none when a rung cannot be simulated (the half-space's profile then
+    /// serves).
     pub fn thin_texels(&self, prepared: &Prepared, picked: Option<&[usize]>) -> ThinParts {
         let opposites = prepared.opposites();
         let thin = |i: usize| {
@@ -135,10 +137,11 @@ impl SlabProfiles {
     /// [`MAX_GAIN`]], times `ball`'s gain of convex parts. (In the middle
     /// of a 12 mm square of skin1 3 mm thick the slab's profile alone is
     /// the walk's; raised by the whole shortfall, as a half-space's is
-    /// where the surface ends, it was 4% over, and 9% near the rim.) The sums are the octree's at solid angle `epsilon` (0:
-    /// exact), as shares of the slab's total, on a lattice `stride` texels
-    /// apart and carried between ([`Carrier::whole`]; 1: at every texel):
-    /// like the half-space's, they change over the profile's spread.
+    /// where the surface ends, it was 4% over, and 9% near the rim.) The
+    /// sums are the octree's at solid angle `epsilon` (0: exact), as shares
+    /// of the slab's total, on a lattice `stride` texels apart and carried
+    /// between ([`Carrier::whole`]; 1: at every texel): like the
+    /// half-space's, they change over the profile's spread.
     #[allow(clippy::too_many_arguments)]
     pub fn gains(
         &self,
