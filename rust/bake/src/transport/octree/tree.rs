@@ -127,12 +127,11 @@ impl<'a> Octree<'a> {
     ) -> [f64; 3] {
         let piece = target.piece;
         let own = self.table.rank_of(target.own);
-        // A target between two rungs often sits on one.
-        let mix: Vec<(usize, f32)> = mix.iter().copied().filter(|&(_, w)| w > 0.0).collect();
-        let mix = mix.as_slice();
-        let reach = mix
-            .iter()
-            .map(|&(k, _)| texels[k].kernel().d_max)
+        // A target between two rungs often sits on one: kernels of no
+        // share are passed over without a copy of the mix.
+        let mix = || mix.iter().copied().filter(|&(_, w)| w > 0.0);
+        let reach = mix()
+            .map(|(k, _)| texels[k].kernel().d_max)
             .fold(0.0, f32::max);
         self.walk(
             reach,
@@ -141,7 +140,7 @@ impl<'a> Octree<'a> {
             |node| match separate(node.centre, node.normal) {
                 Some(separation) => {
                     let mut w = Vec4::ZERO;
-                    for &(k, share) in mix {
+                    for (k, share) in mix() {
                         w += share * nodes[k].weight4(separation, node.slot);
                     }
                     w * node.flux4()
@@ -153,7 +152,7 @@ impl<'a> Octree<'a> {
                     return Vec4::ZERO;
                 }
                 let mut w = Vec4::ZERO;
-                for &(k, share) in mix {
+                for (k, share) in mix() {
                     w += share * self.table.weight_placed(&texels[k], j, d2, own, separate);
                 }
                 w * self.table.flux[j]
