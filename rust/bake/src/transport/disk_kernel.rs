@@ -221,11 +221,15 @@ impl<'k> DiskKernel<'k> {
         if separation.distance > k.d_max {
             return Vec4::ZERO;
         }
-        let r = self.mean_at(slot, separation.distance, 0);
         if t <= 0.0 || !k.transmits() {
-            return r;
+            return self.mean_at(slot, separation.distance, 0);
         }
         let tr = self.mean_at(slot, separation.across, 1);
+        // A pair across a slab's faces is wholly transmitted: R unread.
+        if t >= 1.0 {
+            return tr;
+        }
+        let r = self.mean_at(slot, separation.distance, 0);
         r + (tr - r) * t
     }
 

@@ -197,33 +197,45 @@ impl<'a> SourceTable<'a> {
         self.footprint.get(i as usize).copied()
     }
 
-    /// [`Self::weight4`] with each pair placed by `separate` (from a
-    /// source point and its normal, how it sits from the exit at `p`, or
-    /// `None` where the pair exchanges nothing) instead of by the kernel's
-    /// blend of reflection and transmission: for a kernel whose faces the
-    /// caller tells apart ([`super::slab_profiles`]). `d2` is the squared
-    /// distance to the source's centre; the own texel and texels near `p`
-    /// are weighed over their parallelograms as there.
+    /// [`Self::weight4`] under a mix of kernels (`mix`: indices into
+    /// `disks`, sized alike, with their shares) with each pair placed by
+    /// `separate` (from a source point and its normal, how it sits from the
+    /// exit at `p`, or `None` where the pair exchanges nothing) instead of
+    /// by the kernel's blend of reflection and transmission: for kernels
+    /// whose faces the caller tells apart ([`super::slab_profiles`]). `d2`
+    /// is the squared distance to the source's centre; the own texel and
+    /// texels near `p` are weighed over their parallelograms as there. A
+    /// pair is placed once for every kernel of the mix.
     #[inline]
     pub fn weight_placed(
         &self,
-        disks: &DiskKernel,
+        disks: &[DiskKernel],
+        mix: &[(usize, f32)],
         j: usize,
         d2: f32,
         own: Option<usize>,
         separate: &impl Fn(Vec3, Vec3) -> Option<Separation>,
     ) -> Vec4 {
+        let mixed = |weigh: &dyn Fn(&DiskKernel) -> Vec4| {
+            mix.iter()
+                .filter(|&&(_, share)| share > 0.0)
+                .fold(Vec4::ZERO, |w, &(k, share)| w + share * weigh(&disks[k]))
+        };
         if own == Some(j) {
-            return self.own_weight(disks, j);
+            return mixed(&|disks| self.own_weight(disks, j));
         }
         let m = self.normal[j];
         if d2 < self.near2[j]
             && let Some(edges) = self.edges(j)
         {
-            let sub_slot = disks.slot(self.area[j] / SUB_SAMPLES as f32);
-            return self.sub_sampled(disks, j, edges, sub_slot, |q| separate(q, m));
+            // The kernels' disk means are sized alike: one slot for all.
+            let sub_slot = disks[0].slot(self.area[j] / SUB_SAMPLES as f32);
+            return self.sub_sampled(j, edges, |q| {
+                separate(q, m).map_or(Vec4::ZERO, |s| mixed(&|disks| disks.weight4(s, sub_slot)))
+            });
         }
-        separate(self.position(j), m).map_or(Vec4::ZERO, |s| disks.weight4(s, self.slot[j]))
+        let slot = self.slot[j];
+        separate(self.position(j), m).map_or(Vec4::ZERO, |s| mixed(&|disks| disks.weight4(s, slot)))
     }
 
     /// Source `j`'s weight for its own light: the reflectance within its
@@ -243,26 +255,16 @@ impl<'a> SourceTable<'a> {
         Vec4::new(r, g, b, 0.0)
     }
 
-    /// The mean over source `j`'s parallelogram (`edges`) of the weights,
-    /// in `sub_slot`, of its SUBDIVISIONS² sub-samples, each placed from the
-    /// exit by `separate` (`None`: it sends nothing).
+    /// The mean over source `j`'s parallelogram (`edges`) of `weigh` at
+    /// its SUBDIVISIONS² sub-samples, each standing for its share of the
+    /// area.
     #[inline]
-    fn sub_sampled(
-        &self,
-        disks: &DiskKernel,
-        j: usize,
-        [u, v]: [Vec3; 2],
-        sub_slot: Slot,
-        separate: impl Fn(Vec3) -> Option<Separation>,
-    ) -> Vec4 {
+    fn sub_sampled(&self, j: usize, [u, v]: [Vec3; 2], weigh: impl Fn(Vec3) -> Vec4) -> Vec4 {
         let centre = self.position(j);
         let (along_u, along_v) = sub_sample_offsets();
         let mut w = Vec4::ZERO;
         for k in 0..SUB_SAMPLES {
-            let q = centre + (u * along_u[k] + v * along_v[k]);
-            if let Some(separation) = separate(q) {
-                w += disks.weight4(separation, sub_slot);
-            }
+            w += weigh(centre + (u * along_u[k] + v * along_v[k]));
         }
         let step = 1.0 / SUBDIVISIONS as f32;
         w * (step * step)
@@ -278,9 +280,9 @@ impl<'a> SourceTable<'a> {
         let transmits = disks.kernel().transmits();
         if transmits || !sub_slot.tabulated() {
             let m = self.normal[j];
-            return self.sub_sampled(disks, j, [u, v], sub_slot, |q| {
+            return self.sub_sampled(j, [u, v], |q| {
                 let d2 = (q - p).length_squared();
-                Some(Separation::new(q, m, p, n, d2, transmits))
+                disks.weight4(Separation::new(q, m, p, n, d2, transmits), sub_slot)
             });
         }
         let centre = self.position(j);

@@ -129,8 +129,8 @@ impl<'a> Octree<'a> {
         let own = self.table.rank_of(target.own);
         // A target between two rungs often sits on one: kernels of no
         // share are passed over without a copy of the mix.
-        let mix = || mix.iter().copied().filter(|&(_, w)| w > 0.0);
-        let reach = mix()
+        let shared = || mix.iter().copied().filter(|&(_, w)| w > 0.0);
+        let reach = shared()
             .map(|(k, _)| texels[k].kernel().d_max)
             .fold(0.0, f32::max);
         self.walk(
@@ -140,7 +140,7 @@ impl<'a> Octree<'a> {
             |node| match separate(node.centre, node.normal) {
                 Some(separation) => {
                     let mut w = Vec4::ZERO;
-                    for (k, share) in mix() {
+                    for (k, share) in shared() {
                         w += share * nodes[k].weight4(separation, node.slot);
                     }
                     w * node.flux4()
@@ -151,11 +151,7 @@ impl<'a> Octree<'a> {
                 if !self.table.joins(j, piece) {
                     return Vec4::ZERO;
                 }
-                let mut w = Vec4::ZERO;
-                for (k, share) in mix() {
-                    w += share * self.table.weight_placed(&texels[k], j, d2, own, separate);
-                }
-                w * self.table.flux[j]
+                self.table.weight_placed(texels, mix, j, d2, own, separate) * self.table.flux[j]
             },
         )
     }
