@@ -138,6 +138,10 @@ pub struct Corrected {
     /// channel ([`crate::transport::slab_profiles`]).
     #[serde(default)]
     pub slab_profile_texels: usize,
+    /// How those texels' map was carried from a lattice of them
+    /// ([`crate::fitted_map`]); `None` where it was summed at each.
+    #[serde(default)]
+    pub slab_profile_fit: Option<MapFit>,
     /// Texels raised by more than 1% towards a plane's or a slab's light
     /// where the surface the profile reaches ends (a rim, a small part),
     /// or towards a ball's where the surface bulges.
@@ -316,6 +320,7 @@ fn scatter(
                             .raised
                             .as_ref()
                             .map_or(0, |r| r.by_slab_profile),
+                        slab_profile_fit: integration.thin_fit.filter(|fit| fit.step > 1),
                         raised_texels: integration.raised.as_ref().map_or(0, |r| r.count),
                         uniform_stride: integration.raised.as_ref().map_or(1, |r| r.stride),
                         kept: integration.kept,
@@ -690,6 +695,16 @@ impl fmt::Display for Summary {
                     corrected.slab_profile_texels,
                     corrected.raised_texels
                 )?;
+                if let Some(fit) = corrected.slab_profile_fit {
+                    writeln!(
+                        f,
+                        "{}: corrected model: thin parts' own profiles summed on a lattice {} texels apart and carried between, {:.2}% from their own sums at {} texels",
+                        p.name,
+                        fit.step,
+                        100.0 * fit.missed,
+                        fit.probed
+                    )?;
+                }
                 if let Some([r, g, b]) = corrected.kept {
                     writeln!(
                         f,

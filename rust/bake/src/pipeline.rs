@@ -21,6 +21,8 @@ use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::integrator::{Integrated, Integrator, Summer};
 use crate::transport::local_slab::{LocalSlab, MAX_GAIN, RAISED};
+use crate::transport::slab_ladder::SlabProfiles;
+use crate::transport::slab_profiles::ThinParts;
 use crate::transport::verify::pick;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -252,6 +254,9 @@ pub struct Integration {
     /// How the map was carried from a lattice of texels, when the
     /// integrator sums at chosen texels.
     pub fit: Option<MapFit>,
+    /// How the thin parts' map by their own slab's profile was carried
+    /// from a lattice of their texels, where it was.
+    pub thin_fit: Option<MapFit>,
     /// The light entering as raised where the surface within the
     /// profile's reach ends ([`crate::transport::local_slab`]), when it was.
     pub raised: Option<Arc<Raised>>,
@@ -426,25 +431,35 @@ impl Prepared {
     /// ([`crate::transport::slab_profiles`]), gathered through the octree
     /// at `integrator`'s ε for them, the light entering raised as `raised`
     /// has it (with those texels' gains by the slab).
+    #[allow(clippy::too_many_arguments)]
     fn thin_by_their_slab(
         &self,
         scattering: &Scattering,
         integrator: &dyn Integrator,
         raised: &Raised,
+        raised_light: &Prepared,
+        lattice: (u32, f64),
         integrated: &mut Integrated,
         control: &Control,
-    ) -> Result<(), Error> {
+    ) -> Result<Option<MapFit>, Error> {
         let Some(profiles) = scattering.slab_profiles() else {
-            return Ok(());
+            return Ok(None);
         };
         let thin = profiles.thin_texels(self, None);
         let epsilon = integrator.thin_epsilon();
-        let lit = profiles.lit(self, &thin, &raised.halves, epsilon, control)?;
+        let halves = &raised.halves;
+        // The map's tolerance is its relative RMSE: the thin channels'
+        // fit may miss by as much over the square root of their share of
+        // the map's Σ M², the map as it stands standing in for theirs.
+        let (step, tolerance) = lattice;
+        let share = thin_share(&integrated.exitance, &thin, profiles);
+        let lattice = Some((step, tolerance / share.sqrt().max(f64::MIN_POSITIVE)));
+        let (lit, fit) = profiles.lit(raised_light, halves, &thin, epsilon, lattice, control)?;
         for (t, m) in thin.texels().iter().zip(lit) {
             let old = &mut integrated.exitance[t.texel];
             *old = [0, 1, 2].map(|c| m[c].unwrap_or(old[c]));
         }
-        Ok(())
+        Ok(fit)
     }
 
     /// Integrates with `integrator` under `scattering` and applies the
@@ -477,9 +492,9 @@ impl Prepared {
         };
         let raised_light = raised.as_ref().map(|r| self.raised_by(&r.halves));
         let lit = raised_light.as_ref().unwrap_or(self);
+        let step = first_step(half_light_texels(scattering, &self.surfels));
         let (mut integrated, fit) = match integrator.summer(lit, scattering) {
             Some(summer) => {
-                let step = first_step(half_light_texels(scattering, &self.surfels));
                 let (exitance, fit) =
                     fitted_map(lit, &*summer, &scattering.kernel, step, tolerance, control)?;
                 let integrated = Integrated {
@@ -491,15 +506,25 @@ impl Prepared {
             }
             None => (integrator.integrate(lit, scattering, control)?, None),
         };
-        drop(raised_light);
         if let Some(slab) = slab {
             integrated.exitance =
                 slab.correct_all(self.opposites(), &integrated.exitance, summed_across);
         }
-        let mut kept = None;
+        let (mut kept, mut thin_fit) = (None, None);
         if let Some(raised) = &raised {
             raised.leaving(&mut integrated.exitance);
-            self.thin_by_their_slab(scattering, integrator, raised, &mut integrated, control)?;
+            // Thin parts' map from the lattice the map began at.
+            let lattice = (step, tolerance);
+            let raised_light = raised_light.as_ref().unwrap_or(self);
+            thin_fit = self.thin_by_their_slab(
+                scattering,
+                integrator,
+                raised,
+                raised_light,
+                lattice,
+                &mut integrated,
+                control,
+            )?;
             kept = self.make_no_energy(&mut integrated.exitance);
         }
         for (i, m) in integrated.exitance.iter_mut().enumerate() {
@@ -511,8 +536,31 @@ impl Prepared {
             sources: integrated.sources,
             walk: integrated.walk,
             fit,
+            thin_fit,
             raised,
             kept,
         })
+    }
+}
+
+/// The share of `exitance`'s Σ M² (every texel and channel) at `thin`'s
+/// texels, in the channels where their part is thin: at most 1.
+fn thin_share(exitance: &[[f32; 3]], thin: &ThinParts, profiles: &SlabProfiles) -> f64 {
+    let square = |m: f32| f64::from(m) * f64::from(m);
+    let whole: f64 = exitance.iter().flatten().map(|&m| square(m)).sum();
+    let thin: f64 = thin
+        .texels()
+        .iter()
+        .map(|t| {
+            (0..3)
+                .filter(|&c| profiles.is_thin(t.thickness, c))
+                .map(|c| square(exitance[t.texel][c]))
+                .sum::<f64>()
+        })
+        .sum();
+    if whole > 0.0 {
+        (thin / whole).min(1.0)
+    } else {
+        1.0
     }
 }

@@ -213,6 +213,53 @@ fn the_error_estimate_holds_an_integrator_to_the_corrected_exact_sum() {
     );
 }
 
+/// Where a thin part takes its own slab's profile, the octree carries that
+/// map from a lattice of its texels, as it carries the whole map, and
+/// still holds the exact sum's tolerance there: a 3 mm slab of skin1 under
+/// a point light 30 mm above it (the light falling off over the lit face,
+/// and sent through to the other), at 256².
+#[test]
+fn a_thin_parts_map_carried_from_a_lattice_holds_the_exact_sum() {
+    let skin = scattering_of("skin1", Model::Dipole);
+    let slab = stretched(cube(1.0), Vec3::new(60.0, 60.0, 3.0), "slab");
+    let light = point_light_at(Vec3::new(5.0, -3.0, 1.5 + 30.0));
+    let scene = scene(vec![slab], vec![light]);
+    let prepared = prepared(&scene, "slab", 256);
+    let control = Control::new();
+    let octree = prepared
+        .integrate(
+            &skin,
+            &OctreeIntegrator::default(),
+            DEFAULT_TOLERANCE,
+            &control,
+        )
+        .unwrap();
+    let fit = octree
+        .thin_fit
+        .expect("the thin texels are many enough to carry");
+    assert!(fit.step > 1, "{fit:?}");
+    let exact = prepared
+        .integrate(&skin, &BruteIntegrator, DEFAULT_TOLERANCE, &control)
+        .unwrap();
+    let profiles = skin.slab_profiles().unwrap();
+    let thin: Vec<usize> = profiles
+        .thin_texels(&prepared, None)
+        .texels()
+        .iter()
+        .map(|t| t.texel)
+        .collect();
+    let at = |map: &[[f32; 3]]| -> Vec<[f32; 3]> { thin.iter().map(|&i| map[i]).collect() };
+    let (whole, _) = relative_errors(&octree.exitance, &exact.exitance);
+    let (on_thin, _) = relative_errors(&at(&octree.exitance), &at(&exact.exitance));
+    eprintln!(
+        "{} thin texels carried at {fit:?}; against the exact sum {whole:.4} whole, {on_thin:.4} on them",
+        thin.len()
+    );
+    assert!(thin.len() > 4 * fit.probed, "{} thin texels", thin.len());
+    assert!(whole < DEFAULT_TOLERANCE, "{whole}");
+    assert!(on_thin < DEFAULT_TOLERANCE, "{on_thin}");
+}
+
 /// Where the object is thicker than the profile reaches, the local slab
 /// changes only the level: on a 100 mm block, farther from its edges than
 /// the reach, the bake is the plain exact sum times R_∞/R, the Monte

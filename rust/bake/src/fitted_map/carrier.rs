@@ -2,13 +2,13 @@
 //! not smooth over a lattice's cells, the integrator's sums at the lattice
 //! texels, and each texel's route between them.
 
-use super::{NEAR_TEXELS, SMOOTH_SHARE, smooth};
+use super::{KernelNear, NEAR_TEXELS, NearSum, SMOOTH_SHARE, smooth};
 use crate::control::Control;
 use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::surface::lattice::{Lattice, on_surface_of};
 use crate::surface::texels::TexelSurfels;
-use crate::transport::brute::{Reach, sum_within};
+use crate::transport::brute::Reach;
 use crate::transport::integrator::Summer;
 use crate::transport::kernel::Kernel;
 use rayon::prelude::*;
@@ -31,8 +31,8 @@ struct Route {
 pub struct Carrier<'a> {
     lit: &'a Prepared,
     summer: &'a dyn Summer,
-    /// The kernel N is summed under; `None` when carried whole.
-    kernel: Option<&'a Kernel>,
+    /// What sums N; `None` when carried whole.
+    near_sum: Option<Box<dyn NearSum + 'a>>,
     /// The share of the light by which it may miss its bilinear mean where
     /// the map is carried whole, N and all.
     smooth_share: f32,
@@ -41,6 +41,9 @@ pub struct Carrier<'a> {
     /// N per surfel (NaN where not yet summed; empty when carried whole).
     near: Vec<[f32; 3]>,
     summed: Vec<[f32; 3]>,
+    /// Whether lattice texel `j` may carry to texel `i` beyond lying on
+    /// its surface; `None`: wherever it does.
+    joins: Option<&'a (dyn Fn(usize, usize) -> bool + Sync)>,
 }
 
 impl<'a> Carrier<'a> {
@@ -54,15 +57,27 @@ impl<'a> Carrier<'a> {
         kernel: &'a Kernel,
         tolerance: f64,
     ) -> Self {
+        Self::split_by(lit, summer, Box::new(KernelNear { lit, kernel }), tolerance)
+    }
+
+    /// [`Carrier::split`] with N summed by `near_sum`: for sums whose
+    /// kernel is not one for every target.
+    pub fn split_by(
+        lit: &'a Prepared,
+        summer: &'a dyn Summer,
+        near_sum: Box<dyn NearSum + 'a>,
+        tolerance: f64,
+    ) -> Self {
         let texels = lit.surfels.len();
         Carrier {
             lit,
             summer,
-            kernel: Some(kernel),
+            near_sum: Some(near_sum),
             smooth_share: (SMOOTH_SHARE * tolerance) as f32,
             smooth: HashMap::new(),
             near: vec![[f32::NAN; 3]; texels],
             summed: vec![[f32::NAN; 3]; texels],
+            joins: None,
         }
     }
 
@@ -73,12 +88,21 @@ impl<'a> Carrier<'a> {
         Carrier {
             lit,
             summer,
-            kernel: None,
+            near_sum: None,
             smooth_share: 0.0,
             smooth: HashMap::new(),
             near: Vec::new(),
             summed: vec![[f32::NAN; 3]; texels],
+            joins: None,
         }
+    }
+
+    /// The carrier with lattice texel `j` a corner of texel `i` only where
+    /// `joins(i, j)` also holds: for sums that change sharply where
+    /// something other than the surface does (a part's thickness).
+    pub fn joining(mut self, joins: &'a (dyn Fn(usize, usize) -> bool + Sync)) -> Self {
+        self.joins = Some(joins);
+        self
     }
 
     /// The map at `texels`: each carried from the lattice of `step` texels
@@ -94,12 +118,16 @@ impl<'a> Carrier<'a> {
         self.carried(texels, step, false, control)
     }
 
-    /// [`Carrier::at`] every texel, the last map asked for: the summer lets
-    /// go of its tree once the lattice is summed, before the map is carried
-    /// into memory of its own.
-    pub fn whole_map(mut self, step: u32, control: &Control) -> Result<Vec<[f32; 3]>, Error> {
-        let all: Vec<usize> = (0..self.lit.surfels.len()).collect();
-        self.carried(&all, step, true, control)
+    /// [`Carrier::at`] `texels`, the last map asked for: the summer lets
+    /// go of its tree once the lattice is summed, before the map is
+    /// carried into memory of its own.
+    pub fn last_map(
+        mut self,
+        texels: &[usize],
+        step: u32,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Error> {
+        self.carried(texels, step, true, control)
     }
 
     fn carried(
@@ -198,7 +226,7 @@ impl<'a> Carrier<'a> {
     /// Finds where the light is smooth at `step`, once (nothing to find
     /// when carried whole), with `light` the light entering once found.
     fn smooth_at(&mut self, step: u32, light: &mut Option<Vec<[f32; 3]>>) {
-        if self.kernel.is_none() || self.smooth.contains_key(&step) {
+        if self.near_sum.is_none() || self.smooth.contains_key(&step) {
             return;
         }
         let surfels = &self.lit.surfels;
@@ -225,7 +253,9 @@ impl<'a> Carrier<'a> {
         if step <= 1 || lattice.holds(surfels.texel[i]) {
             return Some([(i, 1.0), (i, 0.0), (i, 0.0), (i, 0.0)]);
         }
-        lattice.corners(surfels, i, |j| alike(surfels, &lattice, i, j))
+        lattice.corners(surfels, i, |j| {
+            alike(surfels, &lattice, i, j) && self.joins.is_none_or(|joins| joins(i, j))
+        })
     }
 
     /// N at the texels of `texels` routed with it and at their corners,
@@ -236,7 +266,7 @@ impl<'a> Carrier<'a> {
         routes: &[Route],
         control: &Control,
     ) -> Result<(), Error> {
-        let Some(kernel) = self.kernel else {
+        let Some(near_sum) = &self.near_sum else {
             return Ok(());
         };
         let listed = marked(self.near.len(), texels, routes, |i, route, mark| {
@@ -257,9 +287,7 @@ impl<'a> Carrier<'a> {
             radius: near_reach(&self.lit.surfels) as f32,
             tapered: true,
         };
-        let targets = self.lit.listed(&listed);
-        let sources = self.lit.texel_sources();
-        let near = sum_within(kernel, &sources, targets.targets(), reach, control)?;
+        let near = near_sum.within(&listed, reach, control)?;
         for (&j, n) in listed.iter().zip(near) {
             self.near[j] = n;
         }

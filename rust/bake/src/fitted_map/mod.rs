@@ -21,10 +21,12 @@
 //! estimate measures the map that results against the exact sum, fit and
 //! all.
 
+use crate::control::Cancelled;
 use crate::control::Control;
 use crate::error::Error;
 use crate::prepared::Prepared;
 use crate::transport::accuracy::relative_errors;
+use crate::transport::brute::{Reach, sum_within};
 use crate::transport::integrator::Summer;
 use crate::transport::kernel::Kernel;
 use crate::transport::verify::pick;
@@ -109,6 +111,48 @@ pub fn first_step(half_light: Option<f64>) -> u32 {
     }
 }
 
+/// N of M = N + F: the exact sum within a short reach of chosen texels.
+pub trait NearSum: Sync {
+    /// The exitance (W/m²) at the texels `listed`, in order, from the
+    /// sources within `reach`.
+    fn within(
+        &self,
+        listed: &[usize],
+        reach: Reach,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Cancelled>;
+}
+
+impl<T: NearSum + ?Sized> NearSum for &T {
+    fn within(
+        &self,
+        listed: &[usize],
+        reach: Reach,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Cancelled> {
+        (**self).within(listed, reach, control)
+    }
+}
+
+/// N under one kernel, by the exact sum over `lit`'s texels.
+struct KernelNear<'a> {
+    lit: &'a Prepared,
+    kernel: &'a Kernel,
+}
+
+impl NearSum for KernelNear<'_> {
+    fn within(
+        &self,
+        listed: &[usize],
+        reach: Reach,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Cancelled> {
+        let targets = self.lit.listed(listed);
+        let sources = self.lit.texel_sources();
+        sum_within(self.kernel, &sources, targets.targets(), reach, control)
+    }
+}
+
 /// The map of `lit` (the light as it enters, raised where the model raises
 /// it) under `kernel` by `summer`: carried from a lattice of `step` texels
 /// where the fit holds within [`FIT_SHARE`] of `tolerance`, else summed at
@@ -121,21 +165,43 @@ pub fn fitted_map(
     tolerance: f64,
     control: &Control,
 ) -> Result<(Vec<[f32; 3]>, MapFit), Error> {
-    let texels = lit.surfels.len();
-    let all: Vec<usize> = (0..texels).collect();
-    if step <= 1 || texels == 0 {
-        let fit = MapFit {
-            step: 1,
-            missed: 0.0,
-            probed: 0,
-        };
-        return Ok((summer.at(&all, control)?, fit));
+    let all: Vec<usize> = (0..lit.surfels.len()).collect();
+    let carrier = Carrier::split(lit, summer, kernel, tolerance);
+    fitted_at(carrier, summer, &all, step, tolerance, control)
+}
+
+/// The map at `texels` by `carrier` (which splits M = N + F) and its
+/// summer: carried from a lattice of `step` texels where the fit at
+/// [`probe_count`] of them holds within [`FIT_SHARE`] of `tolerance`, the
+/// step halved (rounding up) where not, else summed at each. With how it
+/// was found.
+pub fn fitted_at(
+    mut carrier: Carrier,
+    summer: &dyn Summer,
+    texels: &[usize],
+    step: u32,
+    tolerance: f64,
+    control: &Control,
+) -> Result<(Vec<[f32; 3]>, MapFit), Error> {
+    let every = |probed| MapFit {
+        step: 1,
+        missed: 0.0,
+        probed,
+    };
+    if step <= 1 || texels.is_empty() {
+        return Ok((summer.at(texels, control)?, every(0)));
+    }
+    let probes: Vec<usize> = pick(texels.len(), probe_count(texels.len()), 0x6669_7474)
+        .into_iter()
+        .map(|k| texels[k])
+        .collect();
+    // So few texels that every one is probed: their sums are the map.
+    if probes.len() == texels.len() {
+        return Ok((summer.at(texels, control)?, every(0)));
     }
     // N before the summer's first sums: the exact sum's table and the
     // integrator's (the octree's tree) are not held at once.
-    let mut carrier = Carrier::split(lit, summer, kernel, tolerance);
-    carrier.near_for(&all, step, control)?;
-    let probes = pick(texels, probe_count(texels), 0x6669_7474);
+    carrier.near_for(texels, step, control)?;
     let direct = summer.at(&probes, control)?;
     let mut step = step;
     while step > 1 {
@@ -147,14 +213,9 @@ pub fn fitted_map(
                 missed,
                 probed: probes.len(),
             };
-            return Ok((carrier.whole_map(step, control)?, fit));
+            return Ok((carrier.last_map(texels, step, control)?, fit));
         }
         step = step.div_ceil(2);
     }
-    let fit = MapFit {
-        step: 1,
-        missed: 0.0,
-        probed: probes.len(),
-    };
-    Ok((carrier.whole_map(1, control)?, fit))
+    Ok((carrier.last_map(texels, 1, control)?, every(probes.len())))
 }

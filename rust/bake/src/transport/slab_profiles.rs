@@ -32,13 +32,18 @@
 //! Every profile method bakes thin parts this way, through the octree
 //! (at the method's own solid angle ε; the exact sum's is 0, every pair
 //! apart): a kernel per target does not fit a texture-space blur or a
-//! shared tree's summaries of one kernel. The estimate checks it by the
-//! exact sum at its texels.
+//! shared tree's summaries of one kernel. Above ε 0 the thin texels' map
+//! is carried from a lattice of them as the whole map is
+//! ([`crate::fitted_map`]), a lattice texel carrying only to texels about
+//! as thick: where the ray behind finds another surface the thickness,
+//! and the slab's sums, jump. The estimate checks it by the exact sum at
+//! its texels.
 
 use crate::control::{Cancelled, Control};
 use crate::error::Error;
-use crate::fitted_map::Carrier;
+use crate::fitted_map::{Carrier, MapFit, NearSum, fitted_at};
 use crate::prepared::Prepared;
+use crate::transport::brute::Reach;
 use crate::transport::integrator::Summer;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::local_slab::MAX_GAIN;
@@ -53,12 +58,16 @@ use std::sync::Mutex;
 #[derive(Clone, Copy, Debug)]
 pub struct ThinTexel {
     /// The texel.
-    pub(crate) texel: usize,
+    pub texel: usize,
     /// The part's thickness there, mm.
-    pub(crate) thickness: f64,
+    pub thickness: f64,
     /// The texel across the part.
-    pub(crate) behind: usize,
+    pub behind: usize,
 }
+
+/// The exitance (W/m²) at each texel on a thin part, in the channels
+/// where its part is thin (`None` in the others).
+pub type ThinExitance = Vec<[Option<f32>; 3]>;
 
 /// The texels of one object on thin parts, with the rungs they read.
 pub struct ThinParts {
@@ -72,6 +81,11 @@ impl ThinParts {
     /// The texels on thin parts.
     pub fn texels(&self) -> &[ThinTexel] {
         &self.texels
+    }
+
+    /// The texels' indices.
+    fn texel_ids(&self) -> Vec<usize> {
+        self.texels.iter().map(|t| t.texel).collect()
     }
 }
 
@@ -156,15 +170,13 @@ impl SlabProfiles {
         if parts.texels.is_empty() {
             return Ok(());
         }
-        let held = HeldShares {
-            profiles: self,
-            prepared,
-            parts,
-            epsilon,
-            gathering: Mutex::new(None),
-        };
-        let texels: Vec<usize> = parts.texels.iter().map(|t| t.texel).collect();
-        let shares = Carrier::whole(prepared, &held).at(&texels, stride.max(1), control)?;
+        let held = SlabSums::new(self, prepared, parts, epsilon, true);
+        let even = evenly_thick(prepared);
+        let shares = Carrier::whole(prepared, &held).joining(&even).at(
+            &parts.texel_ids(),
+            stride.max(1),
+            control,
+        )?;
         for (t, share) in parts.texels.iter().zip(shares) {
             let convex = ball.get(t.texel).copied().unwrap_or([1.0; 3]);
             let half = &mut halves[t.texel];
@@ -185,38 +197,45 @@ impl SlabProfiles {
     }
 
     /// The exitance (W/m², before the colour after scattering) at each of
-    /// `parts`' texels by the profiles of their slabs, the light entering
-    /// every texel raised by `halves` and again where it leaves, through
-    /// the octree at solid angle `epsilon` (0: exact); `None` in the
-    /// channels where a texel's part is not thin.
+    /// `parts`' texels by the profiles of their slabs, under `raised` (the
+    /// light entering raised by `halves`, √gain per texel) and raised
+    /// again where it leaves, through the octree at solid angle `epsilon`
+    /// (0: exact); `None` in the channels where a texel's part is not
+    /// thin. With a `lattice` (step and tolerance) and ε above 0, the
+    /// scattered part is carried from the lattice's texels as a map is
+    /// ([`fitted_at`]: N, the pairs within two texels, summed exactly
+    /// where the light is not smooth; the step halved until the fit holds
+    /// at random thin texels), else summed at every thin texel. With how
+    /// the scattered part was carried, where it was.
     pub fn lit(
         &self,
-        prepared: &Prepared,
-        parts: &ThinParts,
+        raised: &Prepared,
         halves: &[[f32; 3]],
+        parts: &ThinParts,
         epsilon: f32,
+        lattice: Option<(u32, f64)>,
         control: &Control,
-    ) -> Result<Vec<[Option<f32>; 3]>, Cancelled> {
+    ) -> Result<(ThinExitance, Option<MapFit>), Error> {
         if parts.texels.is_empty() {
-            return Ok(Vec::new());
+            return Ok((Vec::new(), None));
         }
-        let texels = prepared.texel_sources();
-        let mut sources = texels.clone();
-        for (e, h) in sources.irradiance.iter_mut().zip(halves) {
-            *e = [0, 1, 2].map(|c| e[c] * h[c]);
-        }
-        let gathering = self.gathering(parts, &sources, epsilon);
-        let at: Vec<(usize, f64)> = parts
+        let sums = SlabSums::new(self, raised, parts, epsilon, false);
+        let texels = parts.texel_ids();
+        let even = evenly_thick(raised);
+        let (scattered, fit) = match lattice {
+            Some((step, tolerance)) if epsilon > 0.0 && step > 1 => {
+                let carrier = Carrier::split_by(raised, &sums, Box::new(&sums), tolerance);
+                let carrier = carrier.joining(&even);
+                let (map, fit) = fitted_at(carrier, &sums, &texels, step, tolerance, control)?;
+                (map, Some(fit))
+            }
+            _ => (sums.at(&texels, control)?, None),
+        };
+        let entering = raised.entering();
+        let lit = parts
             .texels
             .iter()
-            .map(|t| (t.texel, t.thickness))
-            .collect();
-        let sums = self.sums(&gathering, parts.first, prepared, &at, control)?;
-        let entering = &texels.irradiance;
-        Ok(parts
-            .texels
-            .iter()
-            .zip(sums)
+            .zip(scattered)
             .map(|(t, sum)| {
                 let (a, b, w) = self.rungs_at(t.thickness);
                 let back = mix(a.unscattered_back, b.unscattered_back, w);
@@ -225,14 +244,15 @@ impl SlabProfiles {
                     if !self.is_thin(t.thickness, c) {
                         return None;
                     }
-                    let raised = |j: usize| f64::from(entering[j][c] * halves[j][c]);
+                    let raised = |j: usize| f64::from(entering[j][c]);
                     let m = f64::from(sum[c])
                         + back[c] * raised(t.texel)
                         + through[c] * raised(t.behind);
                     Some((m * f64::from(halves[t.texel][c])) as f32)
                 })
             })
-            .collect())
+            .collect();
+        Ok((lit, fit))
     }
 
     /// The exact exitance (W/m², before the colour after scattering) at
@@ -251,7 +271,8 @@ impl SlabProfiles {
         let parts = self.thin_texels(prepared, Some(picked));
         let mut exact_halves = halves.to_vec();
         self.gains(prepared, &parts, &mut exact_halves, ball, 0.0, 1, control)?;
-        let lit = self.lit(prepared, &parts, &exact_halves, 0.0, control)?;
+        let raised = prepared.raised_by(&exact_halves);
+        let (lit, _) = self.lit(&raised, &exact_halves, &parts, 0.0, None, control)?;
         let mut at = parts.texels.iter().zip(lit).peekable();
         Ok(picked
             .iter()
@@ -279,13 +300,15 @@ impl SlabProfiles {
 
     /// The sums of `gathering` (over the rungs from `first`) at texels
     /// `at` of `prepared`, each under the two rungs about its thickness
-    /// (mm), mixed in ln t, its pairs placed by [`separation`].
+    /// (mm), mixed in ln t, its pairs placed by [`separation`]; only those
+    /// `within` a reach, every one apart, where given.
     fn sums(
         &self,
         gathering: &Gathering,
         first: usize,
         prepared: &Prepared,
         at: &[(usize, f64)],
+        within: Option<Reach>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
         let reading: Vec<usize> = at.iter().map(|&(i, _)| i).collect();
@@ -306,29 +329,57 @@ impl SlabProfiles {
                     separation(p, n, half, q, m, reach)
                 })
             },
+            within,
             control,
         )
     }
 }
 
-/// The share of its slab's scattered light (R and T) each texel's surface
-/// gathers under a unit light, its thickness held within the rungs
-/// simulated (the thickest where it has none): summed at chosen texels
-/// for [`Carrier::whole`], the octree built at the first texels asked for.
-struct HeldShares<'a> {
+/// The sums of the slabs' profiles over `lit`'s texels at chosen texels
+/// (the thin texels, or a lattice's for [`Carrier`]), each texel's
+/// thickness held within the rungs simulated (the thickest where it has
+/// none): of `lit`'s light, or, with `shares`, of a unit light as shares
+/// of its slab's scattered total (R and T). The octree is built at the
+/// first texels asked for and held until released.
+struct SlabSums<'a> {
     profiles: &'a SlabProfiles,
-    prepared: &'a Prepared,
+    lit: &'a Prepared,
     parts: &'a ThinParts,
     epsilon: f32,
+    shares: bool,
     gathering: Mutex<Option<Gathering<'a>>>,
 }
 
-impl Summer for HeldShares<'_> {
-    fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error> {
+impl<'a> SlabSums<'a> {
+    fn new(
+        profiles: &'a SlabProfiles,
+        lit: &'a Prepared,
+        parts: &'a ThinParts,
+        epsilon: f32,
+        shares: bool,
+    ) -> Self {
+        SlabSums {
+            profiles,
+            lit,
+            parts,
+            epsilon,
+            shares,
+            gathering: Mutex::new(None),
+        }
+    }
+
+    /// The sums at `listed`, from the sources `within` a reach where
+    /// given.
+    fn sums(
+        &self,
+        listed: &[usize],
+        within: Option<Reach>,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Cancelled> {
         let profiles = self.profiles;
         let (first, last) = (self.parts.first, self.parts.last);
         let (thinnest, thickest) = (profiles.thickness[first], profiles.thickness[last]);
-        let opposites = self.prepared.opposites();
+        let opposites = self.lit.opposites();
         let at: Vec<(usize, f64)> = listed
             .iter()
             .map(|&i| {
@@ -339,11 +390,16 @@ impl Summer for HeldShares<'_> {
         // Held while summing, which is parallel itself.
         let mut held = self.gathering.lock().unwrap_or_else(|e| e.into_inner());
         let gathering = held.get_or_insert_with(|| {
-            let mut sources = self.prepared.texel_sources();
-            sources.irradiance.iter_mut().for_each(|e| *e = [1.0; 3]);
+            let mut sources = self.lit.texel_sources();
+            if self.shares {
+                sources.irradiance.iter_mut().for_each(|e| *e = [1.0; 3]);
+            }
             profiles.gathering(self.parts, &sources, self.epsilon)
         });
-        let sums = profiles.sums(gathering, first, self.prepared, &at, control)?;
+        let sums = profiles.sums(gathering, first, self.lit, &at, within, control)?;
+        if !self.shares {
+            return Ok(sums);
+        }
         Ok(at
             .iter()
             .zip(sums)
@@ -354,9 +410,46 @@ impl Summer for HeldShares<'_> {
             })
             .collect())
     }
+}
+
+impl Summer for SlabSums<'_> {
+    fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error> {
+        Ok(self.sums(listed, None, control)?)
+    }
 
     fn release(&self) {
         *self.gathering.lock().unwrap_or_else(|e| e.into_inner()) = None;
+    }
+}
+
+impl NearSum for SlabSums<'_> {
+    fn within(
+        &self,
+        listed: &[usize],
+        reach: Reach,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Cancelled> {
+        self.sums(listed, Some(reach), control)
+    }
+}
+
+/// The most two texels' thicknesses may differ by, as a ratio, for one to
+/// carry its slab's sums to the other. Across a lattice's cell a part's
+/// thickness changes gradually, but where the ray behind a texel finds
+/// another surface it jumps (from 10 to 107 mm between texels two apart on
+/// the head's ear), and so do its slab's sums.
+const CARRIED_THICKNESS_RATIO: f32 = 1.25;
+
+/// Whether texel `j` of `prepared` is as thick as texel `i`, within
+/// [`CARRIED_THICKNESS_RATIO`], both having a face behind.
+fn evenly_thick(prepared: &Prepared) -> impl Fn(usize, usize) -> bool + Sync + '_ {
+    let opposites = prepared.opposites();
+    move |i, j| match (opposites[i], opposites[j]) {
+        (Some(a), Some(b)) => {
+            let (thin, thick) = (a.thickness.min(b.thickness), a.thickness.max(b.thickness));
+            thick <= CARRIED_THICKNESS_RATIO * thin
+        }
+        _ => false,
     }
 }
 

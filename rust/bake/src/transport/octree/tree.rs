@@ -11,6 +11,7 @@
 //! sum is the exact sum's, and ε alone sets the error.
 
 use crate::control::{Cancelled, Control, parallel_fill};
+use crate::transport::brute::Reach;
 use crate::transport::disk_kernel::{DiskKernel, Slot};
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::source_table::{Apart, SourceTable, texel_disks};
@@ -116,6 +117,7 @@ impl<'a> Octree<'a> {
     /// by `separate` (from a source point and its normal, how it sits from
     /// the target, or `None` where the pair exchanges nothing;
     /// [`SourceTable::weight_placed`]).
+    #[allow(clippy::too_many_arguments)]
     fn gather_placed(
         &self,
         texels: &[DiskKernel],
@@ -123,6 +125,7 @@ impl<'a> Octree<'a> {
         mix: &[(usize, f32)],
         target: Target,
         epsilon: f32,
+        within: Option<Reach>,
         separate: &impl Fn(Vec3, Vec3) -> Option<Separation>,
     ) -> [f64; 3] {
         let piece = target.piece;
@@ -133,6 +136,16 @@ impl<'a> Octree<'a> {
         let reach = shared()
             .map(|(k, _)| texels[k].kernel().d_max)
             .fold(0.0, f32::max);
+        // Within a shorter reach every pair is taken apart, tapered where
+        // the reach says.
+        let (reach, epsilon, taper) = match within {
+            Some(within) => (
+                reach.min(within.radius),
+                0.0,
+                within.tapered.then_some(within.radius),
+            ),
+            None => (reach, epsilon, None),
+        };
         self.walk(
             reach,
             target,
@@ -151,7 +164,9 @@ impl<'a> Octree<'a> {
                 if !self.table.joins(j, piece) {
                     return Vec4::ZERO;
                 }
-                self.table.weight_placed(texels, mix, j, d2, own, separate) * self.table.flux[j]
+                let w = self.table.weight_placed(texels, mix, j, d2, own, separate);
+                let tapered = taper.map_or(1.0, |radius| Reach::taper(d2.sqrt() / radius));
+                w * self.table.flux[j] * tapered
             },
         )
     }
@@ -484,11 +499,14 @@ impl<'k> Gathering<'k> {
     /// `placing(i)` (from a source point and its normal, how it sits from
     /// the target, or `None` where the pair exchanges nothing), for
     /// kernels whose faces the caller tells apart
-    /// ([`crate::transport::slab_profiles`]).
+    /// ([`crate::transport::slab_profiles`]). `within` a reach (mm), every
+    /// pair is taken apart, and weighed by the reach's taper where it has
+    /// one: N of a map split as M = N + F ([`crate::fitted_map`]).
     pub fn at_placed<S>(
         &self,
         targets: Targets,
         placing: impl Fn(usize) -> ([(usize, f32); 2], S) + Sync,
+        within: Option<Reach>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled>
     where
@@ -504,6 +522,7 @@ impl<'k> Gathering<'k> {
                     &mix,
                     targets.at(i),
                     self.epsilon,
+                    within,
                     &separate,
                 )
                 .map(|v| v as f32)
