@@ -125,6 +125,10 @@ pub struct ObjectCost {
     /// Steps finding the surface's curvature, where the corrected model
     /// raises small convex parts (all channels).
     pub curvature: f64,
+    /// Kernel evaluations of the thin parts' own slab profiles, at most:
+    /// under a unit light and under the light, as if every texel were on a
+    /// thin part ([`crate::transport::slab_profiles`]).
+    pub thin_parts: f64,
 }
 
 impl ObjectCost {
@@ -207,8 +211,8 @@ impl ObjectCost {
 pub struct Cost {
     /// Peak memory, bytes: every layout, and the largest object's bake.
     pub memory_bytes: f64,
-    /// Shadow rays, kernel evaluations and probes, walk events and the
-    /// curvature's steps.
+    /// Shadow rays, kernel evaluations and probes, walk events, the
+    /// curvature's steps and the thin parts' gathers.
     pub evaluations: f64,
 }
 
@@ -221,7 +225,7 @@ impl Cost {
             memory_bytes: BASE_BYTES as f64 + layouts + largest,
             evaluations: objects
                 .iter()
-                .map(|o| o.rays + o.evaluations + o.light_check + o.curvature)
+                .map(|o| o.rays + o.evaluations + o.light_check + o.curvature + o.thin_parts)
                 .sum(),
         }
     }

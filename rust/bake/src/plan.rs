@@ -412,10 +412,20 @@ fn plan_object(
     } else {
         0.0
     };
+    // Thin parts gather with their own slab's profile, twice (their gains
+    // under a unit light, then the light), through the octree at the
+    // integrator's ε for them (0: every pair): at most as many targets
+    // as texels.
+    let thin_parts = match runs.filter(|_| raises && scattering.slab_profiles().is_some()) {
+        Some(integrator) if integrator.thin_epsilon() > 0.0 => 2.0 * work.n_log_n(),
+        Some(_) => 2.0 * work.texels * work.neighbours,
+        None => 0.0,
+    };
     let topology = topology_report(&object.mesh);
     let cost = ObjectCost {
         light_check,
         curvature,
+        thin_parts,
         rays: cost.rays
             + gathering_rays(texels, bounces)
             + planned_rays(topology.parts, object.mesh.triangles.len()),
@@ -752,6 +762,19 @@ impl ObjectPlan {
                 f,
                 "  corrected model: the curvature of convex parts, about {:.1e} steps",
                 self.cost.curvature
+            )?;
+        }
+        if let Some(profiles) = self
+            .scattering_profile
+            .slab_profiles()
+            .filter(|_| self.cost.thin_parts > 0.0)
+        {
+            let [r, g, b] = profiles.thin_below;
+            writeln!(
+                f,
+                "  corrected model: parts thinner than {r:.1} / {g:.1} / {b:.1} mm (R/G/B) by their own slab's profile, from up to {} slabs simulated by the Monte Carlo when first met (then kept in the cache folder); their gathers at most about {:.1e} kernel evaluations",
+                profiles.thicknesses().len(),
+                self.cost.thin_parts
             )?;
         }
         if self.cost.light_check > 0.0 {

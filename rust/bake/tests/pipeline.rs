@@ -547,3 +547,30 @@ fn the_plan_counts_the_curvature_where_convex_parts_are_raised() {
     // Counted in the plan's work, which the limits bound.
     assert_eq!(cost(128, Method::Walk).curvature, 0.0);
 }
+
+/// The plan counts the thin parts' own gathers, at most two maps' worth
+/// (under a unit light and under the light): pair by pair for the exact
+/// sum, as the octree's for the others, none for the walk.
+#[test]
+fn the_plan_counts_the_thin_parts_gathers() {
+    let scene = scene(
+        vec![centred_square(60.0, "square")],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let skin1 = sssbake_profile::presets::preset("skin1").unwrap();
+    let cost = |method: Method| {
+        let request = BakeRequest {
+            materials: MaterialAssignment::everywhere(skin1.clone(), "test"),
+            method,
+            ..request(256)
+        };
+        plan(&scene, &request).unwrap().objects[0].cost
+    };
+    let (brute, octree) = (cost(Method::Brute), cost(Method::Octree));
+    // The exact sum's own are two sums too: the light's and a unit
+    // light's, to find where the surface ends.
+    assert_eq!(brute.thin_parts, brute.evaluations, "{brute:?}");
+    assert!(octree.thin_parts > 0.0 && octree.thin_parts < brute.thin_parts);
+    assert_eq!(cost(Method::Texture).thin_parts, octree.thin_parts);
+    assert_eq!(cost(Method::Walk).thin_parts, 0.0);
+}
