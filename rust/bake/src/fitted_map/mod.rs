@@ -203,11 +203,22 @@ pub fn fitted_at(
     // integrator's (the octree's tree) are not held at once.
     carrier.near_for(texels, step, control)?;
     let direct = summer.at(&probes, control)?;
+    // Against finer sums where the summer has them, the fit may add its
+    // share of the tolerance, in quadrature, to the summer's own error.
+    let finer = summer.finer(&probes, control).transpose()?;
+    let own = finer.as_ref().map(|fine| relative_errors(&direct, fine).0);
     let mut step = step;
     while step > 1 {
         let fitted = carrier.at(&probes, step, control)?;
         let (missed, _) = relative_errors(&fitted, &direct);
-        if missed <= FIT_SHARE * tolerance {
+        let holds = match (&finer, own) {
+            (Some(fine), Some(own)) => {
+                let (off, _) = relative_errors(&fitted, fine);
+                off <= own.hypot(FIT_SHARE * tolerance)
+            }
+            _ => missed <= FIT_SHARE * tolerance,
+        };
+        if holds {
             let fit = MapFit {
                 step,
                 missed,

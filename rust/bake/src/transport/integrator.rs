@@ -74,6 +74,14 @@ pub trait Summer: Sync {
     /// any correction.
     fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error>;
 
+    /// Sums at `listed` nearer the exact sum than [`Summer::at`]'s (an
+    /// octree at a smaller ε), against which a map carried from a lattice
+    /// is checked where the summer's own sums jitter from texel to texel;
+    /// `None` where `at`'s serve.
+    fn finer(&self, _listed: &[usize], _control: &Control) -> Option<Result<Vec<[f32; 3]>, Error>> {
+        None
+    }
+
     /// Lets go of what it holds between sums (an integrator's tree), for a
     /// caller done summing; a later sum builds it again.
     fn release(&self) {}

@@ -297,42 +297,6 @@ impl SlabProfiles {
             .collect();
         Gathering::mixing(&kernels, sources, epsilon)
     }
-
-    /// The sums of `gathering` (over the rungs from `first`) at texels
-    /// `at` of `prepared`, each under the two rungs about its thickness
-    /// (mm), mixed in ln t, its pairs placed by [`separation`]; only those
-    /// `within` a reach, every one apart, where given.
-    fn sums(
-        &self,
-        gathering: &Gathering,
-        first: usize,
-        prepared: &Prepared,
-        at: &[(usize, f64)],
-        within: Option<Reach>,
-        control: &Control,
-    ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        let reading: Vec<usize> = at.iter().map(|&(i, _)| i).collect();
-        let listed = prepared.listed(&reading);
-        let opposites = prepared.opposites();
-        let surfels = &prepared.surfels;
-        gathering.at_placed(
-            listed.targets(),
-            |k| {
-                let (i, t) = at[k];
-                let (a, b, w) = self.about(t);
-                let mix = [(a - first, 1.0 - w as f32), (b - first, w as f32)];
-                let (p, n) = (surfels.position[i], surfels.normal[i]);
-                let half = 0.5 * opposites[i].map_or(0.0, |o| o.thickness);
-                let reach = self.rung_simulated(a).kernel.d_max;
-                let reach = reach.max(self.rung_simulated(b).kernel.d_max);
-                (mix, move |q: Vec3, m: Vec3| {
-                    separation(p, n, half, q, m, reach)
-                })
-            },
-            within,
-            control,
-        )
-    }
 }
 
 /// The sums of the slabs' profiles over `lit`'s texels at chosen texels
@@ -368,11 +332,50 @@ impl<'a> SlabSums<'a> {
         }
     }
 
-    /// The sums at `listed`, from the sources `within` a reach where
-    /// given.
+    /// The sums of `gathering` (over the rungs from the first simulated)
+    /// at texels `at` of `lit`, each under the two rungs about its
+    /// thickness (mm), mixed in ln t, its pairs placed by [`separation`],
+    /// at solid angle `epsilon`; only those `within` a reach, every one
+    /// apart, where given.
+    fn placed(
+        &self,
+        gathering: &Gathering,
+        at: &[(usize, f64)],
+        epsilon: f32,
+        within: Option<Reach>,
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Cancelled> {
+        let (profiles, prepared, first) = (self.profiles, self.lit, self.parts.first);
+        let reading: Vec<usize> = at.iter().map(|&(i, _)| i).collect();
+        let listed = prepared.listed(&reading);
+        let opposites = prepared.opposites();
+        let surfels = &prepared.surfels;
+        gathering.at_placed(
+            listed.targets(),
+            |k| {
+                let (i, t) = at[k];
+                let (a, b, w) = profiles.about(t);
+                let mix = [(a - first, 1.0 - w as f32), (b - first, w as f32)];
+                let (p, n) = (surfels.position[i], surfels.normal[i]);
+                let half = 0.5 * opposites[i].map_or(0.0, |o| o.thickness);
+                let reach = profiles.rung_simulated(a).kernel.d_max;
+                let reach = reach.max(profiles.rung_simulated(b).kernel.d_max);
+                (mix, move |q: Vec3, m: Vec3| {
+                    separation(p, n, half, q, m, reach)
+                })
+            },
+            epsilon,
+            within,
+            control,
+        )
+    }
+
+    /// The sums at `listed` at solid angle `epsilon` (at most the
+    /// gathering's), from the sources `within` a reach where given.
     fn sums(
         &self,
         listed: &[usize],
+        epsilon: f32,
         within: Option<Reach>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
@@ -396,7 +399,7 @@ impl<'a> SlabSums<'a> {
             }
             profiles.gathering(self.parts, &sources, self.epsilon)
         });
-        let sums = profiles.sums(gathering, first, self.lit, &at, within, control)?;
+        let sums = self.placed(gathering, &at, epsilon, within, control)?;
         if !self.shares {
             return Ok(sums);
         }
@@ -414,7 +417,15 @@ impl<'a> SlabSums<'a> {
 
 impl Summer for SlabSums<'_> {
     fn at(&self, listed: &[usize], control: &Control) -> Result<Vec<[f32; 3]>, Error> {
-        Ok(self.sums(listed, None, control)?)
+        Ok(self.sums(listed, self.epsilon, None, control)?)
+    }
+
+    /// At a quarter of the solid angle: a slab's sums through the octree
+    /// jitter from texel to texel (a node across both faces of a part is
+    /// placed as a whole), which a carried map smooths.
+    fn finer(&self, listed: &[usize], control: &Control) -> Option<Result<Vec<[f32; 3]>, Error>> {
+        let finer = FINER * self.epsilon;
+        Some(self.sums(listed, finer, None, control).map_err(Error::from))
     }
 
     fn release(&self) {
@@ -429,9 +440,13 @@ impl NearSum for SlabSums<'_> {
         reach: Reach,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        self.sums(listed, Some(reach), control)
+        self.sums(listed, 0.0, Some(reach), control)
     }
 }
+
+/// The share of the solid angle at which a carried map of thin parts is
+/// checked against finer sums.
+const FINER: f32 = 0.25;
 
 /// The most two texels' thicknesses may differ by, as a ratio, for one to
 /// carry its slab's sums to the other. Across a lattice's cell a part's

@@ -499,13 +499,16 @@ impl<'k> Gathering<'k> {
     /// `placing(i)` (from a source point and its normal, how it sits from
     /// the target, or `None` where the pair exchanges nothing), for
     /// kernels whose faces the caller tells apart
-    /// ([`crate::transport::slab_profiles`]). `within` a reach (mm), every
-    /// pair is taken apart, and weighed by the reach's taper where it has
-    /// one: N of a map split as M = N + F ([`crate::fitted_map`]).
+    /// ([`crate::transport::slab_profiles`]), at solid angle `epsilon`
+    /// (at most the gathering's own, whose disk means hold its nodes).
+    /// `within` a reach (mm), every pair is taken apart, and weighed by the
+    /// reach's taper where it has one: N of a map split as M = N + F
+    /// ([`crate::fitted_map`]).
     pub fn at_placed<S>(
         &self,
         targets: Targets,
         placing: impl Fn(usize) -> ([(usize, f32); 2], S) + Sync,
+        epsilon: f32,
         within: Option<Reach>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled>
@@ -521,7 +524,7 @@ impl<'k> Gathering<'k> {
                     &self.nodes,
                     &mix,
                     targets.at(i),
-                    self.epsilon,
+                    epsilon.clamp(0.0, self.epsilon),
                     within,
                     &separate,
                 )
