@@ -429,8 +429,10 @@ impl Prepared {
     /// The exitance of the texels on thin parts, in each channel where the
     /// part is thin, by their own slab's profile
     /// ([`crate::transport::slab_profiles`]), gathered through the octree
-    /// at `integrator`'s ε for them, the light entering raised as `raised`
-    /// has it (with those texels' gains by the slab).
+    /// at `integrator`'s ε for them under `raised_light`, the light
+    /// entering raised as `raised` has it (with those texels' gains by the
+    /// slab), and carried from the `lattice` (its first step, and the
+    /// map's tolerance) where the fit holds. With that fit.
     #[allow(clippy::too_many_arguments)]
     fn thin_by_their_slab(
         &self,

@@ -172,9 +172,13 @@ pub fn fitted_map(
 
 /// The map at `texels` by `carrier` (which splits M = N + F) and its
 /// summer: carried from a lattice of `step` texels where the fit at
-/// [`probe_count`] of them holds within [`FIT_SHARE`] of `tolerance`, the
-/// step halved (rounding up) where not, else summed at each. With how it
-/// was found.
+/// [`probe_count`] of them holds, the step halved (rounding up) where not,
+/// else summed at each (and summed at each where every one is probed).
+/// The fit holds where it misses the summer's own sums by at most
+/// [`FIT_SHARE`] of `tolerance`; where the summer has finer sums
+/// ([`Summer::finer`]), where it is no farther from them than the
+/// summer's own sums are, with that share added in quadrature. With how
+/// it was found.
 pub fn fitted_at(
     mut carrier: Carrier,
     summer: &dyn Summer,
