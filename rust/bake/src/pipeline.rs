@@ -21,8 +21,6 @@ use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::integrator::{Integrated, Integrator, Summer};
 use crate::transport::local_slab::{LocalSlab, MAX_GAIN, RAISED};
-use crate::transport::slab_ladder::SlabProfiles;
-use crate::transport::slab_profiles::ThinParts;
 use crate::transport::verify::pick;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -454,7 +452,7 @@ impl Prepared {
         // fit may miss by as much over the square root of their share of
         // the map's Σ M², the map as it stands standing in for theirs.
         let (step, tolerance) = lattice;
-        let share = thin_share(&integrated.exitance, &thin, profiles);
+        let share = profiles.share_of_map(&thin, &integrated.exitance);
         let lattice = Some((step, tolerance / share.sqrt().max(f64::MIN_POSITIVE)));
         let (lit, fit) = profiles.lit(raised_light, halves, &thin, epsilon, lattice, control)?;
         for (t, m) in thin.texels().iter().zip(lit) {
@@ -542,27 +540,5 @@ impl Prepared {
             raised,
             kept,
         })
-    }
-}
-
-/// The share of `exitance`'s Σ M² (every texel and channel) at `thin`'s
-/// texels, in the channels where their part is thin: at most 1.
-fn thin_share(exitance: &[[f32; 3]], thin: &ThinParts, profiles: &SlabProfiles) -> f64 {
-    let square = |m: f32| f64::from(m) * f64::from(m);
-    let whole: f64 = exitance.iter().flatten().map(|&m| square(m)).sum();
-    let thin: f64 = thin
-        .texels()
-        .iter()
-        .map(|t| {
-            (0..3)
-                .filter(|&c| profiles.is_thin(t.thickness, c))
-                .map(|c| square(exitance[t.texel][c]))
-                .sum::<f64>()
-        })
-        .sum();
-    if whole > 0.0 {
-        (thin / whole).min(1.0)
-    } else {
-        1.0
     }
 }

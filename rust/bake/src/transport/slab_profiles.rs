@@ -284,6 +284,29 @@ impl SlabProfiles {
             .collect())
     }
 
+    /// The share of `exitance`'s Σ M² (every texel and channel) at
+    /// `parts`' texels, in the channels where their part is thin: at most
+    /// 1.
+    pub fn share_of_map(&self, parts: &ThinParts, exitance: &[[f32; 3]]) -> f64 {
+        let square = |m: f32| f64::from(m) * f64::from(m);
+        let whole: f64 = exitance.iter().flatten().map(|&m| square(m)).sum();
+        let thin: f64 = parts
+            .texels
+            .iter()
+            .map(|t| {
+                (0..3)
+                    .filter(|&c| self.is_thin(t.thickness, c))
+                    .map(|c| square(exitance[t.texel][c]))
+                    .sum::<f64>()
+            })
+            .sum();
+        if whole > 0.0 {
+            (thin / whole).min(1.0)
+        } else {
+            1.0
+        }
+    }
+
     /// The octree over `sources` under `parts`' rungs, at solid angle
     /// `epsilon`.
     fn gathering<'a>(
