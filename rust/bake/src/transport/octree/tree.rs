@@ -96,7 +96,7 @@ impl<'a> Octree<'a> {
             |node| {
                 let d2 = (node.centre - p).length_squared();
                 let separation = Separation::new(node.centre, node.normal, p, n, d2, transmits);
-                nodes.weight4(separation, node.slot) * node.flux4()
+                Some(nodes.weight4(separation, node.slot) * node.flux4())
             },
             |j, offset, d2| {
                 if !self.table.joins(j, piece) {
@@ -116,7 +116,11 @@ impl<'a> Octree<'a> {
     /// weights, with every pair, a node's taken whole as a texel's, placed
     /// by `separate` (from a source point and its normal, how it sits from
     /// the target, or `None` where the pair exchanges nothing;
-    /// [`SourceTable::weight_placed`]).
+    /// [`SourceTable::weight_placed`]). A node within a solid angle of
+    /// ε/[`STRADDLING`] is taken whole only where its centre and every
+    /// corner of its box are placed alike: one across the plane where the
+    /// part's face behind begins, or where its slab ends, would otherwise
+    /// be read all as its centre's side.
     #[allow(clippy::too_many_arguments)]
     fn gather_placed(
         &self,
@@ -150,15 +154,22 @@ impl<'a> Octree<'a> {
             reach,
             target,
             epsilon,
-            |node| match separate(node.centre, node.normal) {
-                Some(separation) => {
-                    let mut w = Vec4::ZERO;
+            |node| {
+                let placed = separate(node.centre, node.normal);
+                if node.area >= epsilon / STRADDLING * node.outside2(target.position)
+                    && !node
+                        .corners()
+                        .all(|c| alike(&separate(c, node.normal), &placed))
+                {
+                    return None;
+                }
+                let mut w = Vec4::ZERO;
+                if let Some(separation) = placed {
                     for (k, share) in shared() {
                         w += share * nodes[k].weight4(separation, node.slot);
                     }
-                    w * node.flux4()
                 }
-                None => Vec4::ZERO,
+                Some(w * node.flux4())
             },
             |j, _, d2| {
                 if !self.table.joins(j, piece) {
@@ -172,7 +183,8 @@ impl<'a> Octree<'a> {
     }
 
     /// Walks the tree from `target` within `reach` mm: `whole` weighs a
-    /// node taken whole (below the solid-angle threshold `epsilon`), `leaf`
+    /// node taken whole (below the solid-angle threshold `epsilon`), or
+    /// says `None` to have it opened, `leaf`
     /// a source of an opened leaf (its index in the table, its offset from
     /// the target and the offset's squared length, within the reach).
     /// Nodes of another piece of the mesh than the target's are skipped.
@@ -182,7 +194,7 @@ impl<'a> Octree<'a> {
         reach: f32,
         target: Target,
         epsilon: f32,
-        whole: impl Fn(&Node) -> Vec4,
+        whole: impl Fn(&Node) -> Option<Vec4>,
         leaf: impl Fn(usize, Vec3, f32) -> Vec4,
     ) -> [f64; 3] {
         let (p, piece) = (target.position, target.piece);
@@ -196,8 +208,8 @@ impl<'a> Octree<'a> {
         while let Some(at) = stack.pop() {
             let node = &self.nodes[at as usize];
             // Skip nodes wholly beyond the reach.
-            let outside = (node.lo - p).max(p - node.hi).max(Vec3::ZERO);
-            if outside.length_squared() > reach2 {
+            let outside2 = node.outside2(p);
+            if outside2 > reach2 {
                 continue;
             }
             // Light stays in its piece of the mesh.
@@ -208,11 +220,14 @@ impl<'a> Octree<'a> {
                 // The solid angle from the node's nearest point, not its
                 // centre: a long node beside the target is near, whatever
                 // its centre's distance.
-                if node.piece != MIXED && node.area < epsilon * outside.length_squared() {
-                    sum += whole(node).truncate().as_dvec3();
-                } else {
-                    stack.extend(node.first..node.first + node.count);
+                if node.piece != MIXED
+                    && node.area < epsilon * outside2
+                    && let Some(w) = whole(node)
+                {
+                    sum += w.truncate().as_dvec3();
+                    continue;
                 }
+                stack.extend(node.first..node.first + node.count);
                 continue;
             }
             let mut part = Vec4::ZERO;
@@ -229,7 +244,45 @@ impl<'a> Octree<'a> {
     }
 }
 
+/// How much nearer than the solid-angle threshold a node whose box is not
+/// placed alike is opened (a solid angle ε/32): where a part's slab ends,
+/// the exact sum's weight jumps, and a node across the jump is read all
+/// as its centre's side. Opening every such node follows the jump down to
+/// the leaves, on the ear at 2048² a tenfold cost for the slab sums; the
+/// far ones hold little light. Measured on the ear at 256², ε 0.5 against
+/// the exact sum, R/G/B: 1.15/1.66/1.07% taking them whole, 0.69/0.67/1.07%
+/// at ε/32, 0.67/0.67/1.07% opening every one.
+const STRADDLING: f32 = 32.0;
+
+/// Whether two pairs are placed alike: both exchange nothing, or both are
+/// read as R, or both as T.
+fn alike(a: &Option<Separation>, b: &Option<Separation>) -> bool {
+    let across = |s: &Option<Separation>| s.map(|s| s.t > 0.0);
+    across(a) == across(b)
+}
+
 impl Node {
+    /// The squared distance (mm²) from `p` to the node's box, 0 inside it.
+    #[inline(always)]
+    fn outside2(&self, p: Vec3) -> f32 {
+        (self.lo - p)
+            .max(p - self.hi)
+            .max(Vec3::ZERO)
+            .length_squared()
+    }
+
+    /// The corners of the node's box.
+    fn corners(&self) -> impl Iterator<Item = Vec3> + '_ {
+        (0..8u32).map(|k| {
+            let pick = |bit: u32, lo: f32, hi: f32| if k & bit == 0 { lo } else { hi };
+            Vec3::new(
+                pick(1, self.lo.x, self.hi.x),
+                pick(2, self.lo.y, self.hi.y),
+                pick(4, self.lo.z, self.hi.z),
+            )
+        })
+    }
+
     /// The node's flux as a `Vec4` (the fourth lane 0).
     #[inline(always)]
     fn flux4(&self) -> Vec4 {
@@ -544,4 +597,75 @@ pub fn integrate(
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
     Gathering::new(kernel, sources, epsilon).at(targets, control)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scattering::{D_MAX_EPSILON, Scattering};
+    use crate::transport::sources::OwnSource;
+    use sssbake_profile::model::Model;
+    use std::borrow::Cow;
+
+    /// A sheet facing away from a target 3 mm above its near edge, sloping
+    /// down through a depth past which the placing joins nothing (as a
+    /// part's slab ends). The ε-sum's error with that jump is the octree's
+    /// own error without it only if the nodes across the jump are opened,
+    /// not read all as their centre's side (taken whole, red is 3.5% off).
+    #[test]
+    fn nodes_across_a_jump_in_the_placing_are_opened() {
+        let material = crate::materials::preset("skin1").unwrap();
+        let skin = Scattering::new(material, Some(Model::Dipole), 6, D_MAX_EPSILON).unwrap();
+        let step = 0.2f32;
+        let mut position = Vec::new();
+        for i in 0..150 {
+            for j in 0..150 {
+                let (x, y) = (i as f32 * step - 15.0, j as f32 * step - 15.0);
+                position.push(Vec3::new(x, y, -3.0 - 0.5 * x));
+            }
+        }
+        let n = position.len();
+        let sources = Sources {
+            position: Cow::Owned(position),
+            normal: Cow::Owned(vec![Vec3::NEG_Z; n]),
+            area: Cow::Owned(vec![step * step; n]),
+            irradiance: vec![[1.0; 3]; n],
+            footprint: Cow::Owned(Vec::new()),
+            piece: Cow::Owned(Vec::new()),
+        };
+        let (p, up) = ([Vec3::ZERO], [Vec3::Z]);
+        let target = Targets {
+            position: &p,
+            normal: &up,
+            own: OwnSource::None,
+            piece: &[],
+        };
+        let sum = |epsilon: f32, deepest: f32| {
+            let gathering = Gathering::new(&skin.kernel, &sources, epsilon);
+            let placing = |_| {
+                ([(0, 1.0), (0, 0.0)], move |q: Vec3, _m: Vec3| {
+                    let distance = q.length();
+                    (q.z > deepest).then_some(Separation {
+                        distance,
+                        across: distance,
+                        t: 0.0,
+                    })
+                })
+            };
+            let control = Control::default();
+            gathering
+                .at_placed(target, placing, epsilon, None, &control)
+                .unwrap()[0]
+        };
+        let off = |deepest: f32| {
+            let (exact, whole) = (sum(0.0, deepest), sum(0.5, deepest));
+            assert!(exact.iter().all(|&e| e > 0.0), "{exact:?}");
+            [0, 1, 2].map(|c| whole[c] / exact[c])
+        };
+        let (jumping, smooth) = (off(-4.5), off(f32::NEG_INFINITY));
+        for c in 0..3 {
+            let added = (jumping[c] / smooth[c] - 1.0).abs();
+            assert!(added < 0.005, "channel {c}: {jumping:?} against {smooth:?}");
+        }
+    }
 }
