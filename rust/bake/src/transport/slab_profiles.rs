@@ -444,8 +444,9 @@ impl Summer for SlabSums<'_> {
     }
 
     /// At a quarter of the solid angle: a slab's sums through the octree
-    /// jitter from texel to texel (a node across both faces of a part is
-    /// placed as a whole), which a carried map smooths.
+    /// jitter from texel to texel (where its placing jumps, at the depth
+    /// where a part's slab ends, a node beyond ε/32 is still read all as
+    /// its centre's side), which a carried map smooths.
     fn finer(&self, listed: &[usize], control: &Control) -> Option<Result<Vec<[f32; 3]>, Error>> {
         let finer = FINER * self.epsilon;
         Some(self.sums(listed, finer, None, control).map_err(Error::from))
