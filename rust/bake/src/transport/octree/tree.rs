@@ -255,8 +255,8 @@ impl<'a> Octree<'a> {
 /// far ones hold little light. Measured on the ear at 256², ε 0.5 against
 /// the exact sum, R/G/B: 1.15/1.66/1.07% taking them whole, 0.69/0.67/1.07%
 /// at ε/32, 0.67/0.67/1.07% opening every one. Reading all eight corners
-/// instead of the two along the normal gave the same map and cost the head
-/// in its own skin at 1024² 3 s more.
+/// instead of the two along the normal gave the same error there and cost
+/// the head in its own skin at 1024² 3 s more.
 const STRADDLING: f32 = 32.0;
 
 /// Whether two pairs are placed alike: both exchange nothing, or both are
