@@ -93,7 +93,7 @@ impl<'a> Octree<'a> {
             texels.kernel().d_max,
             target,
             epsilon,
-            |node| {
+            |node, _| {
                 let d2 = (node.centre - p).length_squared();
                 let separation = Separation::new(node.centre, node.normal, p, n, d2, transmits);
                 Some(nodes.weight4(separation, node.slot) * node.flux4())
@@ -156,9 +156,9 @@ impl<'a> Octree<'a> {
             reach,
             target,
             epsilon,
-            |node| {
+            |node, outside2| {
                 let placed = separate(node.centre, node.normal);
-                if node.area >= epsilon / STRADDLING * node.outside2(target.position)
+                if node.area >= epsilon / STRADDLING * outside2
                     && !node
                         .deepest_and_highest(target.normal)
                         .iter()
@@ -186,8 +186,9 @@ impl<'a> Octree<'a> {
     }
 
     /// Walks the tree from `target` within `reach` mm: `whole` weighs a
-    /// node taken whole (below the solid-angle threshold `epsilon`), or
-    /// says `None` to have it opened, `leaf`
+    /// node taken whole (below the solid-angle threshold `epsilon`; with
+    /// its box's squared distance from the target, mm²), or says `None` to
+    /// have it opened, `leaf`
     /// a source of an opened leaf (its index in the table, its offset from
     /// the target and the offset's squared length, within the reach).
     /// Nodes of another piece of the mesh than the target's are skipped.
@@ -197,7 +198,7 @@ impl<'a> Octree<'a> {
         reach: f32,
         target: Target,
         epsilon: f32,
-        whole: impl Fn(&Node) -> Option<Vec4>,
+        whole: impl Fn(&Node, f32) -> Option<Vec4>,
         leaf: impl Fn(usize, Vec3, f32) -> Vec4,
     ) -> [f64; 3] {
         let (p, piece) = (target.position, target.piece);
@@ -225,7 +226,7 @@ impl<'a> Octree<'a> {
                 // its centre's distance.
                 if node.piece != MIXED
                     && node.area < epsilon * outside2
-                    && let Some(w) = whole(node)
+                    && let Some(w) = whole(node, outside2)
                 {
                     sum += w.truncate().as_dvec3();
                     continue;
