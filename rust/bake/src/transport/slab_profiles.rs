@@ -181,19 +181,25 @@ impl SlabProfiles {
             let convex = ball.get(t.texel).copied().unwrap_or([1.0; 3]);
             let half = &mut halves[t.texel];
             for c in 0..3 {
-                if !self.is_thin(t.thickness, c) {
-                    continue;
+                if self.is_thin(t.thickness, c) {
+                    half[c] = self.gain(share[c], convex[c]).sqrt() as f32;
                 }
-                let missing = 1.0 / f64::from(share[c]) - 1.0;
-                let gain = if missing.is_finite() {
-                    (1.0 + self.rim_return * missing.max(0.0)).min(MAX_GAIN)
-                } else {
-                    1.0
-                };
-                half[c] = (gain * f64::from(convex[c])).min(MAX_GAIN).sqrt() as f32;
             }
         }
         Ok(())
+    }
+
+    /// A thin texel's gain in one channel, as [`Self::gains`] finds it:
+    /// from `share`, its sum under a unit light as a share of its slab's
+    /// scattered total, and `convex`, the ball's gain of convex parts.
+    fn gain(&self, share: f32, convex: f32) -> f64 {
+        let missing = 1.0 / f64::from(share) - 1.0;
+        let gain = if missing.is_finite() {
+            (1.0 + self.rim_return * missing.max(0.0)).min(MAX_GAIN)
+        } else {
+            1.0
+        };
+        (gain * f64::from(convex)).min(MAX_GAIN)
     }
 
     /// The exitance (W/m², before the colour after scattering) at each of
@@ -231,8 +237,22 @@ impl SlabProfiles {
             }
             _ => (sums.at(&texels, control)?, None),
         };
+        Ok((self.leaving(raised, halves, parts, scattered), fit))
+    }
+
+    /// The exitance at `parts`' texels from their `scattered` sums of
+    /// `raised`'s light: with the light that leaves unscattered, at the
+    /// texel and from the texel behind, raised where it leaves by
+    /// `halves`.
+    fn leaving(
+        &self,
+        raised: &Prepared,
+        halves: &[[f32; 3]],
+        parts: &ThinParts,
+        scattered: Vec<[f32; 3]>,
+    ) -> ThinExitance {
         let entering = raised.entering();
-        let lit = parts
+        parts
             .texels
             .iter()
             .zip(scattered)
@@ -251,15 +271,22 @@ impl SlabProfiles {
                     Some((m * f64::from(halves[t.texel][c])) as f32)
                 })
             })
-            .collect();
-        Ok((lit, fit))
+            .collect()
     }
 
     /// The exact exitance (W/m², before the colour after scattering) at
     /// the texels `picked` of `prepared`, by the profiles of their slabs in
-    /// each channel where the part is thin (`None` elsewhere):
-    /// [`Self::gains`] at the picked texels, the light entering elsewhere
-    /// raised by `halves`, then [`Self::lit`].
+    /// each channel where the part is thin (`None` elsewhere), for a bake
+    /// that raised the light entering by `halves` (√gain per texel, times
+    /// `ball`'s gain of convex parts where thin): the exact sums of that
+    /// light and of a unit light, in one walk over the pairs, give the
+    /// bake's light summed exactly and the exact gain g at each picked
+    /// texel, which raises the light where it leaves by √g instead of the
+    /// bake's h. The light entering stays as the bake raised it, the picked
+    /// texels' own too: among the millions of texels within a slab's
+    /// reach, exact gains at a few dozen of them would move the sums by
+    /// about a millionth, and what a texel sends back unscattered is a
+    /// small share of its light.
     pub fn exitance(
         &self,
         prepared: &Prepared,
@@ -267,19 +294,29 @@ impl SlabProfiles {
         halves: &[[f32; 3]],
         ball: &[[f32; 3]],
         control: &Control,
-    ) -> Result<Vec<[Option<f32>; 3]>, Error> {
+    ) -> Result<ThinExitance, Error> {
         let parts = self.thin_texels(prepared, Some(picked));
-        let mut exact_halves = halves.to_vec();
-        self.gains(prepared, &parts, &mut exact_halves, ball, 0.0, 1, control)?;
-        let raised = prepared.raised_by(&exact_halves);
-        let (lit, _) = self.lit(&raised, &exact_halves, &parts, 0.0, None, control)?;
-        let mut at = parts.texels.iter().zip(lit).peekable();
+        if parts.texels.is_empty() {
+            return Ok(vec![[None; 3]; picked.len()]);
+        }
+        let raised = prepared.raised_by(halves);
+        let sums = SlabSums::new(self, &raised, &parts, 0.0, false);
+        let [scattered, shares] = sums.exact_with_shares(&parts.texel_ids(), control)?;
+        let lit = self.leaving(&raised, halves, &parts, scattered);
+        let mut at = parts.texels.iter().zip(lit).zip(shares).peekable();
         Ok(picked
             .iter()
             .map(|&i| {
                 // The thin texels follow the picked ones, in order.
-                at.next_if(|(t, _)| t.texel == i)
-                    .map_or([None; 3], |(_, m)| m)
+                let Some(((_, m), share)) = at.next_if(|((t, _), _)| t.texel == i) else {
+                    return [None; 3];
+                };
+                let convex = ball.get(i).copied().unwrap_or([1.0; 3]);
+                [0, 1, 2].map(|c| {
+                    let bake = f64::from(halves[i][c]).max(f64::from(f32::MIN_POSITIVE));
+                    let exact = self.gain(share[c], convex[c]).sqrt();
+                    m[c].map(|m| (f64::from(m) * exact / bake) as f32)
+                })
             })
             .collect())
     }
@@ -368,29 +405,89 @@ impl<'a> SlabSums<'a> {
         within: Option<Reach>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        let (profiles, prepared, first) = (self.profiles, self.lit, self.parts.first);
         let reading: Vec<usize> = at.iter().map(|&(i, _)| i).collect();
-        let listed = prepared.listed(&reading);
-        let opposites = prepared.opposites();
-        let surfels = &prepared.surfels;
-        gathering.at_placed(
-            listed.targets(),
-            |k| {
-                let (i, t) = at[k];
-                let (a, b, w) = profiles.about(t);
-                let mix = [(a - first, 1.0 - w as f32), (b - first, w as f32)];
-                let (p, n) = (surfels.position[i], surfels.normal[i]);
-                let half = 0.5 * opposites[i].map_or(0.0, |o| o.thickness);
-                let reach = profiles.rung_simulated(a).kernel.d_max;
-                let reach = reach.max(profiles.rung_simulated(b).kernel.d_max);
-                (mix, move |q: Vec3, m: Vec3| {
-                    separation(p, n, half, q, m, reach)
-                })
-            },
-            epsilon,
-            within,
-            control,
-        )
+        let listed = self.lit.listed(&reading);
+        let placing = |k: usize| self.placing(at[k]);
+        gathering.at_placed(listed.targets(), placing, epsilon, within, control)
+    }
+
+    /// For texel `i` of thickness `t` (mm), the shares of the rungs it
+    /// mixes and how a source sits from it.
+    fn placing(
+        &self,
+        (i, t): (usize, f64),
+    ) -> (RungMix, impl Fn(Vec3, Vec3) -> Option<Separation>) {
+        let (profiles, first) = (self.profiles, self.parts.first);
+        let (a, b, w) = profiles.about(t);
+        let mix = [(a - first, 1.0 - w as f32), (b - first, w as f32)];
+        let (p, n) = (self.lit.surfels.position[i], self.lit.surfels.normal[i]);
+        let half = 0.5 * self.lit.opposites()[i].map_or(0.0, |o| o.thickness);
+        let reach = profiles.rung_simulated(a).kernel.d_max;
+        let reach = reach.max(profiles.rung_simulated(b).kernel.d_max);
+        (mix, move |q: Vec3, m: Vec3| {
+            separation(p, n, half, q, m, reach)
+        })
+    }
+
+    /// `listed` with each texel's thickness (mm), held within the rungs
+    /// simulated (the thickest where it has none).
+    fn thicknesses(&self, listed: &[usize]) -> Vec<(usize, f64)> {
+        let profiles = self.profiles;
+        let (first, last) = (self.parts.first, self.parts.last);
+        let (thinnest, thickest) = (profiles.thickness[first], profiles.thickness[last]);
+        let opposites = self.lit.opposites();
+        listed
+            .iter()
+            .map(|&i| {
+                let t = opposites[i].map_or(thickest, |o| f64::from(o.thickness));
+                (i, t.clamp(thinnest, thickest))
+            })
+            .collect()
+    }
+
+    /// `sum` of the octree over the sources, built at the first call and
+    /// held (locked while summing, which is parallel itself).
+    fn with_gathering<R>(&self, sum: impl FnOnce(&Gathering) -> R) -> R {
+        let mut held = self.gathering.lock().unwrap_or_else(|e| e.into_inner());
+        let gathering = held.get_or_insert_with(|| {
+            let mut sources = self.lit.texel_sources();
+            if self.shares {
+                sources.irradiance.iter_mut().for_each(|e| *e = [1.0; 3]);
+            }
+            self.profiles.gathering(self.parts, &sources, self.epsilon)
+        });
+        sum(gathering)
+    }
+
+    /// `sums` at `at` under a unit light as shares of each texel's slab's
+    /// scattered total.
+    fn as_shares(&self, at: &[(usize, f64)], sums: Vec<[f32; 3]>) -> Vec<[f32; 3]> {
+        at.iter()
+            .zip(sums)
+            .map(|(&(_, t), sum)| {
+                let (a, b, w) = self.profiles.rungs_at(t);
+                let expected = mix(a.scattered_total, b.scattered_total, w);
+                [0, 1, 2].map(|c| (f64::from(sum[c]) / expected[c]) as f32)
+            })
+            .collect()
+    }
+
+    /// The exact sums at `listed` of the light and, as shares of each
+    /// texel's slab's scattered total, of a unit light, in one walk over
+    /// the pairs.
+    fn exact_with_shares(
+        &self,
+        listed: &[usize],
+        control: &Control,
+    ) -> Result<[Vec<[f32; 3]>; 2], Cancelled> {
+        let at = self.thicknesses(listed);
+        let listed = self.lit.listed(listed);
+        let placing = |k: usize| self.placing(at[k]);
+        let both = self.with_gathering(|gathering| {
+            gathering.exact_placed_with_unit(listed.targets(), placing, control)
+        })?;
+        let (lit, unit): (Vec<_>, Vec<_>) = both.into_iter().map(|[l, u]| (l, u)).unzip();
+        Ok([lit, self.as_shares(&at, unit)])
     }
 
     /// The sums at `listed` at solid angle `epsilon` (at most the
@@ -402,39 +499,13 @@ impl<'a> SlabSums<'a> {
         within: Option<Reach>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        let profiles = self.profiles;
-        let (first, last) = (self.parts.first, self.parts.last);
-        let (thinnest, thickest) = (profiles.thickness[first], profiles.thickness[last]);
-        let opposites = self.lit.opposites();
-        let at: Vec<(usize, f64)> = listed
-            .iter()
-            .map(|&i| {
-                let t = opposites[i].map_or(thickest, |o| f64::from(o.thickness));
-                (i, t.clamp(thinnest, thickest))
-            })
-            .collect();
-        // Held while summing, which is parallel itself.
-        let mut held = self.gathering.lock().unwrap_or_else(|e| e.into_inner());
-        let gathering = held.get_or_insert_with(|| {
-            let mut sources = self.lit.texel_sources();
-            if self.shares {
-                sources.irradiance.iter_mut().for_each(|e| *e = [1.0; 3]);
-            }
-            profiles.gathering(self.parts, &sources, self.epsilon)
-        });
-        let sums = self.placed(gathering, &at, epsilon, within, control)?;
+        let at = self.thicknesses(listed);
+        let sums =
+            self.with_gathering(|gathering| self.placed(gathering, &at, epsilon, within, control))?;
         if !self.shares {
             return Ok(sums);
         }
-        Ok(at
-            .iter()
-            .zip(sums)
-            .map(|(&(_, t), sum)| {
-                let (a, b, w) = profiles.rungs_at(t);
-                let expected = mix(a.scattered_total, b.scattered_total, w);
-                [0, 1, 2].map(|c| (f64::from(sum[c]) / expected[c]) as f32)
-            })
-            .collect())
+        Ok(self.as_shares(&at, sums))
     }
 }
 
@@ -467,6 +538,10 @@ impl NearSum for SlabSums<'_> {
         self.sums(listed, 0.0, Some(reach), control)
     }
 }
+
+/// The shares of the two rungs about a texel's thickness, by their places
+/// among the gathering's kernels.
+type RungMix = [(usize, f32); 2];
 
 /// The share of the solid angle at which a carried map of thin parts is
 /// checked against finer sums.

@@ -13,6 +13,7 @@
 //! hands over to the exact sum.
 
 mod tree;
+mod weighed;
 
 pub use tree::{Gathering, Octree, integrate};
 

@@ -10,6 +10,7 @@
 //! exactly as the exact sum does, so at ε = 0 every node is opened and the
 //! sum is the exact sum's, and ε alone sets the error.
 
+use super::weighed::Weighed;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::transport::brute::Reach;
 use crate::transport::disk_kernel::{DiskKernel, Slot};
@@ -109,6 +110,7 @@ impl<'a> Octree<'a> {
                 self.table.weight4(texels, j, p, n, apart, own) * self.table.flux[j]
             },
         )
+        .to_array()
     }
 
     /// [`Self::gather`] under a mix of kernels, `mix` their indices in
@@ -122,9 +124,10 @@ impl<'a> Octree<'a> {
     /// alike: a placing by faces changes with depth below the target (where
     /// the part's face behind begins, where its slab ends), and a node
     /// across such a depth would otherwise be read all as its centre's
-    /// side.
+    /// side. `T` says what is summed: the sources' light, or beside it a
+    /// unit light's.
     #[allow(clippy::too_many_arguments)]
-    fn gather_placed(
+    fn gather_placed<T: Weighed>(
         &self,
         texels: &[DiskKernel],
         nodes: &[DiskKernel],
@@ -133,7 +136,7 @@ impl<'a> Octree<'a> {
         epsilon: f32,
         within: Option<Reach>,
         separate: &impl Fn(Vec3, Vec3) -> Option<Separation>,
-    ) -> [f64; 3] {
+    ) -> T::Total {
         let piece = target.piece;
         let own = self.table.rank_of(target.own);
         // A target between two rungs often sits on one: kernels of no
@@ -172,15 +175,15 @@ impl<'a> Octree<'a> {
                         w += share * nodes[k].weight4(separation, node.slot);
                     }
                 }
-                Some(w * node.flux4())
+                Some(T::weigh(w, node.flux4(), node.area))
             },
             |j, _, d2| {
                 if !self.table.joins(j, piece) {
-                    return Vec4::ZERO;
+                    return T::ZERO;
                 }
                 let w = self.table.weight_placed(texels, mix, j, d2, own, separate);
                 let tapered = taper.map_or(1.0, |radius| Reach::taper(d2.sqrt() / radius));
-                w * self.table.flux[j] * tapered
+                T::weigh(w, self.table.flux[j], self.table.area[j]).scaled(tapered)
             },
         )
     }
@@ -193,18 +196,18 @@ impl<'a> Octree<'a> {
     /// the target and the offset's squared length, within the reach).
     /// Nodes of another piece of the mesh than the target's are skipped.
     #[inline(always)]
-    fn walk(
+    fn walk<T: Weighed>(
         &self,
         reach: f32,
         target: Target,
         epsilon: f32,
-        whole: impl Fn(&Node, f32) -> Option<Vec4>,
-        leaf: impl Fn(usize, Vec3, f32) -> Vec4,
-    ) -> [f64; 3] {
+        whole: impl Fn(&Node, f32) -> Option<T>,
+        leaf: impl Fn(usize, Vec3, f32) -> T,
+    ) -> T::Total {
         let (p, piece) = (target.position, target.piece);
-        let mut sum = DVec3::ZERO;
+        let mut sum = T::NO_TOTAL;
         if self.nodes.is_empty() {
-            return sum.to_array();
+            return sum;
         }
         let reach2 = reach * reach;
         let mut stack: Vec<u32> = Vec::with_capacity(64);
@@ -228,23 +231,23 @@ impl<'a> Octree<'a> {
                     && node.area < epsilon * outside2
                     && let Some(w) = whole(node, outside2)
                 {
-                    sum += w.truncate().as_dvec3();
+                    w.add_to(&mut sum);
                     continue;
                 }
                 stack.extend(node.first..node.first + node.count);
                 continue;
             }
-            let mut part = Vec4::ZERO;
+            let mut part = T::ZERO;
             for j in node.first as usize..(node.first + node.count) as usize {
                 let offset = self.table.position(j) - p;
                 let d2 = offset.length_squared();
                 if d2 <= reach2 {
-                    part += leaf(j, offset, d2);
+                    part = part.plus(leaf(j, offset, d2));
                 }
             }
-            sum += part.truncate().as_dvec3();
+            part.add_to(&mut sum);
         }
-        sum.to_array()
+        sum
     }
 }
 
@@ -572,20 +575,49 @@ impl<'k> Gathering<'k> {
     where
         S: Fn(Vec3, Vec3) -> Option<Separation>,
     {
-        let mut out = vec![[0.0f32; 3]; targets.position.len()];
+        self.placed_sums::<Vec4, S>(targets, placing, epsilon, within, control)
+    }
+
+    /// [`Self::at_placed`] of the sources' light and, beside it, of a unit
+    /// light (1 W/m² on every source), every pair taken apart (ε 0) and
+    /// weighed once for both: the exact sums of a light and of a unit
+    /// light for the cost of about one.
+    pub fn exact_placed_with_unit<S>(
+        &self,
+        targets: Targets,
+        placing: impl Fn(usize) -> ([(usize, f32); 2], S) + Sync,
+        control: &Control,
+    ) -> Result<Vec<[[f32; 3]; 2]>, Cancelled>
+    where
+        S: Fn(Vec3, Vec3) -> Option<Separation>,
+    {
+        self.placed_sums::<[Vec4; 2], S>(targets, placing, 0.0, None, control)
+    }
+
+    /// The sums of `T` at `targets`, as [`Self::at_placed`] places them.
+    fn placed_sums<T: Weighed, S>(
+        &self,
+        targets: Targets,
+        placing: impl Fn(usize) -> ([(usize, f32); 2], S) + Sync,
+        epsilon: f32,
+        within: Option<Reach>,
+        control: &Control,
+    ) -> Result<Vec<T::Out>, Cancelled>
+    where
+        S: Fn(Vec3, Vec3) -> Option<Separation>,
+    {
+        let mut out = vec![T::out(T::NO_TOTAL); targets.position.len()];
         parallel_fill(&mut out, 64, control, |i| {
             let (mix, separate) = placing(i);
-            self.tree
-                .gather_placed(
-                    &self.texels,
-                    &self.nodes,
-                    &mix,
-                    targets.at(i),
-                    epsilon.clamp(0.0, self.epsilon),
-                    within,
-                    &separate,
-                )
-                .map(|v| v as f32)
+            T::out(self.tree.gather_placed::<T>(
+                &self.texels,
+                &self.nodes,
+                &mix,
+                targets.at(i),
+                epsilon.clamp(0.0, self.epsilon),
+                within,
+                &separate,
+            ))
         })?;
         Ok(out)
     }
