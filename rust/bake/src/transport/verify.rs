@@ -36,15 +36,9 @@ pub struct ErrorEstimate {
 /// random subset of texels, with `kept` of the light where the integration
 /// kept less ([`crate::pipeline::Integration::kept`]); `neighbours` is the
 /// mean count of texels within the profile's reach, which sets how many
-/// are affordable.
-///
-/// Where the integration `raised` the light entering, its gains came from
-/// its own sums under a unit light, with its own error. The exact sum
-/// raises the light by the same gains, and the exact gains at the checked
-/// texels (from the exact sums under a unit light there and behind) scale
-/// it: to first order in an error of the gains that varies slowly within
-/// the reach, the exact model's exitance. So the estimate counts the
-/// gains' error too.
+/// are affordable. Where the bake `raised` the light entering, the
+/// estimate counts the error of its gains too ([`half_space_exact`],
+/// [`crate::transport::slab_profiles`]'s exact exitance).
 #[allow(clippy::too_many_arguments)]
 pub fn estimate_error(
     prepared: &Prepared,
@@ -58,12 +52,71 @@ pub fn estimate_error(
 ) -> Result<ErrorEstimate, Error> {
     let texels = prepared.surfels.position.len();
     let picked = pick(texels, checked(texels, neighbours), seed);
-    // The corrected model reads the sum behind a thin part too: those
-    // texels are gathered as well.
+    // Thin parts by their slab's profile, exactly, where the bake took it;
+    // the half-space's exact sums only where some channel is not.
+    let by_slab = match (raised, scattering.slab_profiles()) {
+        (Some(r), Some(profiles)) => {
+            profiles.exitance(prepared, &picked, &r.halves, &r.ball, control)?
+        }
+        _ => vec![[None; 3]; picked.len()],
+    };
+    let by_half_space = |by: &[Option<f32>; 3]| by.iter().any(Option::is_none);
+    let wanted: Vec<usize> = picked
+        .iter()
+        .zip(&by_slab)
+        .filter(|(_, by)| by_half_space(by))
+        .map(|(&i, _)| i)
+        .collect();
+    let mut half_space =
+        half_space_exact(prepared, scattering, &wanted, raised, kept, control)?.into_iter();
+    let kept = kept.unwrap_or([1.0; 3]);
+    let exact: Vec<[f32; 3]> = picked
+        .iter()
+        .zip(&by_slab)
+        .map(|(&i, by)| {
+            let m = match by_half_space(by) {
+                true => half_space.next().unwrap_or_default(),
+                false => [0.0; 3],
+            };
+            let m = [0, 1, 2].map(|c| by[c].map_or(m[c], |v| v * kept[c]));
+            prepared.after_scattering(i, m)
+        })
+        .collect();
+    let got: Vec<[f32; 3]> = picked.iter().map(|&i| exitance[i]).collect();
+    let (relative_rmse, _) = relative_errors(&got, &exact);
+    Ok(ErrorEstimate {
+        relative_rmse,
+        texels: picked.len(),
+    })
+}
+
+/// The exact model's exitance (before the colour after scattering) at
+/// `picked` by the half-space's profile, corrected by the slab of each
+/// texel's thickness and raised as the bake raised it, with `kept` of the
+/// light where the integration kept less.
+///
+/// Where the integration `raised` the light entering, its gains came from
+/// its own sums under a unit light, with its own error. The exact sum
+/// raises the light by the same gains, and the exact gains at the checked
+/// texels (from the exact sums under a unit light there and behind) scale
+/// it: to first order in an error of the gains that varies slowly within
+/// the reach, the exact model's exitance. So the estimate counts the
+/// gains' error too.
+fn half_space_exact(
+    prepared: &Prepared,
+    scattering: &Scattering,
+    picked: &[usize],
+    raised: Option<&Raised>,
+    kept: Option<[f32; 3]>,
+    control: &Control,
+) -> Result<Vec<[f32; 3]>, Error> {
+    if picked.is_empty() {
+        return Ok(Vec::new());
+    }
     let slab = scattering.local_slab();
     let (behind, gathered) = match slab {
-        Some(slab) => slab.behind(prepared.opposites(), &picked),
-        None => (vec![None; picked.len()], picked.clone()),
+        Some(slab) => slab.behind(prepared.opposites(), picked),
+        None => (vec![None; picked.len()], picked.to_vec()),
     };
     let listed = prepared.listed(&gathered);
     let targets = listed.targets();
@@ -105,7 +158,7 @@ pub fn estimate_error(
         ),
     };
     let mut others = sums[picked.len()..].iter();
-    let left: Vec<[f32; 3]> = picked
+    Ok(picked
         .iter()
         .zip(&sums)
         .zip(&behind)
@@ -138,30 +191,7 @@ pub fn estimate_error(
                 [0, 1, 2].map(|c| corrected[c] * h[c] * kept[c] * g[c])
             })
         })
-        .collect();
-    // Thin parts by their slab's profile, exactly, where the bake took it.
-    let left = match (raised, scattering.slab_profiles()) {
-        (Some(r), Some(profiles)) => {
-            let kept = kept.unwrap_or([1.0; 3]);
-            let by_slab = profiles.exitance(prepared, &picked, &r.halves, &r.ball, control)?;
-            left.iter()
-                .zip(by_slab)
-                .map(|(m, by)| [0, 1, 2].map(|c| by[c].map_or(m[c], |v| v * kept[c])))
-                .collect()
-        }
-        _ => left,
-    };
-    let exact: Vec<[f32; 3]> = picked
-        .iter()
-        .zip(left)
-        .map(|(&i, m)| prepared.after_scattering(i, m))
-        .collect();
-    let got: Vec<[f32; 3]> = picked.iter().map(|&i| exitance[i]).collect();
-    let (relative_rmse, _) = relative_errors(&got, &exact);
-    Ok(ErrorEstimate {
-        relative_rmse,
-        texels: picked.len(),
-    })
+        .collect())
 }
 
 /// How many of `texels` texels the estimate checks when `neighbours` lie
