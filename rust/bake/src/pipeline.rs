@@ -21,6 +21,7 @@ use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::integrator::{Integrated, Integrator, Summer};
 use crate::transport::local_slab::{LocalSlab, MAX_GAIN, RAISED};
+use crate::transport::slab_profiles::thin_tolerance;
 use crate::transport::verify::pick;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -450,10 +451,11 @@ impl Prepared {
         let halves = &raised.halves;
         // The map's tolerance is its relative RMSE: the thin channels'
         // fit may miss by as much over the square root of their share of
-        // the map's Σ M², the map as it stands standing in for theirs.
+        // the map's Σ M² (the map as it stands standing in for theirs),
+        // within a bound.
         let (step, tolerance) = lattice;
         let share = profiles.share_of_map(&thin, &integrated.exitance);
-        let lattice = Some((step, tolerance / share.sqrt().max(f64::MIN_POSITIVE)));
+        let lattice = Some((step, thin_tolerance(tolerance, share)));
         let (lit, fit) = profiles.lit(raised_light, halves, &thin, epsilon, lattice, control)?;
         for (t, m) in thin.texels().iter().zip(lit) {
             let old = &mut integrated.exitance[t.texel];

@@ -539,6 +539,23 @@ impl NearSum for SlabSums<'_> {
     }
 }
 
+/// The least share of the map's Σ M² the thin parts' fit is allowed for:
+/// however little of the map they hold, their own fit misses their own
+/// sums by at most four times the map's tolerance. A part a sixteenth of
+/// the map's light, or far less (a lit ear's rim on a dim head), is still
+/// a part an artist looks at.
+const LEAST_THIN_SHARE: f64 = 1.0 / 16.0;
+
+/// The relative RMSE the thin parts' own map may miss by when the whole
+/// map's is `tolerance` and theirs is `share` of its Σ M²: as much over
+/// the square root of their share ([`SlabProfiles::share_of_map`]), which
+/// adds at most `tolerance` to the whole map's, but at least
+/// [`LEAST_THIN_SHARE`] of it.
+pub fn thin_tolerance(tolerance: f64, share: f64) -> f64 {
+    let share = if share.is_finite() { share } else { 1.0 };
+    tolerance / share.clamp(LEAST_THIN_SHARE, 1.0).sqrt()
+}
+
 /// The shares of the two rungs about a texel's thickness, by their places
 /// among the gathering's kernels.
 type RungMix = [(usize, f32); 2];
@@ -604,4 +621,25 @@ fn separation(p: Vec3, n: Vec3, half: f32, q: Vec3, m: Vec3, reach: f32) -> Opti
         across: distance,
         t: 0.0,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::thin_tolerance;
+
+    /// The thin parts' allowance grows as their share of the map shrinks,
+    /// up to four times the tolerance, and stays finite on any share.
+    #[test]
+    fn thin_parts_may_miss_by_at_most_four_times_the_tolerance() {
+        assert_eq!(thin_tolerance(0.01, 1.0), 0.01);
+        assert!((thin_tolerance(0.01, 0.25) - 0.02).abs() < 1e-12);
+        for share in [1.0 / 16.0, 1e-3, 1e-300, 0.0, -1.0] {
+            let allowed = thin_tolerance(0.01, share);
+            assert!((allowed - 0.04).abs() < 1e-12, "share {share}: {allowed}");
+        }
+        // A share that is no number holds them to the tolerance itself.
+        for share in [4.0, f64::INFINITY, f64::NAN] {
+            assert_eq!(thin_tolerance(0.01, share), 0.01, "share {share}");
+        }
+    }
 }
