@@ -74,9 +74,10 @@ pub fn estimate_error(
         .iter()
         .zip(&by_slab)
         .map(|(&i, by)| {
-            let m = match by_half_space(by) {
-                true => half_space.next().unwrap_or_default(),
-                false => [0.0; 3],
+            let m = if by_half_space(by) {
+                half_space.next().unwrap_or_default()
+            } else {
+                [0.0; 3]
             };
             let m = [0, 1, 2].map(|c| by[c].map_or(m[c], |v| v * kept[c]));
             prepared.after_scattering(i, m)
