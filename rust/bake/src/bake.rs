@@ -260,6 +260,7 @@ fn scatter(
                 integration.raised.as_deref(),
                 integration.kept,
                 neighbours,
+                integrators.get(method).thin_epsilon(),
                 request.integrators.importance.seed,
                 control,
             )?

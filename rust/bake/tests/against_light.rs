@@ -183,6 +183,7 @@ fn the_error_estimate_holds_an_integrator_to_the_corrected_exact_sum() {
         exact.raised.as_deref(),
         exact.kept,
         1.0,
+        BruteIntegrator.thin_epsilon(),
         3,
         &control,
     )
@@ -200,6 +201,7 @@ fn the_error_estimate_holds_an_integrator_to_the_corrected_exact_sum() {
         coarse.raised.as_deref(),
         coarse.kept,
         1.0,
+        octree.thin_epsilon(),
         3,
         &control,
     )

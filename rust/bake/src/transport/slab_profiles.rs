@@ -274,15 +274,15 @@ impl SlabProfiles {
             .collect()
     }
 
-    /// The exact exitance (W/m², before the colour after scattering) at
-    /// the texels `picked` of `prepared`, by the profiles of their slabs in
-    /// each channel where the part is thin (`None` elsewhere), for a bake
-    /// that raised the light entering by `halves` (√gain per texel, times
-    /// `ball`'s gain of convex parts where thin): the exact sums of that
-    /// light and of a unit light, in one walk over the pairs, give the
-    /// bake's light summed exactly and the exact gain g at each picked
-    /// texel, which raises the light where it leaves by √g instead of the
-    /// bake's h. The light entering stays as the bake raised it, the picked
+    /// The exitance (W/m², before the colour after scattering) at the
+    /// texels `picked` of `prepared`, by the profiles of their slabs in each
+    /// channel where the part is thin (`None` elsewhere), for a bake that
+    /// raised the light entering by `halves` (√gain per texel, times
+    /// `ball`'s gain of convex parts where thin), through the octree at
+    /// solid angle `epsilon` (0: exact): the sums of that light and of a
+    /// unit light, in one walk over the pairs, give the bake's light summed
+    /// there and the gain g at each picked texel, which raises the light
+    /// where it leaves by √g instead of the bake's h. The light entering stays as the bake raised it, the picked
     /// texels' own too: among the millions of texels within a slab's
     /// reach, exact gains at a few dozen of them would move the sums by
     /// about a millionth, and what a texel sends back unscattered is a
@@ -293,6 +293,7 @@ impl SlabProfiles {
         picked: &[usize],
         halves: &[[f32; 3]],
         ball: &[[f32; 3]],
+        epsilon: f32,
         control: &Control,
     ) -> Result<ThinExitance, Error> {
         let parts = self.thin_texels(prepared, Some(picked));
@@ -300,8 +301,8 @@ impl SlabProfiles {
             return Ok(vec![[None; 3]; picked.len()]);
         }
         let raised = prepared.raised_by(halves);
-        let sums = SlabSums::new(self, &raised, &parts, 0.0, false);
-        let [scattered, shares] = sums.exact_with_shares(&parts.texel_ids(), control)?;
+        let sums = SlabSums::new(self, &raised, &parts, epsilon.max(0.0), false);
+        let [scattered, shares] = sums.with_shares(&parts.texel_ids(), control)?;
         let lit = self.leaving(&raised, halves, &parts, scattered);
         let mut at = parts.texels.iter().zip(lit).zip(shares).peekable();
         Ok(picked
@@ -472,10 +473,10 @@ impl<'a> SlabSums<'a> {
             .collect()
     }
 
-    /// The exact sums at `listed` of the light and, as shares of each
-    /// texel's slab's scattered total, of a unit light, in one walk over
-    /// the pairs.
-    fn exact_with_shares(
+    /// The sums at `listed` of the light and, as shares of each texel's
+    /// slab's scattered total, of a unit light, at the gathering's solid
+    /// angle, in one walk over the pairs.
+    fn with_shares(
         &self,
         listed: &[usize],
         control: &Control,
@@ -484,7 +485,7 @@ impl<'a> SlabSums<'a> {
         let listed = self.lit.listed(listed);
         let placing = |k: usize| self.placing(at[k]);
         let both = self.with_gathering(|gathering| {
-            gathering.exact_placed_with_unit(listed.targets(), placing, control)
+            gathering.placed_with_unit(listed.targets(), placing, self.epsilon, control)
         })?;
         let (lit, unit): (Vec<_>, Vec<_>) = both.into_iter().map(|[l, u]| (l, u)).unzip();
         Ok([lit, self.as_shares(&at, unit)])

@@ -579,19 +579,22 @@ impl<'k> Gathering<'k> {
     }
 
     /// [`Self::at_placed`] of the sources' light and, beside it, of a unit
-    /// light (1 W/m² on every source), every pair taken apart (ε 0) and
-    /// weighed once for both: the exact sums of a light and of a unit
-    /// light for the cost of about one.
-    pub fn exact_placed_with_unit<S>(
+    /// light (1 W/m² on every source), each pair and node taken whole
+    /// weighed once for both: the sums of a light and of a unit light for
+    /// the cost of about one. A node taken whole is read where the light's
+    /// flux centres in it, over its light's spread, for the unit light too:
+    /// within the solid angle's own error where ε is small.
+    pub fn placed_with_unit<S>(
         &self,
         targets: Targets,
         placing: impl Fn(usize) -> ([(usize, f32); 2], S) + Sync,
+        epsilon: f32,
         control: &Control,
     ) -> Result<Vec<[[f32; 3]; 2]>, Cancelled>
     where
         S: Fn(Vec3, Vec3) -> Option<Separation>,
     {
-        self.placed_sums::<[Vec4; 2], S>(targets, placing, 0.0, None, control)
+        self.placed_sums::<[Vec4; 2], S>(targets, placing, epsilon, None, control)
     }
 
     /// The sums of `T` at `targets`, as [`Self::at_placed`] places them.
