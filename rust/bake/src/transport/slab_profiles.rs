@@ -282,11 +282,11 @@ impl SlabProfiles {
     /// solid angle `epsilon` (0: exact): the sums of that light and of a
     /// unit light, in one walk over the pairs, give the bake's light summed
     /// there and the gain g at each picked texel, which raises the light
-    /// where it leaves by √g instead of the bake's h. The light entering stays as the bake raised it, the picked
-    /// texels' own too: among the millions of texels within a slab's
-    /// reach, exact gains at a few dozen of them would move the sums by
-    /// about a millionth, and what a texel sends back unscattered is a
-    /// small share of its light.
+    /// where it leaves by √g instead of the bake's h. The light entering
+    /// stays as the bake raised it, the picked texels' own too: among the
+    /// millions of texels within a slab's reach, exact gains at a few dozen
+    /// of them would move the sums by about a millionth, and what a texel
+    /// sends back unscattered is a small share of its light.
     pub fn exitance(
         &self,
         prepared: &Prepared,
