@@ -29,7 +29,7 @@ const VISIT_BUDGET: f64 = 1e8;
 /// 0.04%; relative RMSE over R, G, B) from the exact sums at the 63
 /// checked thin texels, at a sixth of the cost; at 0.005 sr, 0.10% there
 /// and 0.04% at 1024²; at 0.02 sr, 0.19% at 1024².
-const THIN_REFERENCE_EPSILON: f32 = 0.002;
+pub(crate) const THIN_REFERENCE_EPSILON: f32 = 0.002;
 
 /// An estimate of a map's error against the exact sum.
 #[derive(Clone, Copy, Debug, PartialEq)]
