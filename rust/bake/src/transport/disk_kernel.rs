@@ -73,39 +73,52 @@ impl<'k> DiskKernel<'k> {
     /// Tabulates `kernel`'s disk means for sample areas in
     /// [`area_min`, `area_max`] (mm²).
     pub fn new(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {
-        Self::for_areas(kernel, area_min, area_max, |_| {})
-    }
-
-    /// [`DiskKernel::new`] with only the rows that samples of the areas
-    /// `each_area` hands to its argument (all within [`area_min`,
-    /// `area_max`]) read; the others hold zeros and are never read.
-    pub(super) fn for_areas(
-        kernel: &'k Kernel,
-        area_min: f32,
-        area_max: f32,
-        each_area: impl FnOnce(&mut dyn FnMut(f32)),
-    ) -> Self {
         let mut table = Self::sized(kernel, area_min, area_max);
-        let sizes = table.radii.len();
-        let mut needed = vec![false; sizes];
-        let mut marked = false;
-        each_area(&mut |area| {
-            let slot = table.slot(area);
-            if slot.tabulated() {
-                needed[slot.row as usize] = true;
-                needed[(slot.row as usize + 1).min(sizes - 1)] = true;
-                marked = true;
-            }
-        });
-        if !marked {
-            needed.fill(true);
-        }
-        table.fill(&needed);
+        table.fill(&vec![true; table.radii.len()]);
         table
     }
 
-    /// The table's sizes for sample areas in [`area_min`, `area_max`], its
-    /// rows not yet filled.
+    /// [`DiskKernel::new`] for each of `kernels`, with only the rows that
+    /// samples of `areas` (all within [`area_min`, `area_max`]) read; the
+    /// others hold zeros and are never read. The rows read depend on the
+    /// areas alone, so they are found once for every kernel, in parallel:
+    /// a bake at 4096² has millions of samples.
+    pub(super) fn for_areas(
+        kernels: &[&'k Kernel],
+        area_min: f32,
+        area_max: f32,
+        areas: impl ParallelIterator<Item = f32>,
+    ) -> Vec<Self> {
+        let Some(&first) = kernels.first() else {
+            return Vec::new();
+        };
+        let sizes = Self::sized(first, area_min, area_max);
+        let rows = sizes.radii.len();
+        let mark = |mut needed: Vec<bool>, area: f32| {
+            let slot = sizes.slot(area);
+            if slot.tabulated() {
+                needed[slot.row as usize] = true;
+                needed[(slot.row as usize + 1).min(rows - 1)] = true;
+            }
+            needed
+        };
+        let either = |a: Vec<bool>, b: Vec<bool>| a.iter().zip(&b).map(|(&a, &b)| a || b).collect();
+        let mut needed = areas
+            .fold(|| vec![false; rows], mark)
+            .reduce(|| vec![false; rows], either);
+        if !needed.contains(&true) {
+            needed.fill(true);
+        }
+        kernels
+            .iter()
+            .map(|&kernel| {
+                let mut table = Self::sized(kernel, area_min, area_max);
+                table.fill(&needed);
+                table
+            })
+            .collect()
+    }
+
     fn sized(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {
         let radius = |area: f32| (area.max(0.0) * FRAC_1_PI).sqrt().max(1e-9);
         let (lo, hi) = (radius(area_min), radius(area_max));

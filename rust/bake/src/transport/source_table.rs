@@ -342,22 +342,35 @@ pub(super) fn disk_area(sources: &Sources, i: usize) -> f32 {
     }
 }
 
-/// The disk means that `sources` and their sub-samples need.
+/// The disk means that `sources` and their sub-samples need under
+/// `kernel`.
 pub(super) fn texel_disks<'k>(kernel: &'k Kernel, sources: &Sources) -> DiskKernel<'k> {
-    let (mut lo, mut hi) = (f32::INFINITY, 0.0f32);
-    for i in 0..sources.len() {
+    let mut one = texel_disks_for(&[kernel], sources);
+    one.pop().expect("a table for the one kernel")
+}
+
+/// [`texel_disks`] for each of `kernels`, the sources' sizes read once.
+pub(super) fn texel_disks_for<'k>(
+    kernels: &[&'k Kernel],
+    sources: &Sources,
+) -> Vec<DiskKernel<'k>> {
+    let sizes = |i: usize| {
         let sub = sources.area[i] / (SUBDIVISIONS * SUBDIVISIONS) as f32;
-        let disk = disk_area(sources, i);
-        lo = lo.min(sub).min(disk);
-        hi = hi.max(sub).max(disk);
-    }
+        [sub, disk_area(sources, i)]
+    };
+    let (lo, hi) = (0..sources.len())
+        .into_par_iter()
+        .map(|i| {
+            let [sub, disk] = sizes(i);
+            (sub.min(disk), sub.max(disk))
+        })
+        .reduce(
+            || (f32::INFINITY, 0.0f32),
+            |(a, b), (c, d)| (a.min(c), b.max(d)),
+        );
     // Only the rows between which these sizes fall are computed.
-    DiskKernel::for_areas(kernel, lo, hi, |mark| {
-        for i in 0..sources.len() {
-            mark(sources.area[i] / (SUBDIVISIONS * SUBDIVISIONS) as f32);
-            mark(disk_area(sources, i));
-        }
-    })
+    let areas = (0..sources.len()).into_par_iter().flat_map_iter(sizes);
+    DiskKernel::for_areas(kernels, lo, hi, areas)
 }
 
 /// The distance (mm) within which a texel with edges `u`, `v` is summed in

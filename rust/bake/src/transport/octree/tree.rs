@@ -15,7 +15,7 @@ use crate::control::{Cancelled, Control, parallel_fill};
 use crate::transport::brute::Reach;
 use crate::transport::disk_kernel::{DiskKernel, Slot};
 use crate::transport::kernel::{Kernel, Separation};
-use crate::transport::source_table::{Apart, SourceTable, texel_disks};
+use crate::transport::source_table::{Apart, SourceTable, texel_disks_for};
 use crate::transport::sources::{Sources, Target, Targets};
 use crate::transport::through_medium::may_cross_air;
 use glam::{DVec3, Vec3, Vec4};
@@ -524,7 +524,7 @@ impl<'k> Gathering<'k> {
     pub fn mixing(kernels: &[&'k Kernel], sources: &Sources<'k>, epsilon: f32) -> Self {
         let epsilon = epsilon.max(0.0);
         // The texels' disk means are sized by the sources' areas alone.
-        let texels: Vec<DiskKernel> = kernels.iter().map(|k| texel_disks(k, sources)).collect();
+        let texels = texel_disks_for(kernels, sources);
         let (shape, order) = Shape::new(sources);
         let reach = kernels.iter().map(|k| k.d_max).fold(0.0, f32::max);
         let (small, large) = node_areas(&shape, epsilon, reach);
