@@ -225,6 +225,7 @@ pub fn prepare(
         incidence: OnceLock::new(),
         curvature: Default::default(),
         raised: Mutex::new(None),
+        texel_tree: Default::default(),
     })
 }
 

@@ -13,6 +13,7 @@ use crate::surface::curvature::mean_curvature;
 use crate::surface::dilation::{MAX_REACH, SeamAwareDilation, seam_aware_dilation};
 use crate::surface::opposite::{Opposite, opposites};
 use crate::surface::turk::{place_points, relax};
+use crate::transport::octree::TreeShape;
 use crate::transport::sources::{OwnSource, Sources, Targets};
 use crate::walk::Enclosure;
 use glam::Vec3;
@@ -46,6 +47,10 @@ pub struct Prepared {
     /// found by the last profile method that integrated, for its
     /// scattering and settings.
     pub(crate) raised: Mutex<Option<Arc<Raised>>>,
+    /// The octree's shape over the texels, made on first use and shared
+    /// with the same object under other light: it depends on where the
+    /// texels lie, not on their light.
+    pub(crate) texel_tree: Arc<OnceLock<TreeShape>>,
 }
 
 /// The mean curvature at every surfel (1/mm) and the scale it was seen at
@@ -244,6 +249,7 @@ impl Prepared {
             incidence: OnceLock::new(),
             curvature: Arc::clone(&self.curvature),
             raised: Mutex::new(None),
+            texel_tree: Arc::clone(&self.texel_tree),
         }
     }
 
@@ -329,6 +335,12 @@ impl Prepared {
             footprint: Cow::Borrowed(self.texel_footprints()),
             piece: Cow::Borrowed(&self.surfels.piece),
         }
+    }
+
+    /// The octree's shape over the texels ([`Self::texel_sources`]).
+    pub(crate) fn texel_tree(&self) -> &TreeShape {
+        self.texel_tree
+            .get_or_init(|| TreeShape::new(&self.texel_sources()))
     }
 
     /// `count` relaxed Turk points as sources, each carrying the texels of

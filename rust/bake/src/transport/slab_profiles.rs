@@ -47,7 +47,7 @@ use crate::transport::brute::Reach;
 use crate::transport::integrator::Summer;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::local_slab::MAX_GAIN;
-use crate::transport::octree::Gathering;
+use crate::transport::octree::{Gathering, TreeShape};
 use crate::transport::slab_ladder::{SlabProfiles, mix};
 use crate::transport::sources::Sources;
 use crate::transport::through_medium::longer_path;
@@ -345,18 +345,19 @@ impl SlabProfiles {
         }
     }
 
-    /// The octree over `sources` under `parts`' rungs, at solid angle
-    /// `epsilon`.
+    /// The octree of `shape` over `sources` under `parts`' rungs, at solid
+    /// angle `epsilon`.
     fn gathering<'a>(
         &'a self,
         parts: &ThinParts,
+        shape: &TreeShape,
         sources: &Sources<'a>,
         epsilon: f32,
     ) -> Gathering<'a> {
         let kernels: Vec<&Kernel> = (parts.first..=parts.last)
             .map(|r| &self.rung_simulated(r).kernel)
             .collect();
-        Gathering::mixing(&kernels, sources, epsilon)
+        Gathering::over(shape, &kernels, sources, epsilon)
     }
 }
 
@@ -455,7 +456,8 @@ impl<'a> SlabSums<'a> {
             if self.shares {
                 sources.irradiance.iter_mut().for_each(|e| *e = [1.0; 3]);
             }
-            self.profiles.gathering(self.parts, &sources, self.epsilon)
+            self.profiles
+                .gathering(self.parts, self.lit.texel_tree(), &sources, self.epsilon)
         });
         sum(gathering)
     }

@@ -12,9 +12,11 @@
 //! refines once, to an ε scaled by the tolerance over the error, then
 //! hands over to the exact sum.
 
+mod shape;
 mod tree;
 mod weighed;
 
+pub use shape::TreeShape;
 pub use tree::{Gathering, Octree, integrate};
 
 use super::Method;
@@ -142,8 +144,9 @@ impl Integrator for OctreeIntegrator {
             own: OwnSource::Same,
             ..prepared.targets()
         };
-        let exitance =
-            Gathering::new(&scattering.kernel, &sources, self.epsilon).at(targets, control)?;
+        let shape = prepared.texel_tree();
+        let exitance = Gathering::over(shape, &[&scattering.kernel], &sources, self.epsilon)
+            .at(targets, control)?;
         Ok(Integrated {
             exitance,
             sources: sources.len(),
@@ -170,7 +173,8 @@ impl Summer for OctreeSummer<'_> {
         let mut held = self.gathering.lock().unwrap_or_else(|e| e.into_inner());
         let gathering = held.get_or_insert_with(|| {
             let sources = self.prepared.texel_sources();
-            Gathering::new(&self.scattering.kernel, &sources, self.epsilon)
+            let shape = self.prepared.texel_tree();
+            Gathering::over(shape, &[&self.scattering.kernel], &sources, self.epsilon)
         });
         let targets = self.prepared.listed(listed);
         Ok(gathering.at(targets.targets(), control)?)

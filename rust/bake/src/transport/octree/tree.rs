@@ -10,6 +10,7 @@
 //! exactly as the exact sum does, so at ε = 0 every node is opened and the
 //! sum is the exact sum's, and ε alone sets the error.
 
+use super::shape::TreeShape;
 use super::weighed::Weighed;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::transport::brute::Reach;
@@ -18,38 +19,37 @@ use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::source_table::{Apart, SourceTable, texel_disks_for};
 use crate::transport::sources::{Sources, Target, Targets};
 use crate::transport::through_medium::may_cross_air;
-use glam::{DVec3, Vec3, Vec4};
-use rayon::prelude::*;
+use glam::{Vec3, Vec4};
 
 /// Sources per leaf.
-const LEAF: usize = 8;
+pub(super) const LEAF: usize = 8;
 
 /// The piece of a node whose sources lie on several pieces of the mesh.
-const MIXED: u32 = u32::MAX;
+pub(super) const MIXED: u32 = u32::MAX;
 
 #[derive(Clone, Debug, Default)]
-struct Node {
-    lo: Vec3,
-    hi: Vec3,
+pub(super) struct Node {
+    pub(super) lo: Vec3,
+    pub(super) hi: Vec3,
     /// Irradiance-weighted centre (area-weighted when unlit).
-    centre: Vec3,
+    pub(super) centre: Vec3,
     /// Area-weighted mean normal, normalised.
-    normal: Vec3,
-    area: f32,
+    pub(super) normal: Vec3,
+    pub(super) area: f32,
     /// The area of the disk whose second moment is that of the node's
     /// light about its centre, mm².
-    spread: f32,
-    slot: Slot,
-    flux: [f32; 3],
+    pub(super) spread: f32,
+    pub(super) slot: Slot,
+    pub(super) flux: [f32; 3],
     /// Children (first, count) in `nodes`, or sources (first, count) in
     /// the table for a leaf.
-    first: u32,
-    count: u32,
-    leaf: bool,
+    pub(super) first: u32,
+    pub(super) count: u32,
+    pub(super) leaf: bool,
     /// The piece of the mesh every source of the node lies on, or
     /// [`MIXED`]. Nodes split by piece first, so only nodes above the
     /// pieces' own subtrees are mixed, and those are always opened.
-    piece: u32,
+    pub(super) piece: u32,
 }
 
 /// The tree over sources, with the sources in its leaf order.
@@ -59,21 +59,21 @@ pub struct Octree<'a> {
 }
 
 impl<'a> Octree<'a> {
-    /// The tree of `shape` over `sources` in leaf `order`: texels' weights
-    /// come from `texels`, nodes' from `nodes` (see [`node_areas`]).
+    /// The tree of `nodes` over `sources` in leaf `order`: texels' weights
+    /// come from `texels`, nodes' from `disks` (see [`node_areas`]).
     fn new(
         sources: &Sources<'a>,
-        shape: Shape,
+        nodes: Vec<Node>,
         order: &[u32],
         texels: &DiskKernel,
-        nodes: &DiskKernel,
+        disks: &DiskKernel,
     ) -> Self {
         let mut tree = Octree {
-            nodes: shape.nodes,
+            nodes,
             table: SourceTable::new(sources, order, texels),
         };
         for node in &mut tree.nodes {
-            node.slot = nodes.slot(node.spread);
+            node.slot = disks.slot(node.spread);
         }
         tree
     }
@@ -298,201 +298,12 @@ impl Node {
     }
 }
 
-/// The tree's nodes before their slots, built by splitting at box centres.
-struct Shape {
-    nodes: Vec<Node>,
-}
-
-/// Levels below the root whose subtrees are built in parallel.
-const PARALLEL_LEVELS: u32 = 3;
-/// The fewest sources a subtree is built in parallel for.
-const PARALLEL_SOURCES: usize = 50_000;
-
-impl Shape {
-    /// The nodes over `sources` and the sources' leaf order.
-    fn new(sources: &Sources) -> (Self, Vec<u32>) {
-        let mut order: Vec<u32> = (0..sources.len() as u32).collect();
-        let nodes = if order.is_empty() {
-            Vec::new()
-        } else {
-            subtree(&mut order, sources, 0, 0)
-        };
-        (Shape { nodes }, order)
-    }
-
-    /// Fills node `at` from the sources in `items` (a slice of the order
-    /// starting at `offset`), splitting at the box centre.
-    fn build(&mut self, at: usize, items: &mut [u32], sources: &Sources, offset: usize) {
-        self.nodes[at] = summarise(items, sources, offset);
-        let Some(children) = split(&mut self.nodes[at], items, sources) else {
-            return;
-        };
-        let first_child = self.nodes.len();
-        self.nodes[at].first = first_child as u32;
-        for _ in &children {
-            self.nodes.push(Node::default());
-        }
-        for (k, (a, b)) in children.into_iter().enumerate() {
-            self.build(first_child + k, &mut items[a..b], sources, offset + a);
-        }
-    }
-}
-
-/// The nodes of the subtree over `items` (a slice of the order starting at
-/// `offset`, `depth` levels below the root), its root first and each
-/// node's children contiguous: the top levels' subtrees built in parallel,
-/// each a block laid out as [`Shape::build`] lays out a whole tree.
-fn subtree(items: &mut [u32], sources: &Sources, offset: usize, depth: u32) -> Vec<Node> {
-    if depth >= PARALLEL_LEVELS || items.len() < PARALLEL_SOURCES {
-        let mut shape = Shape {
-            nodes: vec![Node::default()],
-        };
-        shape.build(0, items, sources, offset);
-        return shape.nodes;
-    }
-    let mut root = summarise(items, sources, offset);
-    let Some(children) = split(&mut root, items, sources) else {
-        return vec![root];
-    };
-    let mut slices = Vec::with_capacity(children.len());
-    let mut rest = items;
-    for &(a, b) in &children {
-        let (head, tail) = rest.split_at_mut(b - a);
-        slices.push((head, offset + a));
-        rest = tail;
-    }
-    let blocks: Vec<Vec<Node>> = slices
-        .into_par_iter()
-        .map(|(slice, at)| subtree(slice, sources, at, depth + 1))
-        .collect();
-    // The children's roots follow the root; each block's other nodes
-    // follow them in turn, every index into a block shifted alike.
-    let count = blocks.len();
-    root.first = 1;
-    let mut nodes = Vec::with_capacity(1 + blocks.iter().map(Vec::len).sum::<usize>());
-    nodes.push(root);
-    nodes.extend(std::iter::repeat_n(Node::default(), count));
-    for (k, block) in blocks.into_iter().enumerate() {
-        let shift = (nodes.len() - 1) as u32;
-        let shifted = |mut node: Node| {
-            if !node.leaf {
-                node.first += shift;
-            }
-            node
-        };
-        let mut block = block.into_iter();
-        if let Some(child) = block.next() {
-            nodes[1 + k] = shifted(child);
-        }
-        nodes.extend(block.map(shifted));
-    }
-    nodes
-}
-
-/// The node over the sources in `items` (a slice of the order starting
-/// at `offset`), a leaf until split.
-fn summarise(items: &[u32], sources: &Sources, offset: usize) -> Node {
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    let mut area = 0.0f64;
-    let mut flux = [0.0f64; 3];
-    // Light- and area-weighted sums of position, |position|² and each
-    // texel's own second moment A/2π (a disk's).
-    let (mut light, mut by_light, mut square_by_light) = (0.0f64, DVec3::ZERO, 0.0f64);
-    let (mut by_area, mut square_by_area) = (DVec3::ZERO, 0.0f64);
-    let mut normal = Vec3::ZERO;
-    let piece_of = |i: &u32| sources.piece.get(*i as usize).copied().unwrap_or(0);
-    let piece = match items.first().map(piece_of) {
-        Some(first) if items.iter().all(|i| piece_of(i) == first) => first,
-        Some(_) => MIXED,
-        None => 0,
-    };
-    for &i in items.iter() {
-        let i = i as usize;
-        let p = sources.position[i];
-        lo = lo.min(p);
-        hi = hi.max(p);
-        let a = sources.area[i].max(0.0) as f64;
-        let e = sources.irradiance[i];
-        area += a;
-        for c in 0..3 {
-            flux[c] += e[c] as f64 * a;
-        }
-        let q = p.as_dvec3();
-        let own = a / std::f64::consts::TAU;
-        let l = (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]).max(0.0) as f64 * a;
-        light += l;
-        by_light += q * l;
-        square_by_light += (q.length_squared() + own) * l;
-        by_area += q * a;
-        square_by_area += (q.length_squared() + own) * a;
-        normal += sources.normal[i] * a as f32;
-    }
-    let (centre, second_moment) = if light > 0.0 {
-        let c = by_light / light;
-        (c, square_by_light / light - c.length_squared())
-    } else if area > 0.0 {
-        let c = by_area / area;
-        (c, square_by_area / area - c.length_squared())
-    } else {
-        (0.5 * (lo + hi).as_dvec3(), 0.0)
-    };
-    Node {
-        lo,
-        hi,
-        centre: centre.as_vec3(),
-        normal: normal.normalize_or_zero(),
-        area: area as f32,
-        // A disk of radius a has second moment a²/2 about its centre.
-        spread: (std::f64::consts::TAU * second_moment.max(0.0)) as f32,
-        slot: Slot::default(),
-        flux: flux.map(|f| f as f32),
-        first: offset as u32,
-        count: items.len() as u32,
-        leaf: true,
-        piece,
-    }
-}
-
-/// Sorts `items` into `node`'s children and makes it their parent: the
-/// children's ranges in `items`, or `None` for a leaf.
-fn split(node: &mut Node, items: &mut [u32], sources: &Sources) -> Option<Vec<(usize, usize)>> {
-    let piece_of = |i: &u32| sources.piece.get(*i as usize).copied().unwrap_or(0);
-    let (lo, hi, piece) = (node.lo, node.hi, node.piece);
-    let mixed = piece == MIXED;
-    if !mixed && (items.len() <= LEAF || (hi - lo).max_element() <= 0.0) {
-        return None;
-    }
-    // Sources of several pieces are split by piece, the rest at the
-    // box centre.
-    let mid = 0.5 * (lo + hi);
-    let child_of = |i: &u32| -> u32 {
-        if mixed {
-            return piece_of(i);
-        }
-        let p = sources.position[*i as usize];
-        (p.x > mid.x) as u32 | ((p.y > mid.y) as u32) << 1 | ((p.z > mid.z) as u32) << 2
-    };
-    items.sort_unstable_by_key(child_of);
-    let mut children: Vec<(usize, usize)> = Vec::with_capacity(8);
-    let mut start = 0;
-    for k in 1..=items.len() {
-        if k == items.len() || child_of(&items[k]) != child_of(&items[start]) {
-            children.push((start, k));
-            start = k;
-        }
-    }
-    node.count = children.len() as u32;
-    node.leaf = false;
-    Some(children)
-}
-
 /// The range of spread areas (mm²) a node taken whole can have: from the
 /// smallest node's to the largest area ε·d_max² the criterion admits,
 /// with room for a node whose light is spread wider than its area.
-fn node_areas(shape: &Shape, epsilon: f32, d_max: f32) -> (f32, f32) {
+fn node_areas(nodes: &[Node], epsilon: f32, d_max: f32) -> (f32, f32) {
     let largest = (4.0 * epsilon * d_max * d_max).max(f32::MIN_POSITIVE);
-    let smallest = shape
-        .nodes
+    let smallest = nodes
         .iter()
         .filter(|n| !n.leaf && n.spread > 0.0)
         .map(|n| n.spread)
@@ -522,17 +333,31 @@ impl<'k> Gathering<'k> {
     /// The tree over `sources` for each of `kernels` (at least one) with
     /// solid-angle threshold `epsilon` (steradians; 0 = exact).
     pub fn mixing(kernels: &[&'k Kernel], sources: &Sources<'k>, epsilon: f32) -> Self {
+        Self::over(&TreeShape::new(sources), kernels, sources, epsilon)
+    }
+
+    /// [`Self::mixing`] with the tree in `shape`, made over sources where
+    /// `sources` lie (a shape that does not fit is made anew).
+    pub fn over(
+        shape: &TreeShape,
+        kernels: &[&'k Kernel],
+        sources: &Sources<'k>,
+        epsilon: f32,
+    ) -> Self {
+        if !shape.fits(sources) {
+            return Self::mixing(kernels, sources, epsilon);
+        }
         let epsilon = epsilon.max(0.0);
         // The texels' disk means are sized by the sources' areas alone.
         let texels = texel_disks_for(kernels, sources);
-        let (shape, order) = Shape::new(sources);
+        let lit = shape.lit(sources);
         let reach = kernels.iter().map(|k| k.d_max).fold(0.0, f32::max);
-        let (small, large) = node_areas(&shape, epsilon, reach);
+        let (small, large) = node_areas(&lit, epsilon, reach);
         let nodes: Vec<DiskKernel> = kernels
             .iter()
             .map(|k| DiskKernel::new(k, small, large))
             .collect();
-        let tree = Octree::new(sources, shape, &order, &texels[0], &nodes[0]);
+        let tree = Octree::new(sources, lit, shape.order(), &texels[0], &nodes[0]);
         Gathering {
             tree,
             texels,
