@@ -76,8 +76,24 @@ pub fn interreflected(
         look_around(layout, &by_place, mesh, rays, entry, gathering[g] as usize)
     })?;
     let spread = Spread::new(layout, &gathering);
-    let mut bounced = vec![[0.0f32; 3]; count];
-    for _ in 0..bounces.min(MOST_BOUNCES) {
+    // A bounce before the last is read only where the rays hit: it is
+    // spread to those surfels alone, each hit reading its surfel's place
+    // among them.
+    let mut hit: Vec<u32> = seen.iter().flatten().map(|h| h.surfel).collect();
+    hit.sort_unstable();
+    hit.dedup();
+    let place = |s: u32| hit.binary_search(&s).unwrap_or_default() as u32;
+    let seen: Vec<Vec<(u32, [f32; 3])>> = seen
+        .into_iter()
+        .map(|hits| hits.iter().map(|h| (place(h.surfel), h.entering)).collect())
+        .collect();
+    let at = |values: &[[f32; 3]]| -> Vec<[f32; 3]> {
+        hit.iter().map(|&s| values[s as usize]).collect()
+    };
+    let (direct, leaving) = (at(direct), at(leaving));
+    let mut bounced = vec![[0.0f32; 3]; hit.len()];
+    let last = bounces.min(MOST_BOUNCES);
+    for bounce in 1..=last {
         control.check()?;
         let gathered: Vec<[f32; 3]> = seen
             .iter()
@@ -86,19 +102,22 @@ pub fn interreflected(
                 // and a Lambertian texel's radiance × π is its exitance:
                 // its whole light so far, direct and bounced, as it leaves.
                 let mut sum = [0.0f32; 3];
-                for hit in hits {
-                    let s = hit.surfel as usize;
+                for &(k, entering) in hits {
+                    let k = k as usize;
                     for c in 0..3 {
-                        let out = (direct[s][c] + bounced[s][c]) * leaving[s][c];
-                        sum[c] += out * hit.entering[c];
+                        let out = (direct[k][c] + bounced[k][c]) * leaving[k][c];
+                        sum[c] += out * entering[c];
                     }
                 }
                 sum.map(|v| v / RAYS as f32)
             })
             .collect();
-        bounced = spread.to_surfels(&gathered, control)?;
+        if bounce == last {
+            return spread.to_surfels(&gathered, control);
+        }
+        bounced = spread.to_some(&gathered, &hit, control)?;
     }
-    Ok(bounced)
+    Ok(vec![[0.0; 3]; count])
 }
 
 /// Rays the light an object sends onto itself casts for `texels` texels

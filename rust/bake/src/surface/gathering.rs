@@ -83,15 +83,32 @@ impl<'a> Spread<'a> {
         values: &[[f32; 3]],
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        let surfels = &self.layout.surfels;
-        let mut out = vec![[0.0f32; 3]; surfels.len()];
-        parallel_fill(&mut out, 1024, control, |s| {
-            // Twice as far where no gathering texel is near (a small chart).
-            self.mean_within(values, s, self.radius)
-                .or_else(|| self.mean_within(values, s, 2.0 * self.radius))
-                .unwrap_or([0.0; 3])
+        let mut out = vec![[0.0f32; 3]; self.layout.surfels.len()];
+        parallel_fill(&mut out, 1024, control, |s| self.spread_to(values, s))?;
+        Ok(out)
+    }
+
+    /// `values`, one per gathering texel, spread to the surfels `at` alone
+    /// (each as [`Self::to_surfels`] spreads to it).
+    pub fn to_some(
+        &self,
+        values: &[[f32; 3]],
+        at: &[u32],
+        control: &Control,
+    ) -> Result<Vec<[f32; 3]>, Cancelled> {
+        let mut out = vec![[0.0f32; 3]; at.len()];
+        parallel_fill(&mut out, 1024, control, |k| {
+            self.spread_to(values, at[k] as usize)
         })?;
         Ok(out)
+    }
+
+    /// `values` spread to surfel `s`: twice as far where no gathering
+    /// texel is near (a small chart).
+    fn spread_to(&self, values: &[[f32; 3]], s: usize) -> [f32; 3] {
+        self.mean_within(values, s, self.radius)
+            .or_else(|| self.mean_within(values, s, 2.0 * self.radius))
+            .unwrap_or([0.0; 3])
     }
 
     fn mean_within(&self, values: &[[f32; 3]], s: usize, radius: f32) -> Option<[f32; 3]> {
