@@ -93,11 +93,11 @@ impl<'a> SourceTable<'a> {
             .map(|i| disks.slot(disk_area(sources, pick(i))))
             .collect();
         SourceTable {
-            tabulated: slot.iter().all(Slot::tabulated),
+            tabulated: slot.par_iter().all(Slot::tabulated),
             slot,
-            x: position.iter().map(|p| p.x).collect(),
-            y: position.iter().map(|p| p.y).collect(),
-            z: position.iter().map(|p| p.z).collect(),
+            x: position.par_iter().map(|p| p.x).collect(),
+            y: position.par_iter().map(|p| p.y).collect(),
+            z: position.par_iter().map(|p| p.z).collect(),
             normal: order.par_iter().map(|i| sources.normal[pick(i)]).collect(),
             flux: order
                 .par_iter()
@@ -125,9 +125,12 @@ impl<'a> SourceTable<'a> {
             // Kept only where the sources lie on several pieces: a one-piece
             // object's pairs then skip the lookup.
             piece: if sources.piece.len() == sources.len()
-                && sources.piece.iter().any(|&p| p != sources.piece[0])
+                && sources.piece.par_iter().any(|&p| p != sources.piece[0])
             {
-                order.iter().map(|&i| sources.piece[i as usize]).collect()
+                order
+                    .par_iter()
+                    .map(|&i| sources.piece[i as usize])
+                    .collect()
             } else {
                 Vec::new()
             },
