@@ -12,6 +12,7 @@ use crate::maps::Output;
 use crate::mesh::Mesh;
 use crate::request::UvPolicy;
 use crate::transport::integrator::{Integrator, Work};
+use crate::transport::octree::shape::BYTES_PER_TEXEL as TREE_SHAPE_BYTES_PER_TEXEL;
 use serde::Serialize;
 
 /// The default memory limit, bytes (16 GiB).
@@ -36,11 +37,15 @@ fn bytes_per_map_texel(outputs: usize) -> u64 {
 /// Bytes per covered texel while an object's bake runs, besides its
 /// layout: its irradiance, colour and exitance, the integrator's tables
 /// and the transient buffers of rasterising and writing. With the layout's
-/// 80, 300 in all, rounded up from the 200 to 245 measured beyond the maps
+/// 80, 360 in all, rounded up from the 200 to 245 measured beyond the maps
 /// (peak resident memory of `sssbake bake` on the bundled examples with
-/// each method, 512² to 2048²); `tests/test_limits.py` checks the estimate
-/// stays above the measured peak and within 2.5× it.
-const BYTES_PER_TEXEL: u64 = 220;
+/// each method, 512² to 2048²) and from the head's peak at 512², which
+/// varies from run to run (146 to 163 MB, where 220 here planned 147 MB;
+/// 155 MB in six runs by `/usr/bin/time`); `tests/test_limits.py` checks
+/// the estimate stays above the measured peak and within 2.5× it. The
+/// octree's shape, held from the first gathering to the end of the
+/// object's bake, is counted apart ([`TREE_SHAPE_BYTES_PER_TEXEL`]).
+const BYTES_PER_TEXEL: u64 = 280;
 
 /// Bytes per covered texel of an object's layout, which the plan holds for
 /// every object until the bake ends.
@@ -139,7 +144,7 @@ impl ObjectCost {
         ObjectCost {
             texels,
             memory_bytes: square * bytes_per_map_texel(outputs.len()) as f64
-                + texels * BYTES_PER_TEXEL as f64,
+                + texels * (BYTES_PER_TEXEL + TREE_SHAPE_BYTES_PER_TEXEL as u64) as f64,
             layout_bytes: texels * LAYOUT_BYTES_PER_TEXEL as f64,
             ..ObjectCost::default()
         }

@@ -13,7 +13,7 @@ use crate::surface::curvature::mean_curvature;
 use crate::surface::dilation::{MAX_REACH, SeamAwareDilation, seam_aware_dilation};
 use crate::surface::opposite::{Opposite, opposites};
 use crate::surface::turk::{place_points, relax};
-use crate::transport::octree::TreeShape;
+use crate::transport::octree::shape::TreeShape;
 use crate::transport::sources::{OwnSource, Sources, Targets};
 use crate::walk::Enclosure;
 use glam::Vec3;

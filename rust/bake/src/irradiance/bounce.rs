@@ -25,6 +25,7 @@ use crate::rays::RayScene;
 use crate::surface::gathering::{Spread, gathering_texels, stride};
 use crate::surface::texels::EMPTY;
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// Bounces of the light an object sends onto itself a bake carries by
 /// default: each brings at most the albedo times the share of the sky the
@@ -77,36 +78,26 @@ pub fn interreflected(
     })?;
     let spread = Spread::new(layout, &gathering);
     // A bounce before the last is read only where the rays hit: it is
-    // spread to those surfels alone, each hit reading its surfel's place
+    // spread to those surfels alone, each hit finding its surfel's place
     // among them.
-    let mut hit: Vec<u32> = seen.iter().flatten().map(|h| h.surfel).collect();
-    hit.sort_unstable();
-    hit.dedup();
-    let place = |s: u32| hit.binary_search(&s).unwrap_or_default() as u32;
-    let seen: Vec<Vec<(u32, [f32; 3])>> = seen
-        .into_iter()
-        .map(|hits| hits.iter().map(|h| (place(h.surfel), h.entering)).collect())
-        .collect();
-    let at = |values: &[[f32; 3]]| -> Vec<[f32; 3]> {
-        hit.iter().map(|&s| values[s as usize]).collect()
-    };
-    let (direct, leaving) = (at(direct), at(leaving));
+    let hit = hit_surfels(&seen, count);
+    let place = |s: u32| hit.binary_search(&s).unwrap_or_default();
     let mut bounced = vec![[0.0f32; 3]; hit.len()];
     let last = bounces.min(MOST_BOUNCES);
     for bounce in 1..=last {
         control.check()?;
         let gathered: Vec<[f32; 3]> = seen
-            .iter()
+            .par_iter()
             .map(|hits| {
                 // Cosine-weighted: the irradiance is the mean radiance × π,
                 // and a Lambertian texel's radiance × π is its exitance:
                 // its whole light so far, direct and bounced, as it leaves.
                 let mut sum = [0.0f32; 3];
-                for &(k, entering) in hits {
-                    let k = k as usize;
+                for hit in hits {
+                    let (s, k) = (hit.surfel as usize, place(hit.surfel));
                     for c in 0..3 {
-                        let out = (direct[k][c] + bounced[k][c]) * leaving[k][c];
-                        sum[c] += out * entering[c];
+                        let out = (direct[s][c] + bounced[k][c]) * leaving[s][c];
+                        sum[c] += out * hit.entering[c];
                     }
                 }
                 sum.map(|v| v / RAYS as f32)
@@ -118,6 +109,15 @@ pub fn interreflected(
         bounced = spread.to_some(&gathered, &hit, control)?;
     }
     Ok(vec![[0.0; 3]; count])
+}
+
+/// The surfels, of `count`, that the rays in `seen` hit, in order.
+fn hit_surfels(seen: &[Vec<Seen>], count: usize) -> Vec<u32> {
+    let mut marked = vec![false; count];
+    for hit in seen.iter().flatten() {
+        marked[hit.surfel as usize] = true;
+    }
+    (0..count as u32).filter(|&s| marked[s as usize]).collect()
 }
 
 /// Rays the light an object sends onto itself casts for `texels` texels

@@ -12,7 +12,7 @@
 //! refines once, to an ε scaled by the tolerance over the error, then
 //! hands over to the exact sum.
 
-mod shape;
+pub(crate) mod shape;
 mod tree;
 mod weighed;
 

@@ -1,4 +1,4 @@
-//! The octree's shape over an object's texels: how its nodes nest and
+//! The octree's nodes, and its shape over an object's texels: how its nodes nest and
 //! which sources each holds, found from the sources' positions and pieces
 //! alone. Every gathering over the same texels, under any light (the
 //! light entering, a unit light, the light raised), shares one shape and
@@ -6,11 +6,41 @@
 //! sorting that builds a tree is most of its cost, and a bake at 4096²
 //! gathers over its texels half a dozen times.
 
-use super::tree::{LEAF, MIXED, Node};
 use crate::transport::disk_kernel::Slot;
 use crate::transport::sources::Sources;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
+
+/// Sources per leaf.
+pub(super) const LEAF: usize = 8;
+
+/// The piece of a node whose sources lie on several pieces of the mesh.
+pub(super) const MIXED: u32 = u32::MAX;
+
+#[derive(Clone, Debug, Default)]
+pub(super) struct Node {
+    pub(super) lo: Vec3,
+    pub(super) hi: Vec3,
+    /// Irradiance-weighted centre (area-weighted when unlit).
+    pub(super) centre: Vec3,
+    /// Area-weighted mean normal, normalised.
+    pub(super) normal: Vec3,
+    pub(super) area: f32,
+    /// The area of the disk whose second moment is that of the node's
+    /// light about its centre, mm².
+    pub(super) spread: f32,
+    pub(super) slot: Slot,
+    pub(super) flux: [f32; 3],
+    /// Children (first, count) in `nodes`, or sources (first, count) in
+    /// the table for a leaf.
+    pub(super) first: u32,
+    pub(super) count: u32,
+    pub(super) leaf: bool,
+    /// The piece of the mesh every source of the node lies on, or
+    /// [`MIXED`]. Nodes split by piece first, so only nodes above the
+    /// pieces' own subtrees are mixed, and those are always opened.
+    pub(super) piece: u32,
+}
 
 /// The octree's shape over one set of sources, with the sources in its
 /// leaf order.
@@ -18,6 +48,11 @@ pub struct TreeShape {
     links: Vec<Links>,
     order: Vec<u32>,
 }
+
+/// Bytes a shape holds per texel, for the plan: its leaf order and, at
+/// most half a node a texel (4.75 million nodes over the head's 11.6
+/// million texels at 4096²), each node's links.
+pub const BYTES_PER_TEXEL: usize = 4 + std::mem::size_of::<Links>() / 2;
 
 /// A node's place in the tree: its children (first, count) among the
 /// nodes, or for a leaf its sources (first, count) in the order; and the
@@ -161,19 +196,44 @@ fn gathered(children: &[Node]) -> Node {
     } else {
         MIXED
     };
+    let bounds = Bounds { lo, hi, piece };
+    summary(bounds, centre, normal, area, second_moment, flux)
+}
+
+/// A node's box and the piece its sources lie on ([`MIXED`] for several).
+struct Bounds {
+    lo: Vec3,
+    hi: Vec3,
+    piece: u32,
+}
+
+/// The node of `bounds` whose sources' light centres at `centre` with
+/// `second_moment` about it (mm²), of `area` (mm²) and `flux` per channel,
+/// and with the area-weighted sum `normal` of their normals (normalised
+/// once the tree is lit, [`TreeShape::lit`]: a parent adds its
+/// children's): not yet placed among the nodes.
+fn summary(
+    bounds: Bounds,
+    centre: DVec3,
+    normal: Vec3,
+    area: f64,
+    second_moment: f64,
+    flux: [f64; 3],
+) -> Node {
     Node {
-        lo,
-        hi,
+        lo: bounds.lo,
+        hi: bounds.hi,
         centre: centre.as_vec3(),
         normal,
         area: area as f32,
-        spread: (std::f64::consts::TAU * second_moment) as f32,
+        // A disk of radius a has second moment a²/2 about its centre.
+        spread: (std::f64::consts::TAU * second_moment.max(0.0)) as f32,
         slot: Slot::default(),
         flux: flux.map(|f| f as f32),
         first: 0,
         count: 0,
         leaf: false,
-        piece,
+        piece: bounds.piece,
     }
 }
 
@@ -300,22 +360,12 @@ fn summarise(items: &[u32], sources: &Sources, offset: usize) -> Node {
     } else {
         (0.5 * (lo + hi).as_dvec3(), 0.0)
     };
+    let bounds = Bounds { lo, hi, piece };
     Node {
-        lo,
-        hi,
-        centre: centre.as_vec3(),
-        // Normalised once the tree is lit ([`TreeShape::lit`]): a parent
-        // adds its children's area-weighted sums.
-        normal,
-        area: area as f32,
-        // A disk of radius a has second moment a²/2 about its centre.
-        spread: (std::f64::consts::TAU * second_moment.max(0.0)) as f32,
-        slot: Slot::default(),
-        flux: flux.map(|f| f as f32),
         first: offset as u32,
         count: items.len() as u32,
         leaf: true,
-        piece,
+        ..summary(bounds, centre, normal, area, second_moment, flux)
     }
 }
 

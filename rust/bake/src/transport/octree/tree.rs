@@ -10,47 +10,16 @@
 //! exactly as the exact sum does, so at ε = 0 every node is opened and the
 //! sum is the exact sum's, and ε alone sets the error.
 
-use super::shape::TreeShape;
+use super::shape::{MIXED, Node, TreeShape};
 use super::weighed::Weighed;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::transport::brute::Reach;
-use crate::transport::disk_kernel::{DiskKernel, Slot};
+use crate::transport::disk_kernel::DiskKernel;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::source_table::{Apart, SourceTable, texel_disks_for};
 use crate::transport::sources::{Sources, Target, Targets};
 use crate::transport::through_medium::may_cross_air;
 use glam::{Vec3, Vec4};
-
-/// Sources per leaf.
-pub(super) const LEAF: usize = 8;
-
-/// The piece of a node whose sources lie on several pieces of the mesh.
-pub(super) const MIXED: u32 = u32::MAX;
-
-#[derive(Clone, Debug, Default)]
-pub(super) struct Node {
-    pub(super) lo: Vec3,
-    pub(super) hi: Vec3,
-    /// Irradiance-weighted centre (area-weighted when unlit).
-    pub(super) centre: Vec3,
-    /// Area-weighted mean normal, normalised.
-    pub(super) normal: Vec3,
-    pub(super) area: f32,
-    /// The area of the disk whose second moment is that of the node's
-    /// light about its centre, mm².
-    pub(super) spread: f32,
-    pub(super) slot: Slot,
-    pub(super) flux: [f32; 3],
-    /// Children (first, count) in `nodes`, or sources (first, count) in
-    /// the table for a leaf.
-    pub(super) first: u32,
-    pub(super) count: u32,
-    pub(super) leaf: bool,
-    /// The piece of the mesh every source of the node lies on, or
-    /// [`MIXED`]. Nodes split by piece first, so only nodes above the
-    /// pieces' own subtrees are mixed, and those are always opened.
-    pub(super) piece: u32,
-}
 
 /// The tree over sources, with the sources in its leaf order.
 pub struct Octree<'a> {
