@@ -411,7 +411,8 @@ mod tests {
     /// Sources on two pieces of a bent sheet, some unlit, under a light.
     fn sources(light: impl Fn(usize) -> [f32; 3]) -> Sources<'static> {
         let mut rng = Rng::new(11, 0);
-        let n = 20_000;
+        // More than PARALLEL_SOURCES: the top levels are built in parallel.
+        let n = 60_000;
         let position: Vec<Vec3> = (0..n)
             .map(|_| {
                 let (u, v) = (rng.uniform() as f32 * 40.0, rng.uniform() as f32 * 40.0);
@@ -443,8 +444,9 @@ mod tests {
             [on * (i % 13) as f32, on * 0.3, 0.0]
         };
         let sources = sources(light);
+        let n = sources.len();
         let lit = shape.lit(&sources);
-        assert!(lit.len() > 1000, "{}", lit.len());
+        assert!(n > PARALLEL_SOURCES && lit.len() > 1000, "{}", lit.len());
         let close = |a: f32, b: f32, scale: f32| (a - b).abs() <= 1e-4 * scale.max(1e-6);
         for (links, node) in shape.links.iter().zip(&lit) {
             let (start, end) = (links.start as usize, links.end as usize);
