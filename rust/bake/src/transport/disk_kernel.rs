@@ -119,6 +119,8 @@ impl<'k> DiskKernel<'k> {
             .collect()
     }
 
+    /// The table's sizes for sample areas in [`area_min`, `area_max`], its
+    /// rows not yet filled.
     fn sized(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {
         let radius = |area: f32| (area.max(0.0) * FRAC_1_PI).sqrt().max(1e-9);
         let (lo, hi) = (radius(area_min), radius(area_max));
