@@ -2,7 +2,7 @@
 //! not smooth over a lattice's cells, the integrator's sums at the lattice
 //! texels, and each texel's route between them.
 
-use super::{KernelNear, NEAR_TEXELS, NearSum, SMOOTH_SHARE, smooth};
+use super::{KernelNear, NearSum, SMOOTH_SHARE, near_reach, smooth};
 use crate::control::Control;
 use crate::error::Error;
 use crate::prepared::Prepared;
@@ -40,6 +40,9 @@ pub struct Carrier<'a> {
     smooth: HashMap<u32, Vec<bool>>,
     /// N per surfel (NaN where not yet summed; empty when carried whole).
     near: Vec<[f32; 3]>,
+    /// N's reach per surfel, mm ([`near_reach`]; empty when carried
+    /// whole).
+    near_radius: Vec<f32>,
     summed: Vec<[f32; 3]>,
     /// Whether lattice texel `j` may carry to texel `i` beyond lying on
     /// its surface; `None`: wherever it does.
@@ -48,7 +51,7 @@ pub struct Carrier<'a> {
 
 impl<'a> Carrier<'a> {
     /// The map of `lit` under `kernel` split as M = N + F, N (the sum
-    /// within [`NEAR_TEXELS`] mean texels, tapered) found where the light
+    /// within [`near_reach`] of each texel, tapered) found where the light
     /// is not within [`SMOOTH_SHARE`] of `tolerance` of bilinear over the
     /// lattice's cells, and carried with F elsewhere.
     pub fn split(
@@ -76,6 +79,7 @@ impl<'a> Carrier<'a> {
             smooth_share: (SMOOTH_SHARE * tolerance) as f32,
             smooth: HashMap::new(),
             near: vec![[f32::NAN; 3]; texels],
+            near_radius: near_reach::near_radii(&lit.surfels),
             summed: vec![[f32::NAN; 3]; texels],
             joins: None,
         }
@@ -92,6 +96,7 @@ impl<'a> Carrier<'a> {
             smooth_share: 0.0,
             smooth: HashMap::new(),
             near: Vec::new(),
+            near_radius: Vec::new(),
             summed: vec![[f32::NAN; 3]; texels],
             joins: None,
         }
@@ -236,7 +241,7 @@ impl<'a> Carrier<'a> {
             surfels,
             light,
             &lattice,
-            near_reach(surfels),
+            &self.near_radius,
             self.smooth_share,
             |i, j| alike(surfels, &lattice, i, j),
         );
@@ -283,11 +288,14 @@ impl<'a> Carrier<'a> {
         if listed.is_empty() {
             return Ok(());
         }
-        let reach = Reach {
-            radius: near_reach(&self.lit.surfels) as f32,
-            tapered: true,
-        };
-        let near = near_sum.within(&listed, reach, control)?;
+        let reaches: Vec<Reach> = listed
+            .iter()
+            .map(|&j| Reach {
+                radius: self.near_radius[j],
+                tapered: true,
+            })
+            .collect();
+        let near = near_sum.within(&listed, &reaches, control)?;
         for (&j, n) in listed.iter().zip(near) {
             self.near[j] = n;
         }
@@ -357,9 +365,4 @@ fn alike(surfels: &TexelSurfels, lattice: &Lattice, i: usize, j: usize) -> bool 
     let within = 1.5 * lattice.step as f32 * surfels.stretch[i].length();
     on_surface_of(surfels, i, j)
         && surfels.position[j].distance_squared(surfels.position[i]) <= within * within
-}
-
-/// N's reach, mm: [`NEAR_TEXELS`] mean texels of `surfels`.
-fn near_reach(surfels: &TexelSurfels) -> f64 {
-    NEAR_TEXELS * surfels.mean_side()
 }

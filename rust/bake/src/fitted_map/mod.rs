@@ -33,6 +33,7 @@ use crate::transport::verify::pick;
 use serde::{Deserialize, Serialize};
 
 mod carrier;
+mod near_reach;
 mod smooth;
 
 pub use carrier::Carrier;
@@ -51,11 +52,12 @@ pub const FIT_SHARE: f64 = 0.4;
 /// the head in skin1 at 2048², 2.4 s at a step of 6 against N's 8.6 s).
 pub const MOST_STEP: u32 = 8;
 
-/// N's reach, in mean texels: the pairs it sums at every texel are
-/// mostly a texel's own and its neighbours', weighed by sub-samples, and
-/// cost more than the gathers at the lattice; on the head in skin1 at
-/// 2048² the fit at a step of 6 misses by 0.25% at 2 texels, 0.24% at 3
-/// and 0.21% at 6, for 9, 11 and 18 s.
+/// N's reach, in the texels about each target ([`near_reach`]): the
+/// pairs it sums at every texel are mostly a texel's own and its
+/// neighbours', weighed by sub-samples, and cost more than the gathers at
+/// the lattice; on the head in skin1 at 2048² the fit at a step of 6
+/// missed by 0.25% at 2 texels, 0.24% at 3 and 0.21% at 6, for 9, 11 and
+/// 18 s (texels then counted in the map's mean texel).
 const NEAR_TEXELS: f64 = 2.0;
 
 /// The share of the tolerance by which the light entering may miss its
@@ -114,11 +116,11 @@ pub fn first_step(half_light: Option<f64>) -> u32 {
 /// N of M = N + F: the exact sum within a short reach of chosen texels.
 pub trait NearSum: Sync {
     /// The exitance (W/m²) at the texels `listed`, in order, from the
-    /// sources within `reach`.
+    /// sources within each one's reach (`reaches`, one per texel).
     fn within(
         &self,
         listed: &[usize],
-        reach: Reach,
+        reaches: &[Reach],
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled>;
 }
@@ -127,10 +129,10 @@ impl<T: NearSum + ?Sized> NearSum for &T {
     fn within(
         &self,
         listed: &[usize],
-        reach: Reach,
+        reaches: &[Reach],
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        (**self).within(listed, reach, control)
+        (**self).within(listed, reaches, control)
     }
 }
 
@@ -144,12 +146,12 @@ impl NearSum for KernelNear<'_> {
     fn within(
         &self,
         listed: &[usize],
-        reach: Reach,
+        reaches: &[Reach],
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
         let targets = self.lit.listed(listed);
         let sources = self.lit.texel_sources();
-        sum_within(self.kernel, &sources, targets.targets(), reach, control)
+        sum_within(self.kernel, &sources, targets.targets(), reaches, control)
     }
 }
 

@@ -4,35 +4,34 @@
 //!
 //! A texel's light is bilinear when it lies within a share of the light
 //! carried bilinearly from the four lattice texels around it (on its own
-//! surface). N at a texel reads the light of the texels within
-//! [`super::NEAR_TEXELS`] mean texels of it, so a texel is smooth when
-//! every texel within [`LAYOUT_REACH`] texels of it in the layout is
-//! bilinear: away from a shadow's edge, a terminator, a chart's edge
-//! (where a texel's neighbours in the layout are not its neighbours on
-//! the surface) and texels so small that N reaches past the box.
+//! surface). N at a texel reads the light of the texels within its reach
+//! ([`super::near_reach`], a few of the texels about it), so a texel is
+//! smooth when every texel within [`LAYOUT_REACH`] texels of it in the
+//! layout is bilinear: away from a shadow's edge, a terminator, a chart's
+//! edge (where a texel's neighbours in the layout are not its neighbours
+//! on the surface) and texels so narrow that N reaches past the box.
 
 use crate::surface::lattice::Lattice;
 use crate::surface::texels::{EMPTY, TexelSurfels};
 use rayon::prelude::*;
 
 /// The box (texels each way in the layout) over which a texel's
-/// neighbours must be bilinear: N reaches [`super::NEAR_TEXELS`] mean
-/// texels on the surface, and a texel whose sides are shorter than
-/// NEAR_TEXELS / LAYOUT_REACH mean sides is never smooth (on the head
-/// at 1024², 234 359 of its 727 436 texels are too small for a box 3
-/// texels each way, 102 793 for one of 5).
+/// neighbours must be bilinear: N reaches [`super::NEAR_TEXELS`] of the
+/// texels about it on the surface, and a texel whose shorter side is
+/// less than 1 / LAYOUT_REACH of N's reach there is never smooth.
 pub(super) const LAYOUT_REACH: u32 = 5;
 
 /// Per surfel, true where the light `light` (per surfel and channel)
 /// within [`LAYOUT_REACH`] texels is within `share` of its bilinear mean
 /// over the `lattice` texels around each, `alike(i, j)` saying lattice
-/// texel j lies on texel i's surface. Where the light is dim, within
-/// `share` of a thousandth of its brightest.
+/// texel j lies on texel i's surface, and N's reach (`near_radius`, mm
+/// per surfel) within the box. Where the light is dim, within `share` of
+/// a thousandth of its brightest.
 pub(super) fn smooth_texels(
     surfels: &TexelSurfels,
     light: &[[f32; 3]],
     lattice: &Lattice,
-    near_reach: f64,
+    near_radius: &[f32],
     share: f32,
     alike: impl Fn(usize, usize) -> bool + Sync,
 ) -> Vec<bool> {
@@ -40,7 +39,6 @@ pub(super) fn smooth_texels(
         [0, 1, 2].map(|c| if e[c] > m[c] { e[c] } else { m[c] })
     });
     let floor = brightest.map(|b| 1e-3 * b);
-    let least_side = (near_reach / f64::from(LAYOUT_REACH)) as f32;
     // Texel by texel of the layout: 1 where its own light is bilinear.
     let n = surfels.resolution as usize;
     let bilinear: Vec<bool> = (0..n * n)
@@ -51,7 +49,7 @@ pub(super) fn smooth_texels(
                 return false;
             }
             let i = i as usize;
-            if surfels.stretch[i].min_element() < least_side {
+            if surfels.stretch[i].min_element() * (LAYOUT_REACH as f32) < near_radius[i] {
                 return false;
             }
             let Some(corners) = lattice.corners(surfels, i, |j| alike(i, j)) else {
@@ -85,9 +83,16 @@ mod tests {
     use crate::surface::texels::unit_plane as plane;
     use glam::Vec2;
 
+    /// N's reach of two unit texels at every surfel.
+    fn reach(surfels: &TexelSurfels) -> Vec<f32> {
+        vec![2.0; surfels.len()]
+    }
+
     fn smooth(surfels: &TexelSurfels, light: &[[f32; 3]]) -> Vec<bool> {
         let lattice = Lattice::new(surfels, 4);
-        smooth_texels(surfels, light, &lattice, 2.0, 0.005, |_, _| true)
+        smooth_texels(surfels, light, &lattice, &reach(surfels), 0.005, |_, _| {
+            true
+        })
     }
 
     /// True for texels at least `LAYOUT_REACH` from the map's border.
@@ -136,7 +141,14 @@ mod tests {
         surfels.index[21 * 40 + 21] = EMPTY;
         surfels.stretch[10 * 40 + 30] = Vec2::splat(0.1);
         let lattice = Lattice::new(&surfels, 4);
-        let smooth = smooth_texels(&surfels, &even, &lattice, 2.0, 0.005, |_, _| true);
+        let smooth = smooth_texels(
+            &surfels,
+            &even,
+            &lattice,
+            &reach(&surfels),
+            0.005,
+            |_, _| true,
+        );
         let at = |x: u32, y: u32| smooth[(y * 40 + x) as usize];
         assert!(!at(21 + r, 21 - r) && !at(21 - r, 21) && at(20 - r, 21));
         assert!(!at(30, 10) && !at(30 - r, 10 + r) && at(30, 11 + r));

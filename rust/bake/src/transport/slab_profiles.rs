@@ -404,7 +404,7 @@ impl<'a> SlabSums<'a> {
         gathering: &Gathering,
         at: &[(usize, f64)],
         epsilon: f32,
-        within: Option<Reach>,
+        within: Option<&[Reach]>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
         let reading: Vec<usize> = at.iter().map(|&(i, _)| i).collect();
@@ -494,12 +494,13 @@ impl<'a> SlabSums<'a> {
     }
 
     /// The sums at `listed` at solid angle `epsilon` (at most the
-    /// gathering's), from the sources `within` a reach where given.
+    /// gathering's), from the sources `within` each texel's reach (one per
+    /// texel) where given.
     fn sums(
         &self,
         listed: &[usize],
         epsilon: f32,
-        within: Option<Reach>,
+        within: Option<&[Reach]>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
         let at = self.thicknesses(listed);
@@ -535,10 +536,10 @@ impl NearSum for SlabSums<'_> {
     fn within(
         &self,
         listed: &[usize],
-        reach: Reach,
+        reaches: &[Reach],
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled> {
-        self.sums(listed, 0.0, Some(reach), control)
+        self.sums(listed, 0.0, Some(reaches), control)
     }
 }
 

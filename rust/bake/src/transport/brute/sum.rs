@@ -242,25 +242,69 @@ pub fn integrate(
         radius: kernel.d_max,
         tapered: false,
     };
-    sum_within(kernel, sources, targets, reach, control)
+    let [sums, _] = sums_within(
+        kernel,
+        sources,
+        false,
+        targets,
+        Reaches::All(reach),
+        control,
+    )?;
+    Ok(sums)
 }
 
-/// The exact sum's part from the sources within `reach` of each target
-/// (its radius at most the kernel's), W/m²: every pair weighed as the
-/// whole sum weighs it, and by the taper where the reach has one.
+/// The exact sum's part from the sources within each target's reach
+/// (`reaches`, one per target, each at most the kernel's), W/m²: every
+/// pair weighed as the whole sum weighs it, and by the taper where the
+/// reach has one.
 pub fn sum_within(
     kernel: &Kernel,
     sources: &Sources,
     targets: Targets,
-    reach: Reach,
+    reaches: &[Reach],
     control: &Control,
 ) -> Result<Vec<[f32; 3]>, Cancelled> {
-    let reach = Reach {
+    let clamped = |reach: &Reach| Reach {
         radius: reach.radius.clamp(0.0, kernel.d_max),
-        ..reach
+        ..*reach
     };
-    let [sums, _] = sums_within(kernel, sources, false, targets, reach, control)?;
+    let reaches: Vec<Reach> = reaches.iter().map(clamped).collect();
+    let [sums, _] = sums_within(
+        kernel,
+        sources,
+        false,
+        targets,
+        Reaches::Each(&reaches),
+        control,
+    )?;
     Ok(sums)
+}
+
+/// The reach of each target: one for all, or one each.
+#[derive(Clone, Copy)]
+enum Reaches<'a> {
+    All(Reach),
+    Each(&'a [Reach]),
+}
+
+impl Reaches<'_> {
+    fn of(&self, target: usize) -> Reach {
+        match *self {
+            Reaches::All(reach) => reach,
+            Reaches::Each(reaches) => reaches[target],
+        }
+    }
+
+    /// The reach the sources' grid is sized for: the mean of the targets'.
+    fn typical(&self) -> f32 {
+        match *self {
+            Reaches::All(reach) => reach.radius,
+            Reaches::Each(reaches) => {
+                let sum: f64 = reaches.iter().map(|r| f64::from(r.radius)).sum();
+                (sum / reaches.len().max(1) as f64) as f32
+            }
+        }
+    }
 }
 
 /// [`sum_within`] of the sources' light and, with `unit`, of a unit light
@@ -270,23 +314,25 @@ fn sums_within(
     sources: &Sources,
     unit: bool,
     targets: Targets,
-    reach: Reach,
+    reaches: Reaches,
     control: &Control,
 ) -> Result<[Vec<[f32; 3]>; 2], Cancelled> {
     let disks = texel_disks(kernel, sources);
-    let sorted = Sorted::new(sources, unit, cell_size(reach.radius, sources), &disks);
+    let sorted = Sorted::new(sources, unit, cell_size(reaches.typical(), sources), &disks);
     let single = |v: DVec3| v.to_array().map(|v| v as f32);
     if !unit {
         // One light's sums alone, without room for a second.
         let mut lit = vec![[0.0f32; 3]; targets.position.len()];
         parallel_fill(&mut lit, 256, control, |i| {
-            single(sorted.gather(&disks, targets.at(i), reach)[0])
+            single(sorted.gather(&disks, targets.at(i), reaches.of(i))[0])
         })?;
         return Ok([lit, Vec::new()]);
     }
     let mut out = vec![[[0.0f32; 3]; 2]; targets.position.len()];
     parallel_fill(&mut out, 256, control, |i| {
-        sorted.gather(&disks, targets.at(i), reach).map(single)
+        sorted
+            .gather(&disks, targets.at(i), reaches.of(i))
+            .map(single)
     })?;
     let (lit, unit) = out.into_iter().map(|[a, b]| (a, b)).unzip();
     Ok([lit, unit])
@@ -363,5 +409,5 @@ pub fn integrate_with_unit(
         radius: kernel.d_max,
         tapered: false,
     };
-    sums_within(kernel, sources, true, targets, reach, control)
+    sums_within(kernel, sources, true, targets, Reaches::All(reach), control)
 }

@@ -355,15 +355,15 @@ impl<'k> Gathering<'k> {
     /// kernels whose faces the caller tells apart
     /// ([`crate::transport::slab_profiles`]), at solid angle `epsilon`
     /// (at most the gathering's own, whose disk means hold its nodes).
-    /// `within` a reach (mm), every pair is taken apart, and weighed by the
-    /// reach's taper where it has one: N of a map split as M = N + F
-    /// ([`crate::fitted_map`]).
+    /// `within` a reach (mm, one per target), every pair is taken apart,
+    /// and weighed by the reach's taper where it has one: N of a map split
+    /// as M = N + F ([`crate::fitted_map`]).
     pub fn at_placed<S>(
         &self,
         targets: Targets,
         placing: impl Fn(usize) -> ([(usize, f32); 2], S) + Sync,
         epsilon: f32,
-        within: Option<Reach>,
+        within: Option<&[Reach]>,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Cancelled>
     where
@@ -397,7 +397,7 @@ impl<'k> Gathering<'k> {
         targets: Targets,
         placing: impl Fn(usize) -> ([(usize, f32); 2], S) + Sync,
         epsilon: f32,
-        within: Option<Reach>,
+        within: Option<&[Reach]>,
         control: &Control,
     ) -> Result<Vec<T::Out>, Cancelled>
     where
@@ -412,7 +412,7 @@ impl<'k> Gathering<'k> {
                 &mix,
                 targets.at(i),
                 epsilon.clamp(0.0, self.epsilon),
-                within,
+                within.map(|reaches| reaches[i]),
                 &separate,
             ))
         })?;
