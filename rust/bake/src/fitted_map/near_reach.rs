@@ -16,10 +16,17 @@ use super::{MOST_STEP, NEAR_TEXELS};
 use crate::surface::texels::TexelSurfels;
 use rayon::prelude::*;
 
+/// The longest step N's reach is counted in, in the map's mean texel
+/// sides: a sliver stretched along a layout's pole (a hundred times longer
+/// one way than the other) does not make N a sum over thousands of
+/// sources a target.
+const MOST_MEAN_SIDES: f32 = 4.0;
+
 /// N's reach (mm) at each surfel of `surfels`: [`NEAR_TEXELS`] times the
 /// longer step of the texels about it (mm per texel along u or v), the
 /// mean over a block [`MOST_STEP`] texels each way read bilinearly
-/// between the blocks' centres, so it is linear across a lattice's cell.
+/// between the blocks' centres, so it is linear across a lattice's cell;
+/// the step at most [`MOST_MEAN_SIDES`] mean texels.
 pub(super) fn near_radii(surfels: &TexelSurfels) -> Vec<f32> {
     let n = surfels.resolution.max(1) as usize;
     let block = MOST_STEP as usize;
@@ -49,7 +56,7 @@ pub(super) fn near_radii(surfels: &TexelSurfels) -> Vec<f32> {
             }
         })
         .collect();
-    let fallback = surfels.mean_side() as f32;
+    let mean_side = surfels.mean_side() as f32;
     surfels
         .texel
         .par_iter()
@@ -74,8 +81,12 @@ pub(super) fn near_radii(surfels: &TexelSurfels) -> Vec<f32> {
                     weight += w;
                 }
             }
-            let side = if weight > 0.0 { sum / weight } else { fallback };
-            (NEAR_TEXELS as f32 * side).max(0.0)
+            let side = if weight > 0.0 {
+                sum / weight
+            } else {
+                mean_side
+            };
+            (NEAR_TEXELS as f32 * side.min(MOST_MEAN_SIDES * mean_side)).max(0.0)
         })
         .collect()
 }
@@ -116,5 +127,16 @@ mod tests {
             .fold(0.0f32, f32::max);
         assert!(steepest > 0.0 && steepest <= near / MOST_STEP as f32 + 1e-5);
         assert!((0..63).all(|x| at(x + 1, 10) >= at(x, 10) - 1e-6));
+        // A sliver a hundred times longer than wide reaches no further than
+        // MOST_MEAN_SIDES of the map's mean texels.
+        for (i, s) in plane.stretch.iter_mut().enumerate() {
+            if plane.texel[i] % 64 >= 32 {
+                *s = Vec2::new(100.0, 1.0);
+            }
+        }
+        let sliver = near_radii(&plane);
+        let mean = plane.mean_side() as f32;
+        let longest = sliver.iter().fold(0.0f32, |m, &r| m.max(r));
+        assert!((longest - near * MOST_MEAN_SIDES * mean).abs() < 1e-4);
     }
 }
