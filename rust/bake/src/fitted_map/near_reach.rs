@@ -6,8 +6,8 @@
 //! differ in size (a face's features packed more densely than the back of
 //! the head), a reach of mean texels spans five or more of the small ones,
 //! and those are where the light is least smooth and N is summed most: on
-//! the head in skin1 at 4096², 65 sources a target against about 13 at
-//! its own texels' size. The reach follows the texels' size, smoothly:
+//! the head in skin1 at 4096², 65 sources a target, where two of its own
+//! texels (this module's reach) hold 21. The reach follows the texels' size, smoothly:
 //! M = N + F is exact for any reach, but F is carried bilinearly between
 //! lattice texels, and a reach that jumped between them (from one
 //! triangle's stretch to the next) would put the jump of N into F.
