@@ -3,14 +3,15 @@
 //!
 //! N must reach a few texels every way, so that F (the rest) changes over
 //! the lattice's cell and not from texel to texel. Where a map's texels
-//! differ in size (a face's features packed more densely than the back of
-//! the head), a reach of mean texels spans five or more of the small ones,
-//! and those are where the light is least smooth and N is summed most: on
-//! the head in skin1 at 4096², 65 sources a target, where two of its own
-//! texels (this module's reach) hold 21. The reach follows the texels' size, smoothly:
-//! M = N + F is exact for any reach, but F is carried bilinearly between
-//! lattice texels, and a reach that jumped between them (from one
-//! triangle's stretch to the next) would put the jump of N into F.
+//! differ in size (the head's, as √area at 1024², from 0.15 mm at the 10th
+//! percentile to 0.72 mm at the 99th), a reach of mean texels spans five
+//! or more of the small ones, and those are where the light is least
+//! smooth and N is summed most: on the head in skin1 at 4096², 65 sources
+//! a target, where two of its own texels (this module's reach) hold 21.
+//! The reach follows the texels' size, smoothly: M = N + F is exact for
+//! any reach, but F is carried bilinearly between lattice texels, and a
+//! reach that jumped between them (from one triangle's stretch to the
+//! next) would put the jump of N into F.
 
 use super::{MOST_STEP, NEAR_TEXELS};
 use crate::surface::texels::TexelSurfels;
