@@ -13,5 +13,14 @@ cargo build --release --locked -p sssbake-cli -p sssbake-ffi
 # The Python package (pyproject.toml) into the venv; maturin is on the venv's PATH.
 PATH="$PWD/.venv/bin:$PATH" .venv/bin/python -m pip install --quiet --disable-pip-version-check \
     --no-build-isolation .
-cargo test --workspace --locked
+# The Rust tests build with the release profile, so they reuse the release build above
+# (the test profile would build every dependency again, minutes on two cores). Where the
+# machine has cargo-nextest, the test binaries run side by side, not one after another:
+# one binary's slowest test then no longer holds up the rest.
+if command -v cargo-nextest >/dev/null; then
+    cargo nextest run --workspace --release --locked --no-fail-fast
+    cargo test --doc --workspace --release --locked
+else
+    cargo test --workspace --release --locked
+fi
 SSSBAKE_BIN="$PWD/target/release/sssbake" .venv/bin/python -m pytest tests -q

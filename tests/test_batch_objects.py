@@ -153,8 +153,8 @@ def test_a_split_asset_on_the_cluster_equals_a_local_whole_bake(sssbake, client,
 
 
 def test_a_worker_killed_mid_object_task_has_it_run_again(sssbake, client, tmp_path):
-    # The exact sum at 192²: the ear's task takes about a second, long enough to catch.
-    slow = MANIFEST.replace("resolution = 32", 'resolution = 192\nmethod = "brute"')
+    # The exact sum at 96²: the ear's task takes seconds (skin's reach), long enough to catch.
+    slow = MANIFEST.replace("resolution = 32", 'resolution = 96\nmethod = "brute"')
     manifest = pair_assets(tmp_path, slow.split("[assets.marble]")[0])
     out = tmp_path / "farm"
     killed = []
