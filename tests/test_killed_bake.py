@@ -23,9 +23,18 @@ def hidden(folder):
     return sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
 
 
+@pytest.fixture(scope="module")
+def whole(sssbake, tmp_path_factory):
+    """The 256² bake the tests kill, run whole once: its maps and how long it took (s)."""
+    out = tmp_path_factory.mktemp("whole") / "maps"
+    start = time.monotonic()
+    assert run(sssbake, "bake", str(SCENE), "--out", str(out), "--resolution", "256").returncode == 0
+    return outputs(out), time.monotonic() - start
+
+
 @pytest.mark.parametrize("share", [0.5, 0.9, 0.98])
 def test_a_killed_bake_leaves_the_old_maps_or_the_new_and_the_next_removes_its_leftovers(
-    sssbake, tmp_path, share
+    sssbake, tmp_path, whole, share
 ):
     """Killed at a share of a whole bake's time, late shares landing while it writes (when
     the kill lands is up to the machine; what must hold, holds at any moment). Removing a
@@ -34,13 +43,9 @@ def test_a_killed_bake_leaves_the_old_maps_or_the_new_and_the_next_removes_its_l
     bake = ["bake", str(SCENE), "--out", str(out), "--force"]
     assert run(sssbake, *bake, "--resolution", "64").returncode == 0
     before = outputs(out)
-    after = tmp_path / "reference"
-    start = time.monotonic()
-    assert run(sssbake, "bake", str(SCENE), "--out", str(after), "--resolution", "256").returncode == 0
-    whole = time.monotonic() - start
-    new = outputs(after)
+    new, seconds = whole
     process = subprocess.Popen([str(sssbake), *bake, "--resolution", "256"], stderr=subprocess.DEVNULL)
-    time.sleep(share * whole)
+    time.sleep(share * seconds)
     process.send_signal(signal.SIGKILL)
     process.wait()
     now = outputs(out)
@@ -73,15 +78,12 @@ def test_a_disk_that_fills_mid_write_leaves_the_old_maps_and_nothing_hidden(sssb
 
 
 @pytest.mark.parametrize("share", [0.3, 0.9])
-def test_an_output_folder_removed_mid_bake_is_an_output_error_not_a_crash(sssbake, tmp_path, share):
+def test_an_output_folder_removed_mid_bake_is_an_output_error_not_a_crash(sssbake, tmp_path, whole, share):
     out = tmp_path / "maps"
     bake = [str(sssbake), "bake", str(SCENE), "--out", str(out), "--resolution", "256"]
-    reference = tmp_path / "reference"
-    start = time.monotonic()
-    assert run(sssbake, "bake", str(SCENE), "--out", str(reference), "--resolution", "256").returncode == 0
-    whole = time.monotonic() - start
+    reference, seconds = whole
     process = subprocess.Popen(bake, stderr=subprocess.PIPE, text=True)
-    time.sleep(share * whole)
+    time.sleep(share * seconds)
     shutil.rmtree(out, ignore_errors=True)
     _, stderr = process.communicate(timeout=300)
     # Removed before the maps were staged, the bake makes the folder again; after, it cannot
@@ -91,6 +93,6 @@ def test_an_output_folder_removed_mid_bake_is_an_output_error_not_a_crash(sssbak
         assert str(out) in stderr and "panicked" not in stderr
     elif out.exists():
         # (Gone altogether when removed after the bake put its maps in place.)
-        assert outputs(out) == outputs(reference)
+        assert outputs(out) == reference
     if out.exists():
         assert hidden(out) == []

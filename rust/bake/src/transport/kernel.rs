@@ -255,23 +255,33 @@ impl Kernel {
         }
         let lo = (d - a).abs();
         let hi = d + a;
+        // The rings' edges, where each sits in the tables and each ring's
+        // share of the disk depend on d and a alone: found once for R and T
+        // (a slab's kernel has both; the share's arccosine is most of a
+        // mean's cost).
+        let spacing = ring_spacing();
+        let mut edges = [Entry::default(); RINGS + 1];
+        for (edge, &s) in edges.iter_mut().zip(spacing) {
+            *edge = Entry::at(lo + (hi - lo) * 0.5 * s, self.d_max);
+        }
+        let mut shares = [0.0f32; RINGS];
+        for (i, share) in shares.iter_mut().enumerate() {
+            let mid = 0.5 * (edges[i].radius + edges[i + 1].radius);
+            *share = super::disk_kernel::ring_share(mid, d, a);
+        }
         let tables: [&[[f32; 3]]; 2] = [&self.reflectance, &self.transmittance];
         for (k, table) in tables.iter().enumerate() {
             if table.is_empty() {
                 continue;
             }
-            let e = |r: f32| lookup(table, r, self.d_max);
-            let mut sum = if d < a { e(lo) } else { [0.0; 3] };
-            // Rings clustered at both ends, where g has square-root ends.
-            let spacing = ring_spacing();
-            let rings = RINGS;
-            let radius = |i: usize| lo + (hi - lo) * 0.5 * spacing[i];
-            let mut previous = e(radius(0));
-            for i in 0..rings {
-                let r1 = radius(i + 1);
-                let next = e(r1);
-                let mid = 0.5 * (radius(i) + r1);
-                let g = super::disk_kernel::ring_share(mid, d, a);
+            let mut sum = if d < a {
+                lookup(table, lo, self.d_max)
+            } else {
+                [0.0; 3]
+            };
+            let mut previous = edges[0].read(table);
+            for (edge, &g) in edges[1..].iter().zip(&shares) {
+                let next = edge.read(table);
                 for c in 0..3 {
                     sum[c] += g * (next[c] - previous[c]);
                 }
@@ -392,12 +402,46 @@ fn ring_spacing() -> &'static [f32; RINGS + 1] {
 /// Linear interpolation in a table indexed by √(r/d_max).
 #[inline]
 fn lookup(table: &[[f32; 3]], r: f32, d_max: f32) -> [f32; 3] {
-    if d_max.is_nan() || d_max <= 0.0 {
-        return [0.0; 3];
+    Entry::at(r, d_max).read(table)
+}
+
+/// Where a radius sits in the tables indexed by √(r/d_max): found once,
+/// read from any of them.
+#[derive(Clone, Copy, Default)]
+struct Entry {
+    /// The radius, mm.
+    radius: f32,
+    /// The entry below, or `None` for an empty kernel (every read zero).
+    below: Option<usize>,
+    /// The weight of the entry above.
+    fraction: f32,
+}
+
+impl Entry {
+    #[inline]
+    fn at(r: f32, d_max: f32) -> Self {
+        if d_max.is_nan() || d_max <= 0.0 {
+            return Entry {
+                radius: r,
+                below: None,
+                fraction: 0.0,
+            };
+        }
+        let x = (r / d_max).clamp(0.0, 1.0).sqrt() * (ENTRIES - 1) as f32;
+        let k = (x as usize).min(ENTRIES - 2);
+        Entry {
+            radius: r,
+            below: Some(k),
+            fraction: x - k as f32,
+        }
     }
-    let x = (r / d_max).clamp(0.0, 1.0).sqrt() * (ENTRIES - 1) as f32;
-    let k = (x as usize).min(ENTRIES - 2);
-    let f = x - k as f32;
-    let (a, b) = (table[k], table[k + 1]);
-    [0, 1, 2].map(|c| a[c] + (b[c] - a[c]) * f)
+
+    #[inline]
+    fn read(&self, table: &[[f32; 3]]) -> [f32; 3] {
+        let Some(k) = self.below else {
+            return [0.0; 3];
+        };
+        let (a, b) = (table[k], table[k + 1]);
+        [0, 1, 2].map(|c| a[c] + (b[c] - a[c]) * self.fraction)
+    }
 }
