@@ -2,7 +2,7 @@
 
 mod shapes;
 
-use sssbake::surface::curvature::mean_curvature;
+use sssbake::surface::curvature::{mean_curvature, mean_curvatures};
 use sssbake::surface::texels::rasterize;
 
 #[test]
@@ -60,4 +60,27 @@ fn nothing_is_curved_at_no_scale() {
     for scale in [0.0, -1.0, f32::NAN, f32::INFINITY] {
         assert!(mean_curvature(&surfels, scale).iter().all(|&h| h == 0.0));
     }
+}
+
+#[test]
+fn scales_found_together_are_each_as_found_alone() {
+    // On a 20 mm ball at 256², patches are at least 0.16 mm across (the
+    // object's bound on their count): 0.2 and 0.4 mm share that size and
+    // one pass, 8 mm has patches of its own, NaN is no scale.
+    let ball = shapes::sphere(20.0, 48, 96);
+    let surfels = rasterize(&ball, ball.uvs.as_ref().unwrap(), 256);
+    for scales in [[0.2, 0.4, f32::NAN], [0.2, 8.0, 0.4]] {
+        let together = mean_curvatures(&surfels, scales);
+        for (k, &scale) in scales.iter().enumerate() {
+            let alone = mean_curvature(&surfels, scale);
+            assert!(
+                together.iter().zip(&alone).all(|(t, a)| t[k] == *a),
+                "scale {scale} of {scales:?}"
+            );
+        }
+        assert!(together.iter().flatten().all(|h| h.is_finite()));
+    }
+    let at_half = mean_curvature(&surfels, 0.4);
+    let mean = at_half.iter().sum::<f32>() / at_half.len() as f32;
+    assert!((mean * 20.0 - 1.0).abs() < 0.05, "1/{}", 1.0 / mean);
 }

@@ -80,34 +80,85 @@ struct Patch {
 /// The mean curvature at every surfel of `surfels`, 1/mm, seen at `scale`
 /// mm (0 for a scale that is not positive and finite).
 pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
-    if !(scale.is_finite() && scale > 0.0) || surfels.is_empty() {
-        return vec![0.0; surfels.len()];
+    mean_curvatures(surfels, [scale])
+        .into_iter()
+        .map(|[h]| h)
+        .collect()
+}
+
+/// [`mean_curvature`] at each of `scales`, per surfel. Scales whose
+/// patches are the same size (on an object large against them the patches
+/// are sized by [`MOST_PATCHES`]) share the patches and the pass over the
+/// texels, which at 4096² is most of the work; each is found as it would
+/// be alone.
+pub fn mean_curvatures<const K: usize>(surfels: &TexelSurfels, scales: [f32; K]) -> Vec<[f32; K]> {
+    let mut out = vec![[0.0; K]; surfels.len()];
+    if surfels.is_empty() {
+        return out;
     }
-    let size = patch_size(scale, surfels.total_area());
+    let area = surfels.total_area();
+    let sizes =
+        scales.map(|scale| (scale.is_finite() && scale > 0.0).then(|| patch_size(scale, area)));
+    let mut sized: Vec<f32> = sizes.iter().flatten().copied().collect();
+    sized.sort_by(f32::total_cmp);
+    sized.dedup();
+    match sized.as_slice() {
+        [] => {}
+        [size] => out = at_patch_size(surfels, *size, sizes.map(|s| s.is_some()), scales),
+        _ => {
+            for (k, size) in sizes.iter().enumerate() {
+                let Some(size) = *size else { continue };
+                let alone = at_patch_size(surfels, size, [true], [scales[k]]);
+                for (o, [h]) in out.iter_mut().zip(alone) {
+                    o[k] = h;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The mean curvature at every surfel at each of `scales` (where `valid`;
+/// 0 elsewhere), from patches of `size` mm.
+fn at_patch_size<const K: usize>(
+    surfels: &TexelSurfels,
+    size: f32,
+    valid: [bool; K],
+    scales: [f32; K],
+) -> Vec<[f32; K]> {
     let patches = patches(surfels, size);
     let positions: Vec<Vec3> = patches.iter().map(|p| p.position).collect();
-    let reach = REACH * scale;
-    // Cells finer than the radius gathered within, so the rows of cells
-    // visited hug the ball.
-    let grid = Grid::new(&positions, 0.5 * reach);
-    let at_patches: Vec<f32> = patches
-        .par_iter()
-        .map(|p| {
-            curvature_at(
-                &grid, &patches, p.position, p.normal, p.medium, scale, reach,
-            )
-        })
-        .collect();
+    let mut at_patches = vec![[0.0f32; K]; patches.len()];
+    for (k, &scale) in scales.iter().enumerate() {
+        if !valid[k] {
+            continue;
+        }
+        let reach = REACH * scale;
+        // Cells finer than the radius gathered within, so the rows of cells
+        // visited hug the ball.
+        let grid = Grid::new(&positions, 0.5 * reach);
+        let found: Vec<f32> = patches
+            .par_iter()
+            .map(|p| {
+                curvature_at(
+                    &grid, &patches, p.position, p.normal, p.medium, scale, reach,
+                )
+            })
+            .collect();
+        for (at, h) in at_patches.iter_mut().zip(found) {
+            at[k] = h;
+        }
+    }
     // Each texel: a smooth mean of the patches within two sizes, facing
     // its way, in its medium (its own patch always among them).
     let near = Grid::new(&positions, size);
-    let smooth_mean = |i: usize| -> f32 {
+    let smooth_mean = |i: usize| -> [f32; K] {
         let (p, n, m) = (
             surfels.position[i],
             surfels.normal[i],
             medium_of(surfels, i),
         );
-        let (mut sum, mut weights) = (0.0f32, 0.0f32);
+        let (mut sum, mut weights) = ([0.0f32; K], 0.0f32);
         let within = 4.0 * size * size;
         near.for_each_run(p, 2.0 * size, |run| {
             for &k in &near.order[run] {
@@ -117,11 +168,17 @@ pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
                     continue;
                 }
                 let w = (-d2 / (size * size)).exp();
-                sum += w * at_patches[k as usize];
+                for (s, h) in sum.iter_mut().zip(&at_patches[k as usize]) {
+                    *s += w * h;
+                }
                 weights += w;
             }
         });
-        if weights > 0.0 { sum / weights } else { 0.0 }
+        if weights > 0.0 {
+            sum.map(|s| s / weights)
+        } else {
+            [0.0; K]
+        }
     };
     // It changes over patches, not texels: it is found on a lattice of
     // texels up to a patch apart, and each texel between takes the
@@ -129,30 +186,77 @@ pub fn mean_curvature(surfels: &TexelSurfels, scale: f32) -> Vec<f32> {
     // on its surface (same medium, facing its way); elsewhere (a chart's
     // edge, a crease) it finds its own.
     let lattice = lattice_of(surfels, size);
-    let at_lattice: Vec<f32> = (0..surfels.len())
-        .into_par_iter()
-        .map(|i| {
-            if lattice.holds(surfels.texel[i]) {
-                smooth_mean(i)
-            } else {
-                f32::NAN
-            }
-        })
-        .collect();
+    let at_lattice = OnLattice::found(surfels, lattice, smooth_mean);
     (0..surfels.len())
         .into_par_iter()
         .map(|i| {
-            let found = at_lattice[i];
-            if !found.is_nan() {
+            if let Some(found) = at_lattice.at(surfels, i) {
                 return found;
             }
-            let alike = |j: usize| on_surface_of(surfels, i, j) && !at_lattice[j].is_nan();
+            let alike =
+                |j: usize| on_surface_of(surfels, i, j) && at_lattice.at(surfels, j).is_some();
             match lattice.corners(surfels, i, alike) {
-                Some(corners) => corners.iter().map(|&(j, w)| w * at_lattice[j]).sum(),
+                Some(corners) => {
+                    let mut carried = [0.0f32; K];
+                    for (j, w) in corners {
+                        let found = at_lattice.at(surfels, j).unwrap_or([0.0; K]);
+                        for (c, h) in carried.iter_mut().zip(found) {
+                            *c += w * h;
+                        }
+                    }
+                    carried
+                }
                 None => smooth_mean(i),
             }
         })
         .collect()
+}
+
+/// Values found at the covered texels of a lattice, held by lattice
+/// place (a sixteenth of the texels or fewer), not by surfel.
+struct OnLattice<const K: usize> {
+    lattice: Lattice,
+    /// Lattice places per row.
+    columns: u32,
+    /// Per lattice place, row by row: its value, or `None` uncovered.
+    values: Vec<Option<[f32; K]>>,
+}
+
+impl<const K: usize> OnLattice<K> {
+    /// `find` at each covered texel of `lattice`.
+    fn found(
+        surfels: &TexelSurfels,
+        lattice: Lattice,
+        find: impl Fn(usize) -> [f32; K] + Sync,
+    ) -> Self {
+        let columns = lattice.resolution.div_ceil(lattice.step);
+        let values = (0..columns * columns)
+            .into_par_iter()
+            .map(|place| {
+                let (x, y) = (place % columns, place / columns);
+                let texel = (y * lattice.step) as usize * lattice.resolution as usize
+                    + (x * lattice.step) as usize;
+                let surfel = *surfels.index.get(texel)? as usize;
+                (surfel < surfels.len()).then(|| find(surfel))
+            })
+            .collect();
+        OnLattice {
+            lattice,
+            columns,
+            values,
+        }
+    }
+
+    /// The value at surfel `i` where it lies on the lattice.
+    fn at(&self, surfels: &TexelSurfels, i: usize) -> Option<[f32; K]> {
+        let texel = surfels.texel[i];
+        if !self.lattice.holds(texel) {
+            return None;
+        }
+        let n = self.lattice.resolution;
+        let (x, y) = (texel % n / self.lattice.step, texel / n / self.lattice.step);
+        self.values[(y * self.columns + x) as usize]
+    }
 }
 
 /// The widest lattice, in powers of two from 2 up to [`MOST_STEP`]

@@ -18,7 +18,7 @@
 //! in H, with B = 1 at H = 0 (past the largest ball B − 1 falls as 1/r,
 //! as the first term of a curvature expansion does).
 
-use crate::surface::curvature::{mean_curvature, planned_steps};
+use crate::surface::curvature::{mean_curvatures, planned_steps};
 use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::ball_totals::ball_totals;
@@ -140,9 +140,10 @@ impl BallGain {
             return gains;
         }
         let level = slab.level();
+        let curvature = mean_curvatures(surfels, self.scale);
         for c in 0..3 {
-            let curvature = mean_curvature(surfels, self.scale[c]);
-            for (i, (g, h)) in gains.iter_mut().zip(curvature).enumerate() {
+            for (i, (g, h)) in gains.iter_mut().zip(&curvature).enumerate() {
+                let h = h[c];
                 let ball = self.at(f64::from(h), c);
                 if ball <= 1.0 {
                     continue;
