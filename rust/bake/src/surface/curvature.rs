@@ -49,7 +49,7 @@ const MOST_PATCHES: f64 = 200_000.0;
 /// neighbours within the reach, and each lattice texel's patches within
 /// two sizes (0 for a scale that is not positive and finite).
 pub fn planned_steps(texels: f64, area_mm2: f64, scale: f32) -> f64 {
-    if !(scale.is_finite() && scale > 0.0 && texels > 0.0 && area_mm2 > 0.0) {
+    if !(is_scale(scale) && texels > 0.0 && area_mm2 > 0.0) {
         return 0.0;
     }
     let size = f64::from(patch_size(scale, area_mm2));
@@ -66,6 +66,12 @@ pub fn planned_steps(texels: f64, area_mm2: f64, scale: f32) -> f64 {
 /// of the scale, grown where the patches would pass [`MOST_PATCHES`].
 fn patch_size(scale: f32, area_mm2: f64) -> f32 {
     (PATCH * scale).max((area_mm2 / MOST_PATCHES).sqrt() as f32)
+}
+
+/// Whether `scale` (mm) is one curvature can be seen at: positive and
+/// finite.
+fn is_scale(scale: f32) -> bool {
+    scale.is_finite() && scale > 0.0
 }
 
 /// Texels gathered into one patch.
@@ -97,18 +103,17 @@ pub fn mean_curvatures<const K: usize>(surfels: &TexelSurfels, scales: [f32; K])
         return out;
     }
     let area = surfels.total_area();
-    let sizes =
-        scales.map(|scale| (scale.is_finite() && scale > 0.0).then(|| patch_size(scale, area)));
+    let sizes = scales.map(|scale| is_scale(scale).then(|| patch_size(scale, area)));
     let mut sized: Vec<f32> = sizes.iter().flatten().copied().collect();
     sized.sort_by(f32::total_cmp);
     sized.dedup();
     match sized.as_slice() {
         [] => {}
-        [size] => out = at_patch_size(surfels, *size, sizes.map(|s| s.is_some()), scales),
+        [size] => out = at_patch_size(surfels, *size, scales),
         _ => {
             for (k, size) in sizes.iter().enumerate() {
                 let Some(size) = *size else { continue };
-                let alone = at_patch_size(surfels, size, [true], [scales[k]]);
+                let alone = at_patch_size(surfels, size, [scales[k]]);
                 for (o, [h]) in out.iter_mut().zip(alone) {
                     o[k] = h;
                 }
@@ -118,19 +123,18 @@ pub fn mean_curvatures<const K: usize>(surfels: &TexelSurfels, scales: [f32; K])
     out
 }
 
-/// The mean curvature at every surfel at each of `scales` (where `valid`;
-/// 0 elsewhere), from patches of `size` mm.
+/// The mean curvature at every surfel at each of `scales` (0 at one that
+/// is not a scale), from patches of `size` mm.
 fn at_patch_size<const K: usize>(
     surfels: &TexelSurfels,
     size: f32,
-    valid: [bool; K],
     scales: [f32; K],
 ) -> Vec<[f32; K]> {
     let patches = patches(surfels, size);
     let positions: Vec<Vec3> = patches.iter().map(|p| p.position).collect();
     let mut at_patches = vec![[0.0f32; K]; patches.len()];
     for (k, &scale) in scales.iter().enumerate() {
-        if !valid[k] {
+        if !is_scale(scale) {
             continue;
         }
         let reach = REACH * scale;
@@ -213,12 +217,11 @@ fn at_patch_size<const K: usize>(
 }
 
 /// Values found at the covered texels of a lattice, held by lattice
-/// place (a sixteenth of the texels or fewer), not by surfel.
+/// place (a quarter of the map's texels or fewer), not by surfel.
 struct OnLattice<const K: usize> {
     lattice: Lattice,
-    /// Lattice places per row.
-    columns: u32,
-    /// Per lattice place, row by row: its value, or `None` uncovered.
+    /// Per lattice place ([`Lattice::place`]): its value, or `None`
+    /// uncovered.
     values: Vec<Option<[f32; K]>>,
 }
 
@@ -229,33 +232,19 @@ impl<const K: usize> OnLattice<K> {
         lattice: Lattice,
         find: impl Fn(usize) -> [f32; K] + Sync,
     ) -> Self {
-        let columns = lattice.resolution.div_ceil(lattice.step);
-        let values = (0..columns * columns)
+        let values = (0..lattice.places())
             .into_par_iter()
             .map(|place| {
-                let (x, y) = (place % columns, place / columns);
-                let texel = (y * lattice.step) as usize * lattice.resolution as usize
-                    + (x * lattice.step) as usize;
-                let surfel = *surfels.index.get(texel)? as usize;
+                let surfel = *surfels.index.get(lattice.texel_at(place) as usize)? as usize;
                 (surfel < surfels.len()).then(|| find(surfel))
             })
             .collect();
-        OnLattice {
-            lattice,
-            columns,
-            values,
-        }
+        OnLattice { lattice, values }
     }
 
     /// The value at surfel `i` where it lies on the lattice.
     fn at(&self, surfels: &TexelSurfels, i: usize) -> Option<[f32; K]> {
-        let texel = surfels.texel[i];
-        if !self.lattice.holds(texel) {
-            return None;
-        }
-        let n = self.lattice.resolution;
-        let (x, y) = (texel % n / self.lattice.step, texel / n / self.lattice.step);
-        self.values[(y * self.columns + x) as usize]
+        self.values[self.lattice.place(surfels.texel[i])?]
     }
 }
 

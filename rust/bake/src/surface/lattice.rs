@@ -37,8 +37,34 @@ impl Lattice {
 
     /// True when `texel` (y·N + x) lies on the lattice.
     pub fn holds(&self, texel: u32) -> bool {
+        self.place(texel).is_some()
+    }
+
+    /// Lattice places per row (and rows).
+    fn columns(&self) -> u32 {
+        self.resolution.div_ceil(self.step)
+    }
+
+    /// How many places the lattice has: one per lattice texel of the map's
+    /// square, covered or not.
+    pub fn places(&self) -> usize {
+        let columns = self.columns() as usize;
+        columns * columns
+    }
+
+    /// Where `texel` (y·N + x) sits among the lattice's places, row by
+    /// row; `None` off the lattice.
+    pub fn place(&self, texel: u32) -> Option<usize> {
         let (x, y) = (texel % self.resolution, texel / self.resolution);
-        x.is_multiple_of(self.step) && y.is_multiple_of(self.step)
+        let on = x.is_multiple_of(self.step) && y.is_multiple_of(self.step);
+        on.then(|| (y / self.step) as usize * self.columns() as usize + (x / self.step) as usize)
+    }
+
+    /// The texel (y·N + x) at lattice place `place`.
+    pub fn texel_at(&self, place: usize) -> u32 {
+        let columns = self.columns() as usize;
+        let (x, y) = ((place % columns) as u32, (place / columns) as u32);
+        y * self.step * self.resolution + x * self.step
     }
 
     /// The surfels of `surfels` on the lattice, in order.
@@ -120,6 +146,14 @@ mod tests {
             }
         }
         assert_eq!(lattice.surfels(&surfels).len(), 9);
+        // Each lattice texel has a place, and the place leads back to it.
+        assert_eq!(lattice.places(), 9);
+        for t in 0..81 {
+            match lattice.place(t) {
+                Some(place) => assert_eq!(lattice.texel_at(place), t),
+                None => assert!(!lattice.holds(t)),
+            }
+        }
     }
 
     #[test]
