@@ -312,7 +312,7 @@ fn scatter(
                     .map(|slab| Corrected {
                         level: slab.level(),
                         thin_texels: prepared
-                            .opposites()
+                            .opposites(slab.reach())
                             .iter()
                             .flatten()
                             .filter(|o| slab.at(o.thickness).is_some())

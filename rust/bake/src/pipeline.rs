@@ -327,12 +327,11 @@ impl Prepared {
         }
         let (uniform, stride) = self.uniform_sums(integrator, scattering, slab, control)?;
         let summed_across = integrator.carries().across;
-        let (gains, _) = slab.gains(self.opposites(), &uniform, summed_across);
+        let (gains, _) = slab.gains(&self.opposites(slab.reach()), &uniform, summed_across);
         // Small convex parts return more than the slab; the two gains
         // answer different shortfalls (surface missing within reach, light
         // that meets the surface sooner) and multiply, within the cap.
-        let ball = known_ball
-            .unwrap_or_else(|| Arc::new(slab.ball_gains(&self.surfels, self.opposites())));
+        let ball = known_ball.unwrap_or_else(|| Arc::new(slab.ball_gains(self)));
         let gains: Vec<[f32; 3]> = gains
             .iter()
             .zip(ball.iter())
@@ -393,7 +392,9 @@ impl Prepared {
             let mut carrier = Carrier::whole(&lit, &*summer);
             while stride > 1 {
                 let fitted = carrier.at(&all, stride, control)?;
-                if probed.gains_missed(slab, self.opposites(), &fitted, across) <= FIT_TOLERANCE {
+                if probed.gains_missed(slab, &self.opposites(slab.reach()), &fitted, across)
+                    <= FIT_TOLERANCE
+                {
                     return Ok((fitted, stride));
                 }
                 // Halved, rounding up: 3 texels apart tries 2 before every
@@ -417,7 +418,7 @@ impl Prepared {
     ) -> Result<Probed, Error> {
         let texels = self.surfels.len();
         let probes = pick(texels, probe_count(texels), 0x756e_6974);
-        let (behind, asked) = slab.behind(self.opposites(), &probes);
+        let (behind, asked) = slab.behind(&self.opposites(slab.reach()), &probes);
         let direct = summer.at(&asked, control)?;
         Ok(Probed {
             probes,
@@ -510,8 +511,11 @@ impl Prepared {
             None => (integrator.integrate(lit, scattering, control)?, None),
         };
         if let Some(slab) = slab {
-            integrated.exitance =
-                slab.correct_all(self.opposites(), &integrated.exitance, summed_across);
+            integrated.exitance = slab.correct_all(
+                &self.opposites(slab.reach()),
+                &integrated.exitance,
+                summed_across,
+            );
         }
         let (mut kept, mut thin_fit) = (None, None);
         if let Some(raised) = &raised {

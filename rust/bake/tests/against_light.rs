@@ -8,7 +8,6 @@ mod lit_scenes;
 
 use glam::Vec3;
 use lit_scenes::*;
-use sssbake::Mesh;
 use sssbake::control::Control;
 use sssbake::prepared::Prepared;
 use sssbake::request::DEFAULT_TOLERANCE;
@@ -21,14 +20,6 @@ use sssbake::transport::verify::estimate_error;
 use sssbake::transport::walk::walk_surfels;
 use sssbake::walk::{StartDirection, WalkMedium, WalkSettings};
 use sssbake_profile::model::Model;
-
-/// `mesh` stretched by `scale` along each axis, its normals made anew.
-fn stretched(mesh: Mesh, scale: Vec3, name: &str) -> Mesh {
-    let positions = mesh.positions.iter().map(|p| *p * scale).collect();
-    Mesh::new(name, positions, None, mesh.uvs, mesh.triangles)
-        .unwrap()
-        .0
-}
 
 /// How a bake compares with the walk over some texels, per channel.
 #[derive(Debug)]

@@ -8,7 +8,6 @@ mod lit_scenes;
 
 use glam::Vec3;
 use lit_scenes::*;
-use sssbake::Mesh;
 use sssbake::control::Control;
 use sssbake::prepared::Prepared;
 use sssbake::scattering::Scattering;
@@ -17,14 +16,6 @@ use sssbake::transport::light_check::{EVENT_BUDGET, check_against_light};
 use sssbake::transport::walk::walk_surfels;
 use sssbake::walk::{StartDirection, WalkMedium, WalkSettings};
 use sssbake_profile::model::Model;
-
-/// `mesh` stretched by `scale` along each axis, its normals made anew.
-fn stretched(mesh: Mesh, scale: Vec3, name: &str) -> Mesh {
-    let positions = mesh.positions.iter().map(|p| *p * scale).collect();
-    Mesh::new(name, positions, None, mesh.uvs, mesh.triangles)
-        .unwrap()
-        .0
-}
 
 /// The relative RMSE of `baked` against walks at every texel of
 /// `prepared`, with the walks' own noise taken out, as the check does.

@@ -21,7 +21,7 @@ use sssbake_profile::model::Model;
 use sssbake_profile::presets::preset;
 
 #[allow(unused_imports)]
-pub use shapes::{boxes, cube, quad, sphere};
+pub use shapes::{boxes, cube, quad, sphere, stretched};
 
 /// A light from straight above (−Z), 1 W/m², no angular size.
 pub fn sun_from(direction: Vec3) -> Light {

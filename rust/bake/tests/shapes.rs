@@ -24,6 +24,14 @@ pub fn quad(size: f32) -> Mesh {
     .0
 }
 
+/// `mesh` stretched by `scale` along each axis, its normals made anew.
+pub fn stretched(mesh: Mesh, scale: Vec3, name: &str) -> Mesh {
+    let positions = mesh.positions.iter().map(|p| *p * scale).collect();
+    Mesh::new(name, positions, None, mesh.uvs, mesh.triangles)
+        .unwrap()
+        .0
+}
+
 /// A cube of side `size` mm centred at the origin; each face its own UV
 /// island in a 3 × 2 atlas with a gap between islands.
 pub fn cube(size: f32) -> Mesh {

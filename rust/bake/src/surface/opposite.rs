@@ -19,18 +19,30 @@ pub struct Opposite {
 }
 
 /// For every surfel, the face behind it, when a ray along its inward
-/// normal leaves the medium (meets a triangle facing away from it) on the
-/// same medium, at a point some texel covers; `None` where the ray meets
-/// nothing, enters another body, or lands where no texel is (a mesh open
-/// below the texel is a half-space there).
-pub fn opposites(enclosure: &Enclosure, surfels: &TexelSurfels) -> Vec<Option<Opposite>> {
+/// normal leaves the medium (meets a triangle facing away from it) within
+/// `reach` mm on the same medium, at a point some texel covers; `None`
+/// where the medium goes on beyond `reach`, the ray meets nothing, enters
+/// another body, or lands where no texel is (a mesh open below the texel
+/// is a half-space there). The reach bounds each ray: a part thicker than
+/// the profile's reach is a half-space to every reader, and most rays
+/// into a head would otherwise cross all of it (half the time at 4096²).
+pub fn opposites(
+    enclosure: &Enclosure,
+    surfels: &TexelSurfels,
+    reach: f32,
+) -> Vec<Option<Opposite>> {
     (0..surfels.len())
         .into_par_iter()
-        .map(|s| opposite_of(enclosure, surfels, s))
+        .map(|s| opposite_of(enclosure, surfels, s, reach))
         .collect()
 }
 
-fn opposite_of(enclosure: &Enclosure, surfels: &TexelSurfels, s: usize) -> Option<Opposite> {
+fn opposite_of(
+    enclosure: &Enclosure,
+    surfels: &TexelSurfels,
+    s: usize,
+    reach: f32,
+) -> Option<Opposite> {
     let inward = -surfels.normal[s].normalize_or_zero();
     if inward == glam::Vec3::ZERO {
         return None;
@@ -38,7 +50,7 @@ fn opposite_of(enclosure: &Enclosure, surfels: &TexelSurfels, s: usize) -> Optio
     let hit = enclosure.first_hit(
         surfels.position[s],
         inward,
-        f32::INFINITY,
+        reach,
         Some(surfels.triangle[s]),
     )?;
     // Leaving the medium: the face met looks the way the ray goes.

@@ -18,9 +18,8 @@
 //! in H, with B = 1 at H = 0 (past the largest ball B − 1 falls as 1/r,
 //! as the first term of a curvature expansion does).
 
-use crate::surface::curvature::{mean_curvatures, planned_steps};
+use crate::surface::curvature::planned_steps;
 use crate::surface::opposite::Opposite;
-use crate::surface::texels::TexelSurfels;
 use crate::transport::ball_totals::ball_totals;
 use crate::transport::kernel::Kernel;
 use crate::transport::local_slab::{LocalSlab, MAX_GAIN};
@@ -126,23 +125,29 @@ impl BallGain {
         self.light.iter().flatten().any(|&g| g > 1.0)
     }
 
+    /// The scale each channel's curvature is read at, mm
+    /// ([`Self::gains`]).
+    pub fn curvature_scales(&self) -> [f32; 3] {
+        self.scale
+    }
+
     /// The gain at every surfel, per channel, in [1, [`MAX_GAIN`]]:
-    /// B(1/H)/S(min(t, 2/H)), with `opposites` the face behind each surfel
-    /// and `slab` the model's slabs.
+    /// B(1/H)/S(min(t, 2/H)), with `curvature` each surfel's mean
+    /// curvature H at each channel's [`Self::curvature_scales`], `opposites` the
+    /// face behind each and `slab` the model's slabs.
     pub fn gains(
         &self,
-        surfels: &TexelSurfels,
+        curvature: &[[f32; 3]],
         opposites: &[Option<Opposite>],
         slab: &LocalSlab,
     ) -> Vec<[f32; 3]> {
-        let mut gains = vec![[1.0f32; 3]; surfels.len()];
+        let mut gains = vec![[1.0f32; 3]; curvature.len()];
         if !self.raises() {
             return gains;
         }
         let level = slab.level();
-        let curvature = mean_curvatures(surfels, self.scale);
         for c in 0..3 {
-            for (i, (g, h)) in gains.iter_mut().zip(&curvature).enumerate() {
+            for (i, (g, h)) in gains.iter_mut().zip(curvature).enumerate() {
                 let h = h[c];
                 let ball = self.at(f64::from(h), c);
                 if ball <= 1.0 {

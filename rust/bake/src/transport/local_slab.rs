@@ -64,9 +64,9 @@
 //! curvature, from walks in balls, raises it by the same square roots
 //! ([`crate::transport::ball_gain`]).
 
+use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use crate::surface::opposite::Opposite;
-use crate::surface::texels::TexelSurfels;
 use crate::transport::ball_gain::BallGain;
 use crate::transport::slab_ladder::rungs_about;
 use crate::transport::slab_totals::slab_totals;
@@ -176,15 +176,15 @@ impl LocalSlab {
         })
     }
 
-    /// Per surfel, the gain of small convex parts by the surface's
-    /// curvature ([`BallGain::gains`]), with `opposites` the face behind
-    /// each.
-    pub fn ball_gains(
-        &self,
-        surfels: &TexelSurfels,
-        opposites: &[Option<Opposite>],
-    ) -> Vec<[f32; 3]> {
-        self.ball.gains(surfels, opposites, self)
+    /// Per surfel of `prepared`, the gain of small convex parts by the
+    /// surface's curvature ([`BallGain::gains`]).
+    pub fn ball_gains(&self, prepared: &Prepared) -> Vec<[f32; 3]> {
+        if !self.ball.raises() {
+            return vec![[1.0; 3]; prepared.surfels.len()];
+        }
+        let curvature = prepared.mean_curvatures(self.ball.curvature_scales());
+        self.ball
+            .gains(&curvature, &prepared.opposites(self.reach()), self)
     }
 
     /// Whether [`Self::of`] gives a ladder for `scattering`, without
@@ -224,6 +224,12 @@ impl LocalSlab {
             kept: self.level,
             ..SlabShares::default()
         }
+    }
+
+    /// The thickest rung, mm: the profile's reach, beyond which a part is
+    /// a half-space ([`Self::at`] is `None`).
+    pub fn reach(&self) -> f32 {
+        self.thickness.last().map_or(0.0, |&t| t as f32)
     }
 
     /// The shares at thickness `t` mm (linear in ln t between rungs; the

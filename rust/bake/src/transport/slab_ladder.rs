@@ -46,7 +46,7 @@ pub struct SlabProfiles {
     material: Material,
     layer: Layer,
     /// The half-space profile's reach, mm: no slab's goes further.
-    reach: f64,
+    pub(super) reach: f64,
     /// The share of each slab's light its kernel may leave beyond its
     /// reach.
     d_max_epsilon: f64,

@@ -43,6 +43,7 @@ use crate::control::{Cancelled, Control};
 use crate::error::Error;
 use crate::fitted_map::{Carrier, MapFit, NearSum, fitted_at};
 use crate::prepared::Prepared;
+use crate::surface::opposite::Opposite;
 use crate::transport::brute::Reach;
 use crate::transport::integrator::Summer;
 use crate::transport::kernel::{Kernel, Separation};
@@ -52,7 +53,7 @@ use crate::transport::slab_ladder::{SlabProfiles, mix};
 use crate::transport::sources::Sources;
 use crate::transport::through_medium::longer_path;
 use glam::Vec3;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 /// A texel on a part thin in some channel.
 #[derive(Clone, Copy, Debug)]
@@ -90,13 +91,19 @@ impl ThinParts {
 }
 
 impl SlabProfiles {
+    /// The face behind each of `prepared`'s texels within the reach of the
+    /// half-space's profile, the thickest any slab here reads.
+    pub(super) fn opposites(&self, prepared: &Prepared) -> Arc<Vec<Option<Opposite>>> {
+        prepared.opposites(self.reach as f32)
+    }
+
     /// The texels of `picked` (all of `prepared`'s where `None`) on a part
     /// thin in some channel and thinner than its radius of curvature, with
     /// the rungs from the thinnest to the thickest they read simulated;
     /// none when a rung cannot be simulated (the half-space's profile then
     /// serves).
     pub fn thin_texels(&self, prepared: &Prepared, picked: Option<&[usize]>) -> ThinParts {
-        let opposites = prepared.opposites();
+        let opposites = self.opposites(prepared);
         let thin = |i: usize| {
             let o = opposites.get(i).copied().flatten()?;
             let thickness = f64::from(o.thickness);
@@ -171,7 +178,7 @@ impl SlabProfiles {
             return Ok(());
         }
         let held = SlabSums::new(self, prepared, parts, epsilon, true);
-        let even = evenly_thick(prepared);
+        let even = evenly_thick(&held.opposites);
         let shares = Carrier::whole(prepared, &held).joining(&even).at(
             &parts.texel_ids(),
             stride.max(1),
@@ -227,7 +234,7 @@ impl SlabProfiles {
         }
         let sums = SlabSums::new(self, raised, parts, epsilon, false);
         let texels = parts.texel_ids();
-        let even = evenly_thick(raised);
+        let even = evenly_thick(&sums.opposites);
         let (scattered, fit) = match lattice {
             Some((step, tolerance)) if epsilon > 0.0 && step > 1 => {
                 let carrier = Carrier::split_by(raised, &sums, Box::new(&sums), tolerance);
@@ -374,6 +381,8 @@ struct SlabSums<'a> {
     epsilon: f32,
     shares: bool,
     gathering: Mutex<Option<Gathering<'a>>>,
+    /// The face behind each of `lit`'s texels.
+    opposites: Arc<Vec<Option<Opposite>>>,
 }
 
 impl<'a> SlabSums<'a> {
@@ -391,6 +400,7 @@ impl<'a> SlabSums<'a> {
             epsilon,
             shares,
             gathering: Mutex::new(None),
+            opposites: profiles.opposites(lit),
         }
     }
 
@@ -423,7 +433,7 @@ impl<'a> SlabSums<'a> {
         let (a, b, w) = profiles.about(t);
         let mix = [(a - first, 1.0 - w as f32), (b - first, w as f32)];
         let (p, n) = (self.lit.surfels.position[i], self.lit.surfels.normal[i]);
-        let half = 0.5 * self.lit.opposites()[i].map_or(0.0, |o| o.thickness);
+        let half = 0.5 * self.opposites[i].map_or(0.0, |o| o.thickness);
         let reach = profiles.rung_simulated(a).kernel.d_max;
         let reach = reach.max(profiles.rung_simulated(b).kernel.d_max);
         (mix, move |q: Vec3, m: Vec3| {
@@ -437,7 +447,7 @@ impl<'a> SlabSums<'a> {
         let profiles = self.profiles;
         let (first, last) = (self.parts.first, self.parts.last);
         let (thinnest, thickest) = (profiles.thickness[first], profiles.thickness[last]);
-        let opposites = self.lit.opposites();
+        let opposites = &self.opposites;
         listed
             .iter()
             .map(|&i| {
@@ -575,10 +585,9 @@ const FINER: f32 = 0.25;
 /// the head's ear), and so do its slab's sums.
 const CARRIED_THICKNESS_RATIO: f32 = 1.25;
 
-/// Whether texel `j` of `prepared` is as thick as texel `i`, within
-/// [`CARRIED_THICKNESS_RATIO`], both having a face behind.
-fn evenly_thick(prepared: &Prepared) -> impl Fn(usize, usize) -> bool + Sync + '_ {
-    let opposites = prepared.opposites();
+/// Whether texel `j` is as thick as texel `i` by their faces behind
+/// (`opposites`), within [`CARRIED_THICKNESS_RATIO`], both having one.
+fn evenly_thick(opposites: &[Option<Opposite>]) -> impl Fn(usize, usize) -> bool + Sync + '_ {
     move |i, j| match (opposites[i], opposites[j]) {
         (Some(a), Some(b)) => {
             let (thin, thick) = (a.thickness.min(b.thickness), a.thickness.max(b.thickness));

@@ -130,8 +130,9 @@ fn half_space_exact(
         return Ok(Vec::new());
     }
     let slab = scattering.local_slab();
+    let opposites = slab.map_or_else(Default::default, |s| prepared.opposites(s.reach()));
     let (behind, gathered) = match slab {
-        Some(slab) => slab.behind(prepared.opposites(), picked),
+        Some(slab) => slab.behind(&opposites, picked),
         None => (vec![None; picked.len()], picked.to_vec()),
     };
     let listed = prepared.listed(&gathered);
@@ -158,7 +159,7 @@ fn half_space_exact(
                 .zip(&behind)
                 .zip(&uniform)
                 .map(|((&i, behind), here)| {
-                    let (shares, _) = slab.shares_at(prepared.opposites()[i]);
+                    let (shares, _) = slab.shares_at(opposites[i]);
                     let there = match behind {
                         Some(_) => behind_uniform.next().copied().unwrap_or(*here),
                         None => *here,
@@ -183,7 +184,7 @@ fn half_space_exact(
             // The sums behind follow the picked ones, in the same order.
             let corrected = match (slab, behind) {
                 (Some(slab), Some(_)) => {
-                    let (shares, _) = slab.shares_at(prepared.opposites()[i]);
+                    let (shares, _) = slab.shares_at(opposites[i]);
                     let there = others.next().copied().unwrap_or(here);
                     LocalSlab::corrected(&shares, here, there, true)
                 }
