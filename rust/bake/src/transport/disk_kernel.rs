@@ -14,6 +14,7 @@
 //! lerps; the last row is stored twice so the row above always exists.
 
 use super::kernel::{Kernel, Separation};
+use super::sample_sizes::SampleSizes;
 use glam::Vec4;
 use rayon::prelude::*;
 use std::f32::consts::FRAC_1_PI;
@@ -78,34 +79,30 @@ impl<'k> DiskKernel<'k> {
         table
     }
 
-    /// [`DiskKernel::new`] for each of `kernels`, with only the rows that
-    /// samples of `areas` (all within [`area_min`, `area_max`]) read; the
-    /// others hold zeros and are never read. The rows read depend on the
-    /// areas alone, so they are found once for every kernel, in parallel:
-    /// a bake at 4096² has millions of samples.
-    pub(super) fn for_areas(
-        kernels: &[&'k Kernel],
-        area_min: f32,
-        area_max: f32,
-        areas: impl ParallelIterator<Item = f32>,
-    ) -> Vec<Self> {
+    /// [`DiskKernel::new`] for each of `kernels`, for samples of `sizes`,
+    /// with only the rows they may read ([`SampleSizes::spans`]); the
+    /// others hold zeros and are never read. The rows depend on the sizes
+    /// alone, so they are found once for every kernel.
+    pub(super) fn for_sizes(kernels: &[&'k Kernel], sizes: &SampleSizes) -> Vec<Self> {
         let Some(&first) = kernels.first() else {
             return Vec::new();
         };
-        let sizes = Self::sized(first, area_min, area_max);
-        let rows = sizes.radii.len();
-        let mark = |mut needed: Vec<bool>, area: f32| {
-            let slot = sizes.slot(area);
-            if slot.tabulated() {
-                needed[slot.row as usize] = true;
-                needed[(slot.row as usize + 1).min(rows - 1)] = true;
-            }
-            needed
-        };
-        let either = |a: Vec<bool>, b: Vec<bool>| a.iter().zip(&b).map(|(&a, &b)| a || b).collect();
-        let mut needed = areas
-            .fold(|| vec![false; rows], mark)
-            .reduce(|| vec![false; rows], either);
+        let (area_min, area_max) = sizes.range();
+        let table = Self::sized(first, area_min, area_max);
+        let last = table.radii.len() - 1;
+        let mut needed = vec![false; last + 1];
+        for (a, b) in sizes.spans() {
+            // A slot's row rises with the area: a size within the span
+            // reads rows from the least's to the one above the greatest's.
+            let (low, high) = (table.slot(a), table.slot(b));
+            let from = if low.tabulated() { low.row as usize } else { 0 };
+            let to = if high.tabulated() {
+                high.row as usize + 1
+            } else {
+                last
+            };
+            needed[from.min(last)..=to.min(last)].fill(true);
+        }
         if !needed.contains(&true) {
             needed.fill(true);
         }
@@ -327,4 +324,50 @@ fn read(table: &[Vec4], slot: Slot, j: usize, f: f32) -> Vec4 {
     let lower = a + (b - a) * f;
     let upper = c + (e - c) * f;
     lower + (upper - lower) * slot.fraction
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scattering::{D_MAX_EPSILON, Scattering};
+    use sssbake_profile::model::Model;
+    use sssbake_profile::numerics::rng::Rng;
+    use sssbake_profile::presets::preset;
+
+    /// Every row a sample reads is made: at distance 0 each holds the
+    /// disk's mean of a positive profile.
+    #[test]
+    fn every_row_a_sample_reads_is_made() {
+        let skin = Scattering::new(
+            preset("skin1").unwrap(),
+            Some(Model::Dipole),
+            6,
+            D_MAX_EPSILON,
+        )
+        .unwrap();
+        let mut rng = Rng::new(3, 0);
+        // Sizes in two clusters a decade apart, so rows between are unread.
+        let areas: Vec<f32> = (0..500)
+            .map(|k| {
+                let base = if k % 2 == 0 { 0.01 } else { 1.0 };
+                base * (1.0 + rng.uniform() as f32)
+            })
+            .collect();
+        let mut sizes = SampleSizes::default();
+        areas.iter().for_each(|&a| sizes.add(a));
+        let table = DiskKernel::for_sizes(&[&skin.kernel], &sizes).remove(0);
+        let made = |row: usize| table.reflected[row * ROW].x > 0.0;
+        for &a in &areas {
+            let slot = table.slot(a);
+            assert!(slot.tabulated(), "{a}");
+            assert!(
+                made(slot.row as usize) && made(slot.row as usize + 1),
+                "{a}"
+            );
+        }
+        assert!(
+            (0..table.radii.len()).any(|row| !made(row)),
+            "rows no sample reads are left unmade"
+        );
+    }
 }

@@ -20,6 +20,7 @@ pub mod light_check;
 pub mod local_slab;
 pub mod oblique_sum;
 pub mod octree;
+mod sample_sizes;
 pub mod slab_ladder;
 pub mod slab_profiles;
 pub mod slab_totals;

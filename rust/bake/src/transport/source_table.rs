@@ -5,6 +5,7 @@
 
 use super::disk_kernel::{DiskKernel, Slot, split_place};
 use super::kernel::{Kernel, Separation};
+use super::sample_sizes::SampleSizes;
 use super::sources::Sources;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
@@ -357,23 +358,21 @@ pub(super) fn texel_disks_for<'k>(
     kernels: &[&'k Kernel],
     sources: &Sources,
 ) -> Vec<DiskKernel<'k>> {
-    let sizes = |i: usize| {
-        let sub = sources.area[i] / (SUBDIVISIONS * SUBDIVISIONS) as f32;
-        [sub, disk_area(sources, i)]
-    };
-    let (lo, hi) = (0..sources.len())
+    // In chunks, each noting its sizes into one set: a set carried from
+    // texel to texel by value would be copied at every texel.
+    const CHUNK: usize = 1 << 14;
+    let sizes = (0..sources.len().div_ceil(CHUNK))
         .into_par_iter()
-        .map(|i| {
-            let [sub, disk] = sizes(i);
-            (sub.min(disk), sub.max(disk))
+        .map(|chunk| {
+            let mut sizes = SampleSizes::default();
+            for i in chunk * CHUNK..((chunk + 1) * CHUNK).min(sources.len()) {
+                sizes.add(sources.area[i] / (SUBDIVISIONS * SUBDIVISIONS) as f32);
+                sizes.add(disk_area(sources, i));
+            }
+            sizes
         })
-        .reduce(
-            || (f32::INFINITY, 0.0f32),
-            |(a, b), (c, d)| (a.min(c), b.max(d)),
-        );
-    // Only the rows between which these sizes fall are computed.
-    let areas = (0..sources.len()).into_par_iter().flat_map_iter(sizes);
-    DiskKernel::for_areas(kernels, lo, hi, areas)
+        .reduce(SampleSizes::default, SampleSizes::join);
+    DiskKernel::for_sizes(kernels, &sizes)
 }
 
 /// The distance (mm) within which a texel with edges `u`, `v` is summed in
