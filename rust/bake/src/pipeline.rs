@@ -331,7 +331,14 @@ impl Prepared {
         // Small convex parts return more than the slab; the two gains
         // answer different shortfalls (surface missing within reach, light
         // that meets the surface sooner) and multiply, within the cap.
-        let ball = known_ball.unwrap_or_else(|| Arc::new(slab.ball_gains(self)));
+        let ball = known_ball.unwrap_or_else(|| {
+            Arc::new(match slab.ball_scales() {
+                Some(scales) => {
+                    slab.ball_gains(&self.mean_curvatures(scales), &self.opposites(slab.reach()))
+                }
+                None => vec![[1.0; 3]; self.surfels.len()],
+            })
+        });
         let gains: Vec<[f32; 3]> = gains
             .iter()
             .zip(ball.iter())

@@ -329,8 +329,7 @@ fn read(table: &[Vec4], slot: Slot, j: usize, f: f32) -> Vec4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scattering::{D_MAX_EPSILON, Scattering};
-    use sssbake_profile::model::Model;
+    use sssbake_profile::model::{Model, build_profile};
     use sssbake_profile::numerics::rng::Rng;
     use sssbake_profile::presets::preset;
 
@@ -338,13 +337,8 @@ mod tests {
     /// disk's mean of a positive profile.
     #[test]
     fn every_row_a_sample_reads_is_made() {
-        let skin = Scattering::new(
-            preset("skin1").unwrap(),
-            Some(Model::Dipole),
-            6,
-            D_MAX_EPSILON,
-        )
-        .unwrap();
+        let profile = build_profile(&preset("skin1").unwrap(), Model::Dipole, 6).unwrap();
+        let kernel = Kernel::new(profile.as_ref(), 1e-3);
         let mut rng = Rng::new(3, 0);
         // Sizes in two clusters a decade apart, so rows between are unread.
         let areas: Vec<f32> = (0..500)
@@ -355,7 +349,7 @@ mod tests {
             .collect();
         let mut sizes = SampleSizes::default();
         areas.iter().for_each(|&a| sizes.add(a));
-        let table = DiskKernel::for_sizes(&[&skin.kernel], &sizes).remove(0);
+        let table = DiskKernel::for_sizes(&[&kernel], &sizes).remove(0);
         let made = |row: usize| table.reflected[row * ROW].x > 0.0;
         for &a in &areas {
             let slot = table.slot(a);

@@ -64,7 +64,6 @@
 //! curvature, from walks in balls, raises it by the same square roots
 //! ([`crate::transport::ball_gain`]).
 
-use crate::prepared::Prepared;
 use crate::scattering::Scattering;
 use crate::surface::opposite::Opposite;
 use crate::transport::ball_gain::BallGain;
@@ -176,15 +175,22 @@ impl LocalSlab {
         })
     }
 
-    /// Per surfel of `prepared`, the gain of small convex parts by the
-    /// surface's curvature ([`BallGain::gains`]).
-    pub fn ball_gains(&self, prepared: &Prepared) -> Vec<[f32; 3]> {
-        if !self.ball.raises() {
-            return vec![[1.0; 3]; prepared.surfels.len()];
-        }
-        let curvature = prepared.mean_curvatures(self.ball.curvature_scales());
-        self.ball
-            .gains(&curvature, &prepared.opposites(self.reach()), self)
+    /// The scales (mm) per channel at which the gain of small convex parts
+    /// reads the surface's mean curvature; `None` where no ball raises its
+    /// light, and no curvature is needed.
+    pub fn ball_scales(&self) -> Option<[f32; 3]> {
+        self.ball.raises().then(|| self.ball.curvature_scales())
+    }
+
+    /// Per surfel, the gain of small convex parts ([`BallGain::gains`]),
+    /// from `curvature`, each surfel's at [`Self::ball_scales`], with
+    /// `opposites` the face behind each.
+    pub fn ball_gains(
+        &self,
+        curvature: &[[f32; 3]],
+        opposites: &[Option<Opposite>],
+    ) -> Vec<[f32; 3]> {
+        self.ball.gains(curvature, opposites, self)
     }
 
     /// Whether [`Self::of`] gives a ladder for `scattering`, without
