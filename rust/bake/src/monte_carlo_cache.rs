@@ -9,7 +9,7 @@ use sssbake_profile::Material;
 use sssbake_profile::models::monte_carlo::profile::{
     MonteCarloProfile, ProfileSettings, tallies_are_physical,
 };
-use sssbake_profile::models::monte_carlo::{Settings, simulate};
+use sssbake_profile::models::monte_carlo::{MonteCarlo, Settings, simulate};
 use std::path::{Path, PathBuf};
 
 /// The environment variable naming the cache folder (else the user's
@@ -95,20 +95,31 @@ pub(crate) fn cached<T: serde::Serialize + serde::de::DeserializeOwned>(
 }
 
 /// The Monte Carlo profile of `material` (`None` for a material without
-/// layers), read from `dir` when simulated before, else simulated and
-/// stored there; with `dir` `None`, simulated every time.
+/// layers), its tallies read from `dir` when simulated before, else
+/// simulated and stored there; with `dir` `None`, simulated every time.
 pub fn monte_carlo_profile(
     material: &Material,
     settings: &ProfileSettings,
     dir: Option<&Path>,
 ) -> Option<MonteCarloProfile> {
+    monte_carlo_tallies(material, settings, dir).map(MonteCarloProfile::from_tallies)
+}
+
+/// The Monte Carlo simulation's tallies of `material`, kept as
+/// [`monte_carlo_profile`] keeps them, without the profile's smoothing
+/// fit: a reader of the tallies alone (a slab rung) would otherwise fit
+/// six sums of Gaussians it never reads.
+pub fn monte_carlo_tallies(
+    material: &Material,
+    settings: &ProfileSettings,
+    dir: Option<&Path>,
+) -> Option<MonteCarlo> {
     let simulation = settings.simulation(material);
     let key = key_text(material, &simulation)?;
     let layers = material.layers()?;
-    let tallies = cached(dir, KIND, key, tallies_are_physical, || {
+    Some(cached(dir, KIND, key, tallies_are_physical, || {
         simulate(layers, &simulation)
-    });
-    Some(MonteCarloProfile::from_tallies(tallies))
+    }))
 }
 
 /// The path the tallies of `material` under `settings` are kept at in `dir`.

@@ -3,7 +3,7 @@
 //! cache folder: the kernels thin parts gather with
 //! ([`super::slab_profiles`]).
 
-use crate::monte_carlo_cache::{cache_dir, monte_carlo_profile};
+use crate::monte_carlo_cache::{cache_dir, monte_carlo_tallies};
 use crate::transport::kernel::Kernel;
 use rayon::prelude::*;
 use sssbake_profile::Rgb;
@@ -144,13 +144,12 @@ impl SlabProfiles {
             }]),
             ..material.clone()
         };
-        let simulated =
-            monte_carlo_profile(&slab, &ProfileSettings::default(), cache_dir().as_deref())?;
         // The tallies as they are: the smoothing fit of the Monte Carlo
         // profile loses a slab's far tail (red 10% short 11–15 mm from a
         // light on 2 mm of skin1), and a kernel reads the near field
         // through its disk means, which average the tallies' noise there.
-        let tallies = simulated.tallies();
+        let tallies =
+            &monte_carlo_tallies(&slab, &ProfileSettings::default(), cache_dir().as_deref())?;
         let binned: Vec<usize> = (0..tallies.radii_mm.len())
             .filter(|&i| tallies.radii_mm[i] > 0.0)
             .collect();
