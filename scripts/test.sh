@@ -23,4 +23,7 @@ if command -v cargo-nextest >/dev/null; then
 else
     cargo test --workspace --release --locked
 fi
-SSSBAKE_BIN="$PWD/target/release/sssbake" .venv/bin/python -m pytest tests -q
+# Two test files at a time, each whole in one worker (its module fixtures made once): much of
+# a test is one core's work (Blender, Python, a browser, a bake's serial stretches), which the
+# other file's test overlaps. Two, not one per core: each worker holds its own bpy.
+SSSBAKE_BIN="$PWD/target/release/sssbake" .venv/bin/python -m pytest tests -q -n 2 --dist loadfile --durations=15
