@@ -153,10 +153,11 @@ impl Grid {
     /// A grid over `positions` with rows about `cell` mm square (coarsened
     /// if the box would need more than [`MOST_ROWS`]).
     pub fn new(positions: &[Vec3], cell: f32) -> Self {
-        let (lo, hi) = positions.iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
+        let empty = || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        let (lo, hi) = positions
+            .par_iter()
+            .fold(empty, |(lo, hi), &p| (lo.min(p), hi.max(p)))
+            .reduce(empty, |(a, b), (c, d)| (a.min(c), b.max(d)));
         let (lo, hi) = if positions.is_empty() {
             (Vec3::ZERO, Vec3::ZERO)
         } else {
@@ -185,20 +186,24 @@ impl Grid {
                 .clamp(IVec2::ZERO, dims - 1);
             (c.x + dims.x * c.y) as usize
         };
+        // Each position's row found once, in parallel; the counting sort
+        // that follows is two cheap passes over them.
+        let keys: Vec<u32> = positions.par_iter().map(|&p| key(p) as u32).collect();
         let mut starts = vec![0u32; rows + 1];
-        for &p in positions {
-            starts[key(p) + 1] += 1;
+        for &k in &keys {
+            starts[k as usize + 1] += 1;
         }
         for i in 0..rows {
             starts[i + 1] += starts[i];
         }
         let mut fill = starts.clone();
         let mut order = vec![0u32; positions.len()];
-        for (i, &p) in positions.iter().enumerate() {
-            let k = key(p);
+        for (i, &k) in keys.iter().enumerate() {
+            let k = k as usize;
             order[fill[k] as usize] = i as u32;
             fill[k] += 1;
         }
+        drop(keys);
         drop(fill);
         // Each row in order of x, rows apart in parallel.
         let mut runs = Vec::new();

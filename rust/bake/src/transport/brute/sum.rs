@@ -40,9 +40,12 @@ impl<'a> Sorted<'a> {
                 e.iter().any(|&e| e * a != 0.0) || (unit && a != 0.0)
             })
             .collect();
-        let position: Vec<Vec3> = lit.iter().map(|&i| sources.position[i as usize]).collect();
+        let position: Vec<Vec3> = lit
+            .par_iter()
+            .map(|&i| sources.position[i as usize])
+            .collect();
         let grid = Grid::new(&position, cell);
-        let order: Vec<u32> = grid.order.iter().map(|&k| lit[k as usize]).collect();
+        let order: Vec<u32> = grid.order.par_iter().map(|&k| lit[k as usize]).collect();
         let table = SourceTable::new(sources, &order, disks);
         Sorted { grid, table, unit }
     }
