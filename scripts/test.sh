@@ -19,7 +19,8 @@ scripts/build-addon.sh
 .venv/bin/python -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps \
     target/addon-wheels/sssbake-*-abi3-*.whl
 # The Rust tests build with the release profile, so they reuse the release build above
-# (the test profile would build every dependency again, minutes on two cores). Where the
+# (the test profile would build every dependency again, minutes on two cores); only the
+# workspace's own crates are built again, the dev-dependencies changing shared features. Where the
 # machine has cargo-nextest, the test binaries run side by side, not one after another:
 # one binary's slowest test then no longer holds up the rest.
 if command -v cargo-nextest >/dev/null; then
