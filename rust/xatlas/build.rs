@@ -1,6 +1,12 @@
-//! Compiles the C++ side of the bridge to xatlas against the xatlas.h that the
-//! xatlas-rs crate ships beside the source it builds the library from, so the
-//! declarations we compile against are the ones the library was built with.
+//! Compiles xatlas, from the source the xatlas-rs crate ships, and the C++ side
+//! of the bridge against the xatlas.h beside it.
+//!
+//! xatlas is compiled here, not linked as xatlas-rs builds it, to build it
+//! without its thread pool (`XA_MULTITHREADED=0`). That pool loses a wake-up
+//! when it stops: a worker that has just seen it running parks after the
+//! atlas's `Destroy` has woken every worker, and `Destroy` then waits for it
+//! forever. On two loaded cores about one unwrap in a thousand hung so. Built
+//! single-threaded, xatlas charts and packs in the caller's thread.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -13,11 +19,19 @@ fn main() {
         println!("cargo:rerun-if-changed={file}");
     }
     println!("cargo:rerun-if-env-changed=CARGO_HOME");
-    let xatlas = xatlas_header_dir();
-    println!(
-        "cargo:rerun-if-changed={}",
-        xatlas.join("xatlas.h").display()
-    );
+    let xatlas = xatlas_source_dir();
+    for file in ["xatlas.h", "xatlas.cpp"] {
+        println!("cargo:rerun-if-changed={}", xatlas.join(file).display());
+    }
+    // As xatlas-rs compiles it, but for the thread pool.
+    cc::Build::new()
+        .cpp(true)
+        .file(xatlas.join("xatlas.cpp"))
+        .std("c++11")
+        .define("NDEBUG", None)
+        .define("XA_MULTITHREADED", "0")
+        .warnings(false)
+        .compile("sssbake_xatlas_lib");
     cxx_build::bridge("src/lib.rs")
         .file("cpp/shim.cc")
         .include(&xatlas)
@@ -26,7 +40,7 @@ fn main() {
         .compile("sssbake_xatlas_shim");
 }
 
-/// The folder holding xatlas.h: `vendor/` beside the manifest of the xatlas-rs
+/// The folder holding xatlas.h and xatlas.cpp: `vendor/` beside the manifest of the xatlas-rs
 /// package the build unpacked. That crate declares no `links` key, so Cargo
 /// hands its dependents nothing about it. Where Cargo unpacks registry
 /// packages (`$CARGO_HOME/registry/src/<registry>/`) is looked at first: it
@@ -35,7 +49,7 @@ fn main() {
 /// package of the workspace on disk (true where sources are vendored), so it
 /// is only the fallback: on a fresh machine `cargo run -p sssbake-cli` has
 /// downloaded only what the CLI needs.
-fn xatlas_header_dir() -> PathBuf {
+fn xatlas_source_dir() -> PathBuf {
     if let Some(dir) = cargo_home().and_then(|home| in_registry(&home)) {
         return dir;
     }
@@ -60,13 +74,13 @@ fn in_registry(home: &Path) -> Option<PathBuf> {
     let mut found: Vec<PathBuf> = registries
         .filter_map(|entry| entry.ok())
         .map(|entry| entry.path().join(XATLAS_RS).join("vendor"))
-        .filter(|dir| dir.join("xatlas.h").is_file())
+        .filter(|dir| dir.join("xatlas.h").is_file() && dir.join("xatlas.cpp").is_file())
         .collect();
     found.sort();
     found.into_iter().next()
 }
 
-/// The header folder as `cargo metadata` resolves the package.
+/// The source folder as `cargo metadata` resolves the package.
 fn from_metadata() -> PathBuf {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let manifest =
@@ -104,10 +118,12 @@ fn from_metadata() -> PathBuf {
         .parent()
         .expect("a manifest path has a parent")
         .join("vendor");
-    assert!(
-        dir.join("xatlas.h").is_file(),
-        "xatlas-rs at {} ships no vendor/xatlas.h",
-        dir.display()
-    );
+    for file in ["xatlas.h", "xatlas.cpp"] {
+        assert!(
+            dir.join(file).is_file(),
+            "xatlas-rs at {} ships no vendor/{file}",
+            dir.display()
+        );
+    }
     dir
 }

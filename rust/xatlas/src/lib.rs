@@ -2,15 +2,12 @@
 //! triangle mesh into charts, flattens each chart and packs them into one or
 //! more square texture atlases.
 //!
-//! xatlas is compiled and linked by the `xatlas-rs` crate (pinned to the
-//! release whose `xatlas.h` the bridge compiles against); its own Rust
-//! bindings are not used. The C++ side lives in `cpp/shim.cc` and is reached
+//! xatlas is compiled by this crate's build script from the source the pinned
+//! `xatlas-rs` crate ships, without xatlas's thread pool (whose shutdown can
+//! hang: see `build.rs`), so it runs in the calling thread; the Rust bindings
+//! of `xatlas-rs` are not used. The C++ side lives in `cpp/shim.cc` and is reached
 //! through a [`cxx`] bridge, and every call copies xatlas's output into Rust
 //! vectors before the atlas is destroyed, so nothing here holds C++ memory.
-
-// The library the bridge calls is built and linked by this dependency; no
-// Rust item of it is used.
-use xatlas_rs as _;
 
 #[cxx::bridge(namespace = "sssbake_xatlas")]
 mod ffi {

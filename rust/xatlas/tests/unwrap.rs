@@ -197,3 +197,51 @@ fn malformed_input_is_refused_before_xatlas_sees_it() {
         );
     }
 }
+
+/// The threads of this process, as Linux counts them.
+#[cfg(target_os = "linux")]
+fn threads() -> usize {
+    std::fs::read_dir("/proc/self/task").unwrap().count()
+}
+
+/// xatlas is built without its thread pool, whose shutdown can hang (a lost
+/// wake-up in `Destroy`): it charts and packs in the calling thread. Built
+/// with it, every unwrap starts sixteen workers, which a watcher sampling the
+/// process's threads while the unwraps run would see.
+#[cfg(target_os = "linux")]
+#[test]
+fn xatlas_starts_no_thread_of_its_own() {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    let (positions, indices) = cube();
+    let options = Options {
+        resolution: 0,
+        padding: 1,
+        texels_per_unit: Some(10.0),
+    };
+    let done = AtomicBool::new(false);
+    let most = AtomicUsize::new(0);
+    let before = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            while !done.load(Ordering::Relaxed) {
+                most.fetch_max(threads(), Ordering::Relaxed);
+            }
+        });
+        // The watcher is running: this count includes it.
+        while most.load(Ordering::Relaxed) == 0 {
+            std::thread::yield_now();
+        }
+        let before = threads();
+        for _ in 0..50 {
+            unwrap(&positions, &indices, &options).unwrap();
+        }
+        done.store(true, Ordering::Relaxed);
+        before
+    });
+    // Other tests of this binary may start or end their own threads meanwhile
+    // (a handful at most), never sixteen.
+    let most = most.into_inner();
+    assert!(
+        most < before + 8,
+        "{most} threads while unwrapping, {before} before"
+    );
+}
