@@ -8,13 +8,12 @@ sees only the light that crossed the 3 mm) are compared with Cycles':
 - the walk is Cycles' own transport (a walk starting straight in, as Cycles' Random Walk
   enters for a bake's view along the normal, scoring the irradiance where it leaves): within
   3% in every channel, on both faces;
-- the default bake within 5% in green and blue. Red's diffusion length 1/σtr at this reach
-  (25 mm, for a mean free path of 4 mm) is most of the slab's 30 mm side. The slab's faces
-  gather with its own slab's profile, which spreads light as a slab does; its sides, 3 mm
-  tall and 30 mm apart, read rounder than they are thick at red's scale and keep the
-  half-space's profile, raised where the surface ends within reach (measured: red 0.95 on
-  both faces, 0.97 when the sides too took the slab's profile, 0.82 by the half-space's
-  profile alone, unraised), and red is within 8%.
+- the default bake within 3% too (measured: 1.007 / 1.009 / 1.014 on the far face, 1.006 /
+  1.001 / 0.998 on the lit one). Red's diffusion length 1/σtr at this reach (25 mm, for a
+  mean free path of 4 mm) is most of the slab's 30 mm side. The slab's faces gather with its
+  own slab's profile, which spreads light as a slab does. The map is light's radiance along
+  the normal, whose power over this slab is more than entered (red: 1.075 of it by the walk);
+  scaled down to the power entering, red was 0.95 on both faces.
 
 The top face is mapped onto the left half of the image, the bottom face onto the right
 half; the rim onto a strip along the bottom edge, outside what is compared. Cycles' noise
@@ -98,7 +97,7 @@ def test_a_backlit_skin_slab_sends_cycles_light_through(addon, method):
     assert bpy.ops.sssbake.bake(resolution=RESOLUTION, uv_map="UVMap", outputs={"DIFFUSE"}) == {"FINISHED"}
     ours = middles(baked_exitance("Slab"))
     cycles = middles(cycles_exitance(material, RESOLUTION, SAMPLES))
-    tolerance = np.array([0.03] * 3) if method == "WALK" else np.array([0.08, 0.05, 0.05])
+    tolerance = np.array([0.03] * 3)
     rows, wrong = [], []
     for face, name in enumerate(("far face (top)", "lit face (bottom)")):
         ratio = ours[face] / cycles[face]
