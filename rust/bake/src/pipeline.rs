@@ -279,6 +279,18 @@ fn index_matched(material: &Material) -> bool {
 }
 
 impl Prepared {
+    /// The power of a map over the surface, per channel: Σ value × texel
+    /// area (W/m² × mm², for a map in W/m²).
+    pub fn power(&self, values: &[[f32; 3]]) -> [f64; 3] {
+        let mut power = [0.0; 3];
+        for (v, &a) in values.iter().zip(&self.surfels.area) {
+            for c in 0..3 {
+                power[c] += f64::from(v[c]) * f64::from(a);
+            }
+        }
+        power
+    }
+
     /// Scales `exitance` down per channel where it leaves more power than
     /// enters, and says by how much: raising the light where the surface
     /// ends holds a plane's total under uniform light, but under light far
@@ -303,17 +315,9 @@ impl Prepared {
         if index_matched(&scattering.material) {
             return None;
         }
-        let area = &self.surfels.area;
-        let power = |values: &[[f32; 3]], c: usize| -> f64 {
-            values
-                .iter()
-                .zip(area)
-                .map(|(v, &a)| f64::from(v[c]) * f64::from(a))
-                .sum()
-        };
-        let entering = self.entering();
+        let (leaving, entering) = (self.power(exitance), self.power(&self.entering()));
         let kept = [0, 1, 2].map(|c| {
-            let (out, into) = (power(exitance, c), power(&entering, c));
+            let (out, into) = (leaving[c], entering[c]);
             if out > into && out > 0.0 {
                 (into / out) as f32
             } else {

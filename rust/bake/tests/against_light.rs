@@ -651,16 +651,10 @@ fn a_backlit_slab_keeps_light_s_level_where_its_map_carries_more_power_than_ente
     let walked: Vec<[f32; 3]> = (0..baked.len())
         .map(|i| prepared.after_scattering(i, estimate.exitance[i]))
         .collect();
-    let area = &prepared.surfels.area;
-    let power = |values: &[[f32; 3]], c: usize| -> f64 {
-        values
-            .iter()
-            .zip(area)
-            .map(|(v, &a)| f64::from(v[c]) * f64::from(a))
-            .sum()
-    };
-    let entering = prepared.entering();
-    let (walk_red, entering_red) = (power(&walked, 0), power(&entering, 0));
+    let (walk_red, entering_red) = (
+        prepared.power(&walked)[0],
+        prepared.power(&prepared.entering())[0],
+    );
     eprintln!(
         "red: the walk's map carries {:.3} of the power entering",
         walk_red / entering_red
