@@ -24,7 +24,7 @@ use crate::transport::local_slab::{LocalSlab, MAX_GAIN, RAISED};
 use crate::transport::slab_profiles::thin_tolerance;
 use crate::transport::verify::pick;
 use crate::walk::Boundary;
-use sssbake_profile::material::{Material, Optics};
+use sssbake_profile::material::Material;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
@@ -270,12 +270,10 @@ pub struct Integration {
 /// Whether light leaves `material` through an index-matched boundary: its
 /// top layer's index is 1, as the walk reads it.
 fn index_matched(material: &Material) -> bool {
-    match &material.optics {
-        Optics::Layers(layers) => layers
-            .first()
-            .is_some_and(|top| Boundary::of_index(top.ior) == Boundary::IndexMatched),
-        Optics::Gaussians(_) => false,
-    }
+    material
+        .layers()
+        .and_then(<[_]>::first)
+        .is_some_and(|top| Boundary::of_index(top.ior) == Boundary::IndexMatched)
 }
 
 impl Prepared {

@@ -75,6 +75,14 @@ fn check(name: &str, positions: &[f32], indices: &[u32], atlas: &Atlas) {
     assert!(used.iter().all(|&u| u), "{name}: unused output vertices");
 }
 
+/// A given scale of 10 texels per unit, with no map size: the atlas grows
+/// to hold the charts.
+const TEN_PER_UNIT: Options = Options {
+    resolution: 0,
+    padding: 1,
+    texels_per_unit: Some(10.0),
+};
+
 /// Twice the signed area of a triangle in the atlas, in texels².
 fn uv_area2(atlas: &Atlas, t: &[u32]) -> f32 {
     let [a, b, c] = [0, 1, 2].map(|k| atlas.vertices[t[k] as usize].uv);
@@ -123,11 +131,7 @@ fn a_grid_and_a_cube_unwrap_into_the_unit_square() {
 #[test]
 fn a_given_scale_is_kept_and_the_result_is_deterministic() {
     let (positions, indices) = cube();
-    let options = Options {
-        resolution: 0,
-        padding: 1,
-        texels_per_unit: Some(10.0),
-    };
+    let options = TEN_PER_UNIT;
     let a = unwrap(&positions, &indices, &options).unwrap();
     check("cube", &positions, &indices, &a);
     assert_eq!(a.texels_per_unit, 10.0);
@@ -213,11 +217,6 @@ fn threads() -> usize {
 fn xatlas_starts_no_thread_of_its_own() {
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     let (positions, indices) = cube();
-    let options = Options {
-        resolution: 0,
-        padding: 1,
-        texels_per_unit: Some(10.0),
-    };
     let done = AtomicBool::new(false);
     let most = AtomicUsize::new(0);
     let before = std::thread::scope(|scope| {
@@ -232,7 +231,7 @@ fn xatlas_starts_no_thread_of_its_own() {
         }
         let before = threads();
         for _ in 0..50 {
-            unwrap(&positions, &indices, &options).unwrap();
+            unwrap(&positions, &indices, &TEN_PER_UNIT).unwrap();
         }
         done.store(true, Ordering::Relaxed);
         before
