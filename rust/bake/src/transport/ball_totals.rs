@@ -15,6 +15,7 @@
 //! either.
 
 use crate::monte_carlo_cache::{cache_dir, cached};
+use crate::transport::walk_budget::{EVENT_BUDGET, PILOT_EVENTS, PILOT_WALKS, Walks, afford};
 use crate::walk::path::{Confinement, Ending, WalkStart, walk};
 use crate::walk::shapes::{Ball, HalfSpace};
 use crate::walk::{ChannelMedium, WalkMedium};
@@ -27,6 +28,9 @@ use sssbake_profile::numerics::rng::Rng;
 /// Walks per radius and channel: a ball's return over the half-space's to
 /// well under 1% (their streams are shared).
 const WALKS: u64 = 8192;
+/// The fewest walks per radius and channel when the work's budget cannot
+/// afford [`WALKS`] ([`crate::transport::walk_budget`]).
+const FEWEST_WALKS: u64 = 256;
 /// The bound on events per walk: far past where Russian roulette ends the
 /// walks of any albedo short of 1.
 const MAX_EVENTS: u32 = 100_000;
@@ -81,7 +85,7 @@ pub fn ball_totals(layer: &Layer, radius: &[f64]) -> BallTotals {
     };
     let key = format!(
         "sssbake {} ball totals format {FORMAT}\nlayer {layer:?}\nwalks {WALKS} seed {SEED} \
-         max_events {MAX_EVENTS}\nradius {radius:?}",
+         max_events {MAX_EVENTS} budget {EVENT_BUDGET}\nradius {radius:?}",
         env!("CARGO_PKG_VERSION"),
     );
     cached(
@@ -94,6 +98,12 @@ pub fn ball_totals(layer: &Layer, radius: &[f64]) -> BallTotals {
 }
 
 fn walk_totals(layer: &Layer, radius: &[f64]) -> BallTotals {
+    walk_within(layer, radius, EVENT_BUDGET).0
+}
+
+/// [`walk_totals`] within `budget` events ([`affordable`]), with the
+/// events the walks took.
+fn walk_within(layer: &Layer, radius: &[f64], budget: f64) -> (BallTotals, u64) {
     let material = Material {
         name: String::new(),
         optics: Optics::Layers(vec![layer.clone()]),
@@ -103,49 +113,99 @@ fn walk_totals(layer: &Layer, radius: &[f64]) -> BallTotals {
     };
     // One layer with coefficients always makes a medium.
     let Ok(medium) = WalkMedium::of_material(&material) else {
-        return BallTotals {
+        let none = BallTotals {
             half_space: [0.0; 3],
             radius: radius.to_vec(),
             returned: vec![[0.0; 3]; radius.len()],
         };
+        return (none, 0);
     };
-    let half_space = [0, 1, 2].map(|c| returned(&HalfSpace, Vec3::ZERO, &medium, c));
-    let returned = radius
+    let walks = affordable(&medium, radius.len() + 1, budget);
+    let (half_space, mut events) = shares(&HalfSpace, Vec3::ZERO, &medium, walks);
+    let (returned, walked): (Vec<[f64; 3]>, Vec<u64>) = radius
         .par_iter()
         .map(|&r| {
-            let ball = Ball { radius: r };
-            let pole = Vec3::new(0.0, 0.0, r as f32);
-            [0, 1, 2].map(|c| returned(&ball, pole, &medium, c))
+            shares(
+                &Ball { radius: r },
+                Vec3::new(0.0, 0.0, r as f32),
+                &medium,
+                walks,
+            )
         })
-        .collect();
-    BallTotals {
+        .unzip();
+    events += walked.iter().sum::<u64>();
+    let totals = BallTotals {
         half_space,
         radius: radius.to_vec(),
         returned,
-    }
+    };
+    (totals, events)
+}
+
+/// [`returned`] in every channel, with the events the walks took.
+fn shares<C: Confinement + Sync>(
+    shape: &C,
+    top: Vec3,
+    medium: &WalkMedium,
+    walks: Walks,
+) -> ([f64; 3], u64) {
+    let each = [0, 1, 2].map(|c| returned(shape, top, medium, c, walks));
+    (
+        each.map(|(share, _)| share),
+        each.iter().map(|(_, e)| e).sum(),
+    )
+}
+
+/// The walks `runs` runs of `medium` (the half-space's among them) can
+/// afford within `budget` events: [`WALKS`] of at most [`MAX_EVENTS`]
+/// unless a pilot in the half-space, whose walks are longest, finds them
+/// too costly ([`afford`]).
+fn affordable(medium: &WalkMedium, runs: usize, budget: f64) -> Walks {
+    let pilot = Walks {
+        count: PILOT_WALKS,
+        max_events: PILOT_EVENTS,
+    };
+    let events: u64 = (0..3)
+        .map(|c| returned(&HalfSpace, Vec3::ZERO, medium, c, pilot).1)
+        .sum();
+    let mean = events as f64 / (3 * PILOT_WALKS) as f64;
+    let wanted = Walks {
+        count: WALKS,
+        max_events: u64::from(MAX_EVENTS),
+    };
+    afford(mean, runs, wanted, FEWEST_WALKS, budget)
 }
 
 /// The share of a pencil beam entering at `top` (a point of the surface
 /// whose outward normal is +z), straight down, that leaves `shape`, in
-/// channel `c`.
-fn returned<C: Confinement>(shape: &C, top: Vec3, medium: &WalkMedium, c: usize) -> f64 {
+/// channel `c`, by `walks`; with the events they took.
+fn returned<C: Confinement>(
+    shape: &C,
+    top: Vec3,
+    medium: &WalkMedium,
+    c: usize,
+    walks: Walks,
+) -> (f64, u64) {
     let channel: &ChannelMedium = &medium.channels[c];
     let start = WalkStart {
         position: top,
         direction: -Vec3::Z,
         triangle: 0,
     };
-    let left: f64 = (0..WALKS)
+    let most = walks.max_events.min(u64::from(u32::MAX)) as u32;
+    let (left, events): (f64, u64) = (0..walks.count)
         .into_par_iter()
         .map(|k| {
             let mut rng = Rng::new(SEED, k);
-            match walk(shape, channel, medium.boundary, start, MAX_EVENTS, &mut rng).ending {
+            let walked = walk(shape, channel, medium.boundary, start, most, &mut rng);
+            let left = match walked.ending {
                 Ending::Left { weight, .. } => weight,
                 _ => 0.0,
-            }
+            };
+            (left, u64::from(walked.events))
         })
-        .sum();
-    (left / WALKS as f64).clamp(0.0, 1.0)
+        .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    ((left / walks.count as f64).clamp(0.0, 1.0), events)
 }
 
 #[cfg(test)]
@@ -184,6 +244,23 @@ mod tests {
         }
         // Red goes deepest, so its balls gain the most.
         assert!(ratio[1][0] > ratio[1][2], "{:?}", ratio[1]);
+    }
+
+    /// The sweep's medium that walks for ever (see `slab_totals`): within
+    /// a budget its walks are fewer and stopped early, the work stays
+    /// within it, and every total is still a share of what entered.
+    #[test]
+    fn a_medium_that_walks_for_ever_is_walked_within_its_budget() {
+        let albedo = 0.999999;
+        let sigma_t = 23339.5;
+        let layer = Layer {
+            g: 0.99,
+            ..Layer::semi_infinite([sigma_t * (1.0 - albedo); 3], [sigma_t * albedo; 3], 2.1)
+        };
+        let budget = 2e7;
+        let (totals, events) = walk_within(&layer, &[1e-3, 1.0, 10.0], budget);
+        assert!((events as f64) <= budget, "{events} events");
+        assert!(totals.is_sound(), "{totals:?}");
     }
 
     #[test]

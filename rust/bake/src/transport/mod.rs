@@ -31,6 +31,7 @@ pub mod thin;
 pub mod through_medium;
 pub mod verify;
 pub mod walk;
+pub mod walk_budget;
 
 /// An exitance (W/m²) as a map stores it: finite and non-negative (a sum
 /// that is neither, from a truncated series or noise, stores 0 or its

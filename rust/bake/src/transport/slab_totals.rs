@@ -12,6 +12,7 @@
 //! scores.
 
 use crate::monte_carlo_cache::{cache_dir, cached};
+use crate::transport::walk_budget::{EVENT_BUDGET, PILOT_EVENTS, PILOT_WALKS, Walks, afford};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sssbake_profile::material::Layer;
@@ -20,6 +21,10 @@ use sssbake_profile::models::monte_carlo::{Settings, simulate};
 /// Photons per thickness and channel: totals to about 1% where light
 /// crosses.
 const PHOTONS: u64 = 16_384;
+/// The fewest photons per thickness and channel when the work's budget
+/// cannot afford [`PHOTONS`] ([`crate::transport::walk_budget`]): totals
+/// to a few per cent.
+const FEWEST_PHOTONS: u64 = 512;
 /// One seed for every thickness, so the ladder's noise is smooth in t.
 const SEED: u64 = 0x736c_6162;
 /// Changes whenever the totals change meaning without the crate's version
@@ -57,7 +62,7 @@ impl SlabTotals {
 /// simulated before.
 pub fn slab_totals(layer: &Layer, thickness: &[f64]) -> SlabTotals {
     let key = format!(
-        "sssbake {} slab totals format {FORMAT}\nlayer {:?}\nphotons {PHOTONS} seed {SEED}\nthickness {thickness:?}",
+        "sssbake {} slab totals format {FORMAT}\nlayer {:?}\nphotons {PHOTONS} seed {SEED} budget {EVENT_BUDGET}\nthickness {thickness:?}",
         env!("CARGO_PKG_VERSION"),
         Layer {
             thickness_mm: None,
@@ -73,35 +78,117 @@ pub fn slab_totals(layer: &Layer, thickness: &[f64]) -> SlabTotals {
     )
 }
 
+/// The Monte Carlo's settings for the `simulations` of `layer`'s totals
+/// (a semi-infinite one among them) within `budget` events: [`PHOTONS`]
+/// and the Monte Carlo's own limit on a photon's events unless a pilot in
+/// the semi-infinite layer, whose photons walk longest, finds them too
+/// costly ([`afford`]).
+fn affordable(layer: &Layer, simulations: usize, budget: f64) -> Settings {
+    let all = Settings::new(PHOTONS, SEED, vec![0.0, f64::MAX]);
+    let pilot = Settings {
+        photons: PILOT_WALKS,
+        max_interactions: PILOT_EVENTS,
+        ..all.clone()
+    };
+    let semi_infinite = Layer {
+        thickness_mm: None,
+        ..layer.clone()
+    };
+    let walked = simulate(std::slice::from_ref(&semi_infinite), &pilot).interactions;
+    let mean = walked as f64 / (3 * PILOT_WALKS) as f64;
+    let wanted = Walks {
+        count: all.photons,
+        max_events: all.max_interactions,
+    };
+    let walks = afford(mean, simulations, wanted, FEWEST_PHOTONS, budget);
+    Settings {
+        photons: walks.count,
+        max_interactions: walks.max_events,
+        ..all
+    }
+}
+
 fn simulate_totals(layer: &Layer, thickness: &[f64]) -> SlabTotals {
+    simulate_within(layer, thickness, EVENT_BUDGET).0
+}
+
+/// [`simulate_totals`] within `budget` events ([`affordable`]), with the
+/// events the simulations took.
+fn simulate_within(layer: &Layer, thickness: &[f64], budget: f64) -> (SlabTotals, u64) {
+    let settings = affordable(layer, thickness.len() + 1, budget);
     let simulated = |thickness_mm: Option<f64>| {
         let slab = Layer {
             thickness_mm,
             ..layer.clone()
         };
-        let tallies = simulate(
-            std::slice::from_ref(&slab),
-            &Settings::new(PHOTONS, SEED, vec![0.0, f64::MAX]),
-        );
+        let tallies = simulate(std::slice::from_ref(&slab), &settings);
         let reflectance =
             [0, 1, 2].map(|c| tallies.total_reflectance[c] + tallies.unscattered_reflectance[c]);
         let transmittance = [0, 1, 2]
             .map(|c| tallies.total_transmittance[c] + tallies.unscattered_transmittance[c]);
-        (reflectance, transmittance)
+        ((reflectance, transmittance), tallies.interactions)
     };
-    let semi_infinite = simulated(None).0;
-    let (reflectance, transmittance) = thickness.par_iter().map(|&t| simulated(Some(t))).unzip();
-    SlabTotals {
+    let ((semi_infinite, _), mut events) = simulated(None);
+    let (shares, walked): (Vec<_>, Vec<u64>) =
+        thickness.par_iter().map(|&t| simulated(Some(t))).unzip();
+    events += walked.iter().sum::<u64>();
+    let (reflectance, transmittance) = shares.into_iter().unzip();
+    let totals = SlabTotals {
         semi_infinite,
         thickness: thickness.to_vec(),
         reflectance,
         transmittance,
-    }
+    };
+    (totals, events)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every preset keeps its photons and the Monte Carlo's own limit:
+    /// the budget binds only past any material in the list.
+    #[test]
+    fn the_presets_are_simulated_in_full() {
+        let full = Settings::new(PHOTONS, SEED, vec![0.0, f64::MAX]);
+        for (name, _) in sssbake_profile::presets::list() {
+            let material = sssbake_profile::presets::preset(name).unwrap();
+            for layer in material.layers().unwrap_or(&[]) {
+                let settings = affordable(layer, 33, EVENT_BUDGET);
+                assert_eq!(settings.photons, full.photons, "{name}");
+                assert_eq!(settings.max_interactions, full.max_interactions, "{name}");
+            }
+        }
+    }
+
+    /// Found by the sweep of extreme inputs (seed 7, case 1): a medium of
+    /// albedo 0.999999 scattering nearly straight ahead (g 0.99, σt
+    /// 23340 /mm, η 2.1) walked so long that its totals ran for hours.
+    /// Within a budget its photons are fewer and stopped early, the work
+    /// stays within it, and the totals are still shares of what entered.
+    #[test]
+    fn a_medium_that_walks_for_ever_is_simulated_within_its_budget() {
+        let albedo = 0.999999;
+        let sigma_t = 23339.5;
+        let layer = Layer {
+            g: 0.99,
+            ..Layer::semi_infinite([sigma_t * (1.0 - albedo); 3], [sigma_t * albedo; 3], 2.1)
+        };
+        let budget = 2e7;
+        let settings = affordable(&layer, 4, budget);
+        assert!(settings.photons < PHOTONS, "{settings:?}");
+        let (totals, events) = simulate_within(&layer, &[0.01, 0.1, 1.0], budget);
+        assert!(totals.is_sound(), "{totals:?}");
+        assert!((events as f64) <= budget, "{events} events");
+        // What a stopped photon carried is dropped, never made: a thicker
+        // slab still returns no more than the semi-infinite layer.
+        for r in &totals.reflectance[1..] {
+            assert!(
+                (0..3).all(|c| r[c] <= totals.semi_infinite[c] + 1e-12),
+                "{totals:?}"
+            );
+        }
+    }
 
     #[test]
     fn a_thicker_slab_returns_more_and_sends_less() {
