@@ -21,6 +21,7 @@ use crate::surface::opposite::Opposite;
 use crate::surface::texels::TexelSurfels;
 use crate::transport::integrator::{Integrated, Integrator, Summer};
 use crate::transport::local_slab::{LocalSlab, MAX_GAIN, RAISED};
+use crate::transport::rim_light::RimSights;
 use crate::transport::slab_profiles::thin_tolerance;
 use crate::transport::verify::pick;
 use crate::walk::Boundary;
@@ -380,11 +381,11 @@ impl Prepared {
             .collect();
         let mut halves: Vec<[f32; 3]> = gains.iter().map(|g| g.map(f32::sqrt)).collect();
         // Thin parts' gains by their own slab's profile, where they take it.
-        let mut by_slab_profile = 0;
+        let (mut by_slab_profile, mut rim) = (0, RimSights::default());
         if let Some(profiles) = scattering.slab_profiles() {
             let thin = profiles.thin_texels(self, None);
             let epsilon = integrator.thin_epsilon();
-            profiles.gains(self, &thin, &mut halves, &ball, epsilon, stride, control)?;
+            rim = profiles.gains(self, &thin, &mut halves, &ball, epsilon, stride, control)?;
             by_slab_profile = thin.texels().len();
         }
         let count = halves
@@ -398,6 +399,7 @@ impl Prepared {
             ball,
             count,
             by_slab_profile,
+            rim,
             stride,
         });
         *self.raised.lock().unwrap_or_else(|e| e.into_inner()) = Some(Arc::clone(&raised));
@@ -499,7 +501,15 @@ impl Prepared {
         let (step, tolerance) = lattice;
         let share = profiles.share_of_map(&thin, &integrated.exitance);
         let lattice = Some((step, thin_tolerance(tolerance, share)));
-        let (lit, fit) = profiles.lit(raised_light, halves, &thin, epsilon, lattice, control)?;
+        let (lit, fit) = profiles.lit(
+            raised_light,
+            halves,
+            &raised.rim,
+            &thin,
+            epsilon,
+            lattice,
+            control,
+        )?;
         for (t, m) in thin.texels().iter().zip(lit) {
             let old = &mut integrated.exitance[t.texel];
             *old = [0, 1, 2].map(|c| m[c].unwrap_or(old[c]));

@@ -14,6 +14,7 @@ use crate::surface::dilation::{MAX_REACH, SeamAwareDilation, seam_aware_dilation
 use crate::surface::opposite::{Opposite, opposites};
 use crate::surface::turk::{place_points, relax};
 use crate::transport::octree::shape::TreeShape;
+use crate::transport::rim_light::RimSights;
 use crate::transport::sources::{OwnSource, Sources, Targets};
 use crate::walk::Enclosure;
 use glam::Vec3;
@@ -86,6 +87,10 @@ pub struct Raised {
     /// Surfels on parts thin enough in some channel to gather with their
     /// own slab's profile there ([`crate::transport::slab_profiles`]).
     pub by_slab_profile: usize,
+    /// For each of those surfels, in order, where the light its slab
+    /// would carry past the part's rim comes in through the rim
+    /// ([`crate::transport::rim_light`]).
+    pub rim: RimSights,
     /// Texels apart, along u and along v, at which the sums under a unit
     /// light were taken and fitted between; 1 where they were summed at
     /// every texel.

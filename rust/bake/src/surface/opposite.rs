@@ -70,7 +70,7 @@ fn opposite_of(
 
 /// The surfel of the texel under `uv`, or of its nearest covered
 /// neighbour when that texel is empty (a point on a chart's very edge).
-fn surfel_under(surfels: &TexelSurfels, uv: Vec2) -> Option<u32> {
+pub(crate) fn surfel_under(surfels: &TexelSurfels, uv: Vec2) -> Option<u32> {
     let n = surfels.resolution as i64;
     if n == 0 || !uv.is_finite() {
         return None;

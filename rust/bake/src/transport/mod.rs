@@ -20,6 +20,7 @@ pub mod light_check;
 pub mod local_slab;
 pub mod oblique_sum;
 pub mod octree;
+pub mod rim_light;
 mod sample_sizes;
 pub mod slab_ladder;
 pub mod slab_profiles;

@@ -27,7 +27,9 @@
 //! reflections) is a point at the texel behind or at the texel itself, and
 //! is added there rather than spread by a profile. A thin texel's light is
 //! raised where its slab's light would pass the part's rim by the share of
-//! it the rim's boundary reflects back ([`SlabProfiles::gains`]).
+//! it the rim's boundary reflects back ([`SlabProfiles::gains`]), and the
+//! rest comes in as the light entering through the rim
+//! ([`crate::transport::rim_light`]).
 //!
 //! Every profile method bakes thin parts this way, through the octree
 //! (at the method's own solid angle ε; the exact sum's is 0, every pair
@@ -49,6 +51,7 @@ use crate::transport::integrator::Summer;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::local_slab::MAX_GAIN;
 use crate::transport::octree::{Gathering, TreeShape};
+use crate::transport::rim_light::{RimSights, RimTexel, rim_sights};
 use crate::transport::slab_ladder::{SlabProfiles, mix};
 use crate::transport::sources::Sources;
 use crate::transport::through_medium::longer_path;
@@ -154,6 +157,7 @@ impl SlabProfiles {
     /// unit light misses is light the slab would carry past the part's
     /// rim, where it meets the rim's own surface and leaves through it but
     /// for the share F_dr the boundary reflects back (`rim_return`);
+    /// (the rest is light entering through the rim, [`Self::lit`]);
     /// so the gain is 1 + F_dr·(total / sum − 1), within [1,
     /// [`MAX_GAIN`]], times `ball`'s gain of convex parts. (In the middle
     /// of a 12 mm square of skin1 3 mm thick the slab's profile alone is
@@ -162,7 +166,9 @@ impl SlabProfiles {
     /// sums are the octree's at solid angle `epsilon` (0: exact), as shares
     /// of the slab's total, on a lattice `stride` texels apart and carried
     /// between ([`Carrier::whole`]; 1: at every texel): like the
-    /// half-space's, they change over the profile's spread.
+    /// half-space's, they change over the profile's spread. With, for
+    /// each of `parts`' texels, where the rest of that light comes in
+    /// through the rim ([`crate::transport::rim_light`]).
     #[allow(clippy::too_many_arguments)]
     pub fn gains(
         &self,
@@ -173,9 +179,9 @@ impl SlabProfiles {
         epsilon: f32,
         stride: u32,
         control: &Control,
-    ) -> Result<(), Error> {
+    ) -> Result<RimSights, Error> {
         if parts.texels.is_empty() {
-            return Ok(());
+            return Ok(RimSights::default());
         }
         let held = SlabSums::new(self, prepared, parts, epsilon, true);
         let even = evenly_thick(&held.opposites);
@@ -184,7 +190,7 @@ impl SlabProfiles {
             stride.max(1),
             control,
         )?;
-        for (t, share) in parts.texels.iter().zip(shares) {
+        for (t, share) in parts.texels.iter().zip(&shares) {
             let convex = ball.get(t.texel).copied().unwrap_or([1.0; 3]);
             let half = &mut halves[t.texel];
             for c in 0..3 {
@@ -193,7 +199,56 @@ impl SlabProfiles {
                 }
             }
         }
-        Ok(())
+        Ok(self.rim_sights(prepared, parts, &shares))
+    }
+
+    /// Where the light `parts`' texels' sums miss (`shares`: each texel's
+    /// sum under a unit light as a share of its slab's scattered total)
+    /// comes in through the rim, but for the share F_dr the rim reflects
+    /// back, which the gain holds ([`crate::transport::rim_light`]).
+    fn rim_sights(&self, prepared: &Prepared, parts: &ThinParts, shares: &[[f32; 3]]) -> RimSights {
+        // The rim's boundary returns F_dr of what reaches it from inside
+        // (the gain) and passes the rest, which light from outside crosses
+        // the other way: under a unit light on the faces and the rim, the
+        // texel returns its slab's total, as a half-space's texel returns
+        // the plane's.
+        let passing = 1.0 - self.rim_return;
+        let texels: Vec<RimTexel> = parts
+            .texels
+            .iter()
+            .zip(shares)
+            .map(|(t, share)| {
+                let (a, b, w) = self.rungs_at(t.thickness);
+                let total = mix(a.scattered_total, b.scattered_total, w);
+                RimTexel {
+                    texel: t.texel,
+                    thickness: t.thickness as f32,
+                    through_rim: [0, 1, 2].map(|c| {
+                        let missing = (1.0 - f64::from(share[c])).max(0.0) * total[c];
+                        if self.is_thin(t.thickness, c) && missing.is_finite() {
+                            (passing * missing) as f32
+                        } else {
+                            0.0
+                        }
+                    }),
+                }
+            })
+            .collect();
+        rim_sights(prepared, &texels, self.reach as f32, &|t, d| {
+            self.beyond(t, d)
+        })
+    }
+
+    /// The share per channel of the light of a slab `thickness` mm thick
+    /// that leaves it farther than `distance` mm from where it entered.
+    fn beyond(&self, thickness: f32, distance: f32) -> [f32; 3] {
+        let (a, b, w) = self.rungs_at(f64::from(thickness));
+        let outside = |kernel: &Kernel| {
+            let (within, all) = (kernel.enclosed(distance), kernel.enclosed(kernel.d_max));
+            [0, 1, 2].map(|c| f64::from((1.0 - within[c] / all[c]).clamp(0.0, 1.0)))
+        };
+        mix(outside(&a.kernel), outside(&b.kernel), w)
+            .map(|share| if share.is_finite() { share as f32 } else { 0.0 })
     }
 
     /// A thin texel's gain in one channel, as [`Self::gains`] finds it:
@@ -213,17 +268,20 @@ impl SlabProfiles {
     /// `parts`' texels by the profiles of their slabs, under `raised` (the
     /// light entering raised by `halves`, √gain per texel) and raised
     /// again where it leaves, through the octree at solid angle `epsilon`
-    /// (0: exact); `None` in the channels where a texel's part is not
-    /// thin. With a `lattice` (step and tolerance) and ε above 0, the
+    /// (0: exact), with the light `rim` brings in (found with the gains,
+    /// one entry per texel of `parts`); `None` in the channels where a
+    /// texel's part is not thin. With a `lattice` (step and tolerance) and ε above 0, the
     /// scattered part is carried from the lattice's texels as a map is
     /// ([`fitted_at`]: N, the pairs within two texels, summed exactly
     /// where the light is not smooth; the step halved until the fit holds
     /// at random thin texels), else summed at every thin texel. With how
     /// the scattered part was carried, where it was.
+    #[allow(clippy::too_many_arguments)]
     pub fn lit(
         &self,
         raised: &Prepared,
         halves: &[[f32; 3]],
+        rim: &RimSights,
         parts: &ThinParts,
         epsilon: f32,
         lattice: Option<(u32, f64)>,
@@ -244,26 +302,32 @@ impl SlabProfiles {
             }
             _ => (sums.at(&texels, control)?, None),
         };
-        Ok((self.leaving(raised, halves, parts, scattered), fit))
+        Ok((self.leaving(raised, halves, rim, parts, scattered), fit))
     }
 
     /// The exitance at `parts`' texels from their `scattered` sums of
     /// `raised`'s light: with the light that leaves unscattered, at the
     /// texel and from the texel behind, raised where it leaves by
-    /// `halves`.
+    /// `halves`, and the light `rim` brings in
+    /// through the rim, as it entered there.
     fn leaving(
         &self,
         raised: &Prepared,
         halves: &[[f32; 3]],
+        rim: &RimSights,
         parts: &ThinParts,
         scattered: Vec<[f32; 3]>,
     ) -> ThinExitance {
         let entering = raised.entering();
+        // The rim's light as it entered, before the raise.
+        let unraised = |s: usize| [0, 1, 2].map(|c| entering[s][c] / halves[s][c].max(1.0));
         parts
             .texels
             .iter()
             .zip(scattered)
-            .map(|(t, sum)| {
+            .enumerate()
+            .map(|(k, (t, sum))| {
+                let rim = rim.light(k, unraised);
                 let (a, b, w) = self.rungs_at(t.thickness);
                 let back = mix(a.unscattered_back, b.unscattered_back, w);
                 let through = mix(a.unscattered_through, b.unscattered_through, w);
@@ -275,7 +339,7 @@ impl SlabProfiles {
                     let m = f64::from(sum[c])
                         + back[c] * raised(t.texel)
                         + through[c] * raised(t.behind);
-                    Some((m * f64::from(halves[t.texel][c])) as f32)
+                    Some((m * f64::from(halves[t.texel][c]) + rim[c]) as f32)
                 })
             })
             .collect()
@@ -310,20 +374,26 @@ impl SlabProfiles {
         let raised = prepared.raised_by(halves);
         let sums = SlabSums::new(self, &raised, &parts, epsilon.max(0.0), false);
         let [scattered, shares] = sums.with_shares(&parts.texel_ids(), control)?;
-        let lit = self.leaving(&raised, halves, &parts, scattered);
-        let mut at = parts.texels.iter().zip(lit).zip(shares).peekable();
+        // The rim's light by the exact shares, beside the light raised by
+        // the exact gains.
+        let rim = self.rim_sights(prepared, &parts, &shares);
+        let entering = prepared.entering();
+        let rim = (0..parts.texels.len()).map(|k| rim.light(k, |s| entering[s]));
+        let lit = self.leaving(&raised, halves, &RimSights::default(), &parts, scattered);
+        let mut at = parts.texels.iter().zip(lit).zip(shares).zip(rim).peekable();
         Ok(picked
             .iter()
             .map(|&i| {
                 // The thin texels follow the picked ones, in order.
-                let Some(((_, m), share)) = at.next_if(|((t, _), _)| t.texel == i) else {
+                let Some((((_, m), share), rim)) = at.next_if(|(((t, _), _), _)| t.texel == i)
+                else {
                     return [None; 3];
                 };
                 let convex = ball.get(i).copied().unwrap_or([1.0; 3]);
                 [0, 1, 2].map(|c| {
                     let bake = f64::from(halves[i][c]).max(f64::from(f32::MIN_POSITIVE));
                     let exact = self.gain(share[c], convex[c]).sqrt();
-                    m[c].map(|m| (f64::from(m) * exact / bake) as f32)
+                    m[c].map(|m| (f64::from(m) * exact / bake + rim[c]) as f32)
                 })
             })
             .collect())

@@ -1,0 +1,145 @@
+//! Light a thin part receives through its rim.
+//!
+//! A thin texel's sum of its slab's profile over the real surface falls
+//! short of the slab's total where the part ends within the profile's
+//! reach: that share is light the slab would carry past the rim
+//! ([`crate::transport::slab_profiles`]). Followed the other way (the walk
+//! from the texel, reciprocal to light arriving there), it reaches the
+//! rim's surface: the share F_dr the boundary reflects stays in the part
+//! and leaves through its faces, which the texel's gain holds; the rest
+//! leaves through the rim. Light arriving at the texel along those paths
+//! therefore entered through the rim, and carries the rim's irradiance,
+//! not the texel's: under a sun that lights the rim as it lights the face
+//! the whole shortfall comes back, under one that grazes past it none.
+//!
+//! Where the rim lies is found by rays from the middle of the part's
+//! thickness below the texel along its tangent plane: a surface met
+//! within the profile's reach that faces sideways is the rim, and each
+//! direction's share is the slab's light beyond that distance.
+
+use crate::prepared::Prepared;
+use crate::surface::opposite::surfel_under;
+use crate::walk::Enclosure;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Directions in a thin texel's tangent plane sought for the rim.
+const DIRECTIONS: usize = 8;
+/// A surface met counts as the rim when its normal lies within this
+/// cosine of the part's tangent plane (|n_met · n| below it): more face
+/// than rim above it, as where the part curls round.
+const SIDEWAYS: f32 = 0.7;
+
+/// For each of a list of thin texels, the rim's texels its light comes in
+/// through, each with its weight per channel: the texel's added exitance
+/// (W/m²) is Σ weight × the irradiance entering there (W/m², after the
+/// colour split). Held flat: a head at 4096² has millions of thin texels.
+#[derive(Clone, Debug, Default)]
+pub struct RimSights {
+    /// Where each texel's entries begin in `entries`, and one past the last.
+    start: Vec<u32>,
+    /// (surfel, weight per channel), texel after texel.
+    entries: Vec<(u32, [f32; 3])>,
+}
+
+impl RimSights {
+    /// The light the rim brings texel `k` of the list under `entering`
+    /// (the irradiance entering each surfel, W/m², after the colour
+    /// split), W/m²; nothing for a texel past the list.
+    pub fn light(&self, k: usize, entering: impl Fn(usize) -> [f32; 3]) -> [f64; 3] {
+        let mut light = [0.0f64; 3];
+        let (Some(&from), Some(&to)) = (self.start.get(k), self.start.get(k + 1)) else {
+            return light;
+        };
+        for &(s, w) in &self.entries[from as usize..to as usize] {
+            let e = entering(s as usize);
+            for c in 0..3 {
+                light[c] += f64::from(w[c]) * f64::from(e[c]);
+            }
+        }
+        light
+    }
+}
+
+/// A thin texel as the rim sees it.
+#[derive(Clone, Copy, Debug)]
+pub struct RimTexel {
+    /// The texel.
+    pub texel: usize,
+    /// The part's thickness there, mm.
+    pub thickness: f32,
+    /// Per channel, the light per unit irradiance entering through the
+    /// rim: the boundary's share 1 − F_dr of the slab's total the texel's
+    /// sum misses, the share that passes the rim.
+    pub through_rim: [f32; 3],
+}
+
+/// For each of `texels`, where its rim lies within `reach` mm and how much
+/// of its light enters there: the rim's texels met and their weights,
+/// each direction weighed by `beyond(thickness, distance)`, the share per
+/// channel of the slab's light beyond that distance (mm), the weights
+/// summing to the texel's `through_rim`. Empty where no rim is met (the
+/// shortfall is then the part curving away, and light does not come back
+/// that way).
+pub fn rim_sights(
+    prepared: &Prepared,
+    texels: &[RimTexel],
+    reach: f32,
+    beyond: &(impl Fn(f32, f32) -> [f32; 3] + Sync),
+) -> RimSights {
+    let enclosure = Enclosure::new(&prepared.mesh, &prepared.uvs);
+    let surfels = &prepared.surfels;
+    let each: Vec<Vec<(u32, [f32; 3])>> = texels
+        .par_iter()
+        .map(|t| {
+            if t.through_rim.iter().all(|&m| m <= 0.0) {
+                return Vec::new();
+            }
+            let normal = surfels.normal[t.texel].normalize_or_zero();
+            if normal == Vec3::ZERO {
+                return Vec::new();
+            }
+            let middle = surfels.position[t.texel] - normal * (0.5 * t.thickness);
+            let (u, v) = normal.any_orthonormal_pair();
+            let mut met = Vec::with_capacity(DIRECTIONS);
+            for k in 0..DIRECTIONS {
+                let angle = std::f32::consts::TAU * k as f32 / DIRECTIONS as f32;
+                let direction = u * angle.cos() + v * angle.sin();
+                let Some(hit) = enclosure.first_hit(middle, direction, reach, None) else {
+                    continue;
+                };
+                let facing = enclosure.facet_normal(hit.triangle);
+                // Leaving the medium through a face that looks sideways.
+                if facing.dot(direction) <= 0.0 || facing.dot(normal).abs() >= SIDEWAYS {
+                    continue;
+                }
+                if let Some(s) = surfel_under(surfels, enclosure.uv_at(hit.triangle, hit.uv)) {
+                    met.push((s, beyond(t.thickness, hit.t)));
+                }
+            }
+            let total: [f32; 3] = [0, 1, 2].map(|c| met.iter().map(|(_, w)| w[c]).sum());
+            met.into_iter()
+                .map(|(s, w)| {
+                    let share = [0, 1, 2].map(|c| {
+                        let share = t.through_rim[c] * w[c] / total[c];
+                        if share.is_finite() {
+                            share.max(0.0)
+                        } else {
+                            0.0
+                        }
+                    });
+                    (s, share)
+                })
+                .collect()
+        })
+        .collect();
+    let mut start = Vec::with_capacity(each.len() + 1);
+    start.push(0);
+    for sight in &each {
+        start.push(start.last().copied().unwrap_or(0) + sight.len() as u32);
+    }
+    RimSights {
+        start,
+        entries: each.into_iter().flatten().collect(),
+    }
+}
