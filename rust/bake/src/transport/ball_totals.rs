@@ -251,12 +251,7 @@ mod tests {
     /// within it, and every total is still a share of what entered.
     #[test]
     fn a_medium_that_walks_for_ever_is_walked_within_its_budget() {
-        let albedo = 0.999999;
-        let sigma_t = 23339.5;
-        let layer = Layer {
-            g: 0.99,
-            ..Layer::semi_infinite([sigma_t * (1.0 - albedo); 3], [sigma_t * albedo; 3], 2.1)
-        };
+        let layer = crate::transport::walk_budget::walking_for_ever();
         let budget = 2e7;
         let (totals, events) = walk_within(&layer, &[1e-3, 1.0, 10.0], budget);
         assert!((events as f64) <= budget, "{events} events");

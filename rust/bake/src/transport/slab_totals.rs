@@ -168,12 +168,7 @@ mod tests {
     /// stays within it, and the totals are still shares of what entered.
     #[test]
     fn a_medium_that_walks_for_ever_is_simulated_within_its_budget() {
-        let albedo = 0.999999;
-        let sigma_t = 23339.5;
-        let layer = Layer {
-            g: 0.99,
-            ..Layer::semi_infinite([sigma_t * (1.0 - albedo); 3], [sigma_t * albedo; 3], 2.1)
-        };
+        let layer = crate::transport::walk_budget::walking_for_ever();
         let budget = 2e7;
         let settings = affordable(&layer, 4, budget);
         assert!(settings.photons < PHOTONS, "{settings:?}");

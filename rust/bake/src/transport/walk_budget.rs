@@ -57,6 +57,21 @@ pub fn afford(mean_events: f64, runs: usize, wanted: Walks, fewest: u64, budget:
     }
 }
 
+/// The medium the sweep of extreme inputs found walking for ever (seed 7,
+/// case 1): albedo 0.999999, σt 23340 /mm, g 0.99, η 2.1, semi-infinite.
+#[cfg(test)]
+pub(crate) fn walking_for_ever() -> sssbake_profile::material::Layer {
+    let (albedo, sigma_t) = (0.999999, 23339.5);
+    sssbake_profile::material::Layer {
+        g: 0.99,
+        ..sssbake_profile::material::Layer::semi_infinite(
+            [sigma_t * (1.0 - albedo); 3],
+            [sigma_t * albedo; 3],
+            2.1,
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
