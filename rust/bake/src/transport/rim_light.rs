@@ -23,6 +23,10 @@ use crate::walk::Enclosure;
 use glam::Vec3;
 use rayon::prelude::*;
 
+/// The least share of its slab's light a thin texel's sum may miss for
+/// its rim to be sought: light through the rim below it is under a
+/// hundredth of the texel's.
+pub const LEAST_SHARE: f64 = 0.01;
 /// Directions in a thin texel's tangent plane sought for the rim.
 const DIRECTIONS: usize = 8;
 /// A surface met counts as the rim when its normal lies within this
@@ -68,13 +72,15 @@ pub struct RimTexel {
     pub texel: usize,
     /// The part's thickness there, mm.
     pub thickness: f32,
+    /// How far its slab's light reaches, mm: the rim is sought no farther.
+    pub reach: f32,
     /// Per channel, the light per unit irradiance entering through the
     /// rim: the boundary's share 1 − F_dr of the slab's total the texel's
     /// sum misses, the share that passes the rim.
     pub through_rim: [f32; 3],
 }
 
-/// For each of `texels`, where its rim lies within `reach` mm and how much
+/// For each of `texels`, where its rim lies within its reach and how much
 /// of its light enters there: the rim's texels met and their weights,
 /// each direction weighed by `beyond(thickness, distance)`, the share per
 /// channel of the slab's light beyond that distance (mm), the weights
@@ -84,7 +90,6 @@ pub struct RimTexel {
 pub fn rim_sights(
     prepared: &Prepared,
     texels: &[RimTexel],
-    reach: f32,
     beyond: &(impl Fn(f32, f32) -> [f32; 3] + Sync),
 ) -> RimSights {
     let enclosure = Enclosure::new(&prepared.mesh, &prepared.uvs);
@@ -105,7 +110,7 @@ pub fn rim_sights(
             for k in 0..DIRECTIONS {
                 let angle = std::f32::consts::TAU * k as f32 / DIRECTIONS as f32;
                 let direction = u * angle.cos() + v * angle.sin();
-                let Some(hit) = enclosure.first_hit(middle, direction, reach, None) else {
+                let Some(hit) = enclosure.first_hit(middle, direction, t.reach, None) else {
                     continue;
                 };
                 let facing = enclosure.facet_normal(hit.triangle);

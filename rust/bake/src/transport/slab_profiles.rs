@@ -51,7 +51,7 @@ use crate::transport::integrator::Summer;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::local_slab::MAX_GAIN;
 use crate::transport::octree::{Gathering, TreeShape};
-use crate::transport::rim_light::{RimSights, RimTexel, rim_sights};
+use crate::transport::rim_light::{LEAST_SHARE, RimSights, RimTexel, rim_sights};
 use crate::transport::slab_ladder::{SlabProfiles, mix};
 use crate::transport::sources::Sources;
 use crate::transport::through_medium::longer_path;
@@ -223,9 +223,14 @@ impl SlabProfiles {
                 RimTexel {
                     texel: t.texel,
                     thickness: t.thickness as f32,
+                    reach: a.kernel.d_max.max(b.kernel.d_max),
                     through_rim: [0, 1, 2].map(|c| {
-                        let missing = (1.0 - f64::from(share[c])).max(0.0) * total[c];
-                        if self.is_thin(t.thickness, c) && missing.is_finite() {
+                        let missing = (1.0 - f64::from(share[c])).max(0.0);
+                        let missing = missing * total[c];
+                        // Under LEAST_SHARE of the slab's light the rim's
+                        // is not sought: most of a part lies beyond it.
+                        let sought = missing >= LEAST_SHARE * total[c];
+                        if self.is_thin(t.thickness, c) && missing.is_finite() && sought {
                             (passing * missing) as f32
                         } else {
                             0.0
@@ -234,9 +239,7 @@ impl SlabProfiles {
                 }
             })
             .collect();
-        rim_sights(prepared, &texels, self.reach as f32, &|t, d| {
-            self.beyond(t, d)
-        })
+        rim_sights(prepared, &texels, &|t, d| self.beyond(t, d))
     }
 
     /// The share per channel of the light of a slab `thickness` mm thick
