@@ -14,8 +14,9 @@
 //!
 //! Where the rim lies is found by rays from the middle of the part's
 //! thickness below the texel along its tangent plane: a surface met
-//! within the profile's reach that faces sideways is the rim, and each
-//! direction's share is the slab's light beyond that distance.
+//! within the slab's reach that faces sideways is the rim, and each
+//! direction's share is the slab's light beyond that distance. A texel
+//! whose sum misses under [`LEAST_SHARE`] of its slab's light seeks none.
 
 use crate::prepared::Prepared;
 use crate::surface::opposite::surfel_under;
