@@ -227,8 +227,8 @@ impl SlabProfiles {
                     through_rim: [0, 1, 2].map(|c| {
                         let missing = (1.0 - f64::from(share[c])).max(0.0);
                         let missing = missing * total[c];
-                        // Under LEAST_SHARE of the slab's light the rim's
-                        // is not sought: most of a part lies beyond it.
+                        // A texel far from its rim misses almost nothing:
+                        // below LEAST_SHARE its rays are not worth casting.
                         let sought = missing >= LEAST_SHARE * total[c];
                         if self.is_thin(t.thickness, c) && missing.is_finite() && sought {
                             (passing * missing) as f32
@@ -273,7 +273,8 @@ impl SlabProfiles {
     /// again where it leaves, through the octree at solid angle `epsilon`
     /// (0: exact), with the light `rim` brings in (found with the gains,
     /// one entry per texel of `parts`); `None` in the channels where a
-    /// texel's part is not thin. With a `lattice` (step and tolerance) and ε above 0, the
+    /// texel's part is not thin. With a `lattice` (step and tolerance) and
+    /// ε above 0, the
     /// scattered part is carried from the lattice's texels as a map is
     /// ([`fitted_at`]: N, the pairs within two texels, summed exactly
     /// where the light is not smooth; the step halved until the fit holds
@@ -311,8 +312,8 @@ impl SlabProfiles {
     /// The exitance at `parts`' texels from their `scattered` sums of
     /// `raised`'s light: with the light that leaves unscattered, at the
     /// texel and from the texel behind, raised where it leaves by
-    /// `halves`, and the light `rim` brings in
-    /// through the rim, as it entered there.
+    /// `halves`, and the light `rim` brings in through the rim, as it
+    /// entered there.
     fn leaving(
         &self,
         raised: &Prepared,
