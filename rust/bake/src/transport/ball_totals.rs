@@ -165,9 +165,7 @@ fn affordable(medium: &WalkMedium, runs: usize, budget: f64) -> Walks {
         count: PILOT_WALKS,
         max_events: PILOT_EVENTS,
     };
-    let events: u64 = (0..3)
-        .map(|c| returned(&HalfSpace, Vec3::ZERO, medium, c, pilot).1)
-        .sum();
+    let (_, events) = shares(&HalfSpace, Vec3::ZERO, medium, pilot);
     let mean = events as f64 / (3 * PILOT_WALKS) as f64;
     let wanted = Walks {
         count: WALKS,
