@@ -291,22 +291,25 @@ impl Prepared {
 
     /// The irradiance per surfel with the colour applied before scattering.
     pub fn entering(&self) -> Vec<[f32; 3]> {
-        let alpha = self.colour_split;
-        self.irradiance
-            .iter()
-            .zip(self.colour.iter())
-            // A colour of 1 (no colour map) leaves the light as it is,
-            // without a power per channel.
-            .map(|(e, c)| {
-                [0, 1, 2].map(|k| {
-                    if c[k] == 1.0 {
-                        e[k]
-                    } else {
-                        e[k] * c[k].powf(alpha)
-                    }
-                })
-            })
+        (0..self.irradiance.len())
+            .map(|s| self.entering_at(s))
             .collect()
+    }
+
+    /// [`Self::entering`] at surfel `s` alone, for a reader of a few
+    /// surfels (the error estimate's) that need not hold a whole map.
+    #[inline]
+    pub fn entering_at(&self, s: usize) -> [f32; 3] {
+        let (e, c) = (self.irradiance[s], self.colour[s]);
+        // A colour of 1 (no colour map) leaves the light as it is, without
+        // a power per channel.
+        [0, 1, 2].map(|k| {
+            if c[k] == 1.0 {
+                e[k]
+            } else {
+                e[k] * c[k].powf(self.colour_split)
+            }
+        })
     }
 
     /// Drops what only the scattering reads: the scene's lights and rays

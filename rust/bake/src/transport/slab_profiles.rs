@@ -322,9 +322,13 @@ impl SlabProfiles {
         parts: &ThinParts,
         scattered: Vec<[f32; 3]>,
     ) -> ThinExitance {
-        let entering = raised.entering();
+        // Read texel by texel: the error estimate asks for a few hundred.
+        let entering = |s: usize| raised.entering_at(s);
         // The rim's light as it entered, before the raise.
-        let unraised = |s: usize| [0, 1, 2].map(|c| entering[s][c] / halves[s][c].max(1.0));
+        let unraised = |s: usize| {
+            let e = entering(s);
+            [0, 1, 2].map(|c| e[c] / halves[s][c].max(1.0))
+        };
         parts
             .texels
             .iter()
@@ -339,7 +343,7 @@ impl SlabProfiles {
                     if !self.is_thin(t.thickness, c) {
                         return None;
                     }
-                    let raised = |j: usize| f64::from(entering[j][c]);
+                    let raised = |j: usize| f64::from(entering(j)[c]);
                     let m = f64::from(sum[c])
                         + back[c] * raised(t.texel)
                         + through[c] * raised(t.behind);
@@ -381,8 +385,7 @@ impl SlabProfiles {
         // The rim's light by the exact shares, beside the light raised by
         // the exact gains.
         let rim = self.rim_sights(prepared, &parts, &shares);
-        let entering = prepared.entering();
-        let rim = (0..parts.texels.len()).map(|k| rim.light(k, |s| entering[s]));
+        let rim = (0..parts.texels.len()).map(|k| rim.light(k, |s| prepared.entering_at(s)));
         let lit = self.leaving(&raised, halves, &RimSights::default(), &parts, scattered);
         let mut at = parts.texels.iter().zip(lit).zip(shares).zip(rim).peekable();
         Ok(picked
