@@ -74,6 +74,8 @@ def test_an_openpbr_material_is_baked_with_its_colour(sssbake, wax_stage, tmp_pa
     # within 3% of its, never more than entered, and the channels keep their order.
     level = np.array(ball["accuracy"]["corrected"]["level"])
     assert np.all(np.abs(level - 1) < 0.1), level
+    # Every photon of the Monte Carlo behind that level finished: it is not low by any.
+    assert ball["accuracy"]["corrected"]["unfinished"] == [0.0, 0.0, 0.0]
     colour = np.array([0.9, 0.6, 0.3]) * level
     ratio = flux_ratio(tmp_path, "Ball")
     assert ratio[0] > ratio[1] > ratio[2]

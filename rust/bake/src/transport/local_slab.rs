@@ -103,6 +103,9 @@ pub struct SlabShares {
 pub struct LocalSlab {
     /// R_∞/R per channel: the shares of a part thicker than the reach.
     level: [f64; 3],
+    /// Per channel, the most the Monte Carlo's totals may be low by, as a
+    /// share of R_∞ ([`SlabTotals::unfinished`]).
+    unfinished: [f64; 3],
     /// The profile's total within its reach per channel: a plane's sum of
     /// the kernel's weights.
     within_reach: [f64; 3],
@@ -166,8 +169,17 @@ impl LocalSlab {
                 shares
             })
             .collect();
+        let unfinished = [0, 1, 2].map(|c| {
+            let share = totals.unfinished[c] / r_infinite[c];
+            if share.is_finite() {
+                share.max(0.0)
+            } else {
+                0.0
+            }
+        });
         Some(LocalSlab {
             level,
+            unfinished,
             within_reach,
             thickness,
             shares,
@@ -221,6 +233,14 @@ impl LocalSlab {
     /// R_∞/R per channel: how much the profile's level is changed.
     pub fn level(&self) -> [f64; 3] {
         self.level
+    }
+
+    /// Per channel, the most the level and the slabs' totals may be low
+    /// by, as a share: the light of the Monte Carlo's photons stopped
+    /// unfinished, where its bound on the work binds
+    /// ([`crate::transport::walk_budget`]); 0 where every photon finished.
+    pub fn unfinished(&self) -> [f64; 3] {
+        self.unfinished
     }
 
     /// The shares of a part thicker than the reach: its level, nothing
@@ -387,6 +407,7 @@ mod tests {
     fn slab() -> LocalSlab {
         LocalSlab {
             level: [0.9, 1.0, 1.1],
+            unfinished: [0.0; 3],
             within_reach: [0.5, 0.4, 0.3],
             thickness: vec![1.0, 2.0],
             shares: vec![SlabShares::default(); 2],

@@ -29,7 +29,7 @@ const FEWEST_PHOTONS: u64 = 512;
 const SEED: u64 = 0x736c_6162;
 /// Changes whenever the totals change meaning without the crate's version
 /// changing.
-const FORMAT: u32 = 2;
+const FORMAT: u32 = 3;
 
 /// A layer's totals for a pencil beam entering one face at normal
 /// incidence, per unit flux entering, per channel.
@@ -43,6 +43,11 @@ pub struct SlabTotals {
     pub reflectance: Vec<[f64; 3]>,
     /// At each thickness, the light sent out of the far face, T_t.
     pub transmittance: Vec<[f64; 3]>,
+    /// Per channel, the most light any of the runs stopped before it left
+    /// (photons that met the limit on their events, [`affordable`]), as a
+    /// share of the flux entering: by at most this much each total is low.
+    /// 0 where every photon finished.
+    pub unfinished: [f64; 3],
 }
 
 impl SlabTotals {
@@ -52,6 +57,7 @@ impl SlabTotals {
         self.reflectance.len() == self.thickness.len()
             && self.transmittance.len() == self.thickness.len()
             && fine(&self.semi_infinite)
+            && fine(&self.unfinished)
             && self.reflectance.iter().all(fine)
             && self.transmittance.iter().all(fine)
     }
@@ -126,20 +132,35 @@ fn simulate_within(layer: &Layer, thickness: &[f64], budget: f64) -> (SlabTotals
             [0, 1, 2].map(|c| tallies.total_reflectance[c] + tallies.unscattered_reflectance[c]);
         let transmittance = [0, 1, 2]
             .map(|c| tallies.total_transmittance[c] + tallies.unscattered_transmittance[c]);
-        ((reflectance, transmittance), tallies.interactions)
+        let run = Run {
+            reflectance,
+            transmittance,
+            unfinished: [0, 1, 2].map(|c| tallies.truncated[c]),
+        };
+        (run, tallies.interactions)
     };
-    let ((semi_infinite, _), mut events) = simulated(None);
-    let (shares, walked): (Vec<_>, Vec<u64>) =
+    let (semi_infinite, mut events) = simulated(None);
+    let (runs, walked): (Vec<Run>, Vec<u64>) =
         thickness.par_iter().map(|&t| simulated(Some(t))).unzip();
     events += walked.iter().sum::<u64>();
-    let (reflectance, transmittance) = shares.into_iter().unzip();
+    let unfinished = runs.iter().fold(semi_infinite.unfinished, |most, run| {
+        [0, 1, 2].map(|c| most[c].max(run.unfinished[c]))
+    });
     let totals = SlabTotals {
-        semi_infinite,
+        semi_infinite: semi_infinite.reflectance,
         thickness: thickness.to_vec(),
-        reflectance,
-        transmittance,
+        reflectance: runs.iter().map(|r| r.reflectance).collect(),
+        transmittance: runs.iter().map(|r| r.transmittance).collect(),
+        unfinished,
     };
     (totals, events)
+}
+
+/// One run's totals, per unit flux entering, per channel.
+struct Run {
+    reflectance: [f64; 3],
+    transmittance: [f64; 3],
+    unfinished: [f64; 3],
 }
 
 #[cfg(test)]
@@ -175,6 +196,8 @@ mod tests {
         let (totals, events) = simulate_within(&layer, &[0.01, 0.1, 1.0], budget);
         assert!(totals.is_sound(), "{totals:?}");
         assert!((events as f64) <= budget, "{events} events");
+        // Stopped photons are counted: the totals say how low they may be.
+        assert!(totals.unfinished.iter().any(|&u| u > 0.01), "{totals:?}");
         // What a stopped photon carried is dropped, never made: a thicker
         // slab still returns no more than the semi-infinite layer.
         for r in &totals.reflectance[1..] {
@@ -190,6 +213,8 @@ mod tests {
         let layer = Layer::semi_infinite([0.05; 3], [1.0; 3], 1.3);
         let totals = simulate_totals(&layer, &[0.5, 2.0, 8.0]);
         assert!(totals.is_sound());
+        // Every photon finished within the Monte Carlo's own limit.
+        assert_eq!(totals.unfinished, [0.0; 3]);
         for c in 0..3 {
             let r: Vec<f64> = totals.reflectance.iter().map(|v| v[c]).collect();
             let t: Vec<f64> = totals.transmittance.iter().map(|v| v[c]).collect();
