@@ -429,7 +429,14 @@ fn plan_object(
         rays: cost.rays
             + gathering_rays(texels, bounces)
             + planned_rays(topology.parts, object.mesh.triangles.len()),
-        memory_bytes: cost.memory_bytes + gathering_bytes(texels, bounces),
+        // Every texel of a part thin enough may seek its rim.
+        memory_bytes: cost.memory_bytes
+            + gathering_bytes(texels, bounces)
+            + if thin_parts > 0.0 {
+                texels as f64 * crate::transport::rim_light::BYTES_PER_TEXEL as f64
+            } else {
+                0.0
+            },
         ..cost
     };
     Ok(ObjectPlan {

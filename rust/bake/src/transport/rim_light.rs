@@ -30,6 +30,10 @@ use rayon::prelude::*;
 pub const LEAST_SHARE: f64 = 0.01;
 /// Directions in a thin texel's tangent plane sought for the rim.
 const DIRECTIONS: usize = 8;
+/// The most a thin texel's [`RimSights`] hold, bytes: where its entries
+/// begin, and an entry (a surfel and three weights) per direction.
+pub const BYTES_PER_TEXEL: usize =
+    std::mem::size_of::<u32>() + DIRECTIONS * std::mem::size_of::<(u32, [f32; 3])>();
 /// A surface met counts as the rim when its normal lies within this
 /// cosine of the part's tangent plane (|n_met · n| below it): more face
 /// than rim above it, as where the part curls round.
