@@ -153,10 +153,11 @@ pub struct Corrected {
     /// Per channel, the share of the map kept where the raised light would
     /// have left more power than entered; `None` where all of it was.
     pub kept: Option<[f32; 3]>,
-    /// Per channel, the most the level may be low by, as a share: the
-    /// light of the Monte Carlo's photons stopped unfinished where its
-    /// bound on the work binds (a nearly lossless medium scattering nearly
-    /// straight ahead); 0 where every photon finished.
+    /// Per channel, the most the level (or the gain of small convex parts)
+    /// may be off by, as a share: the light of the Monte Carlo's photons
+    /// and the balls' walks stopped unfinished where the bound on their
+    /// work binds (a nearly lossless medium scattering nearly straight
+    /// ahead); 0 where every one finished.
     #[serde(default)]
     pub unfinished: [f64; 3],
 }
@@ -711,7 +712,7 @@ impl fmt::Display for Summary {
                 if unfinished >= UNFINISHED_SAID {
                     writeln!(
                         f,
-                        "{}: corrected model: the Monte Carlo stopped photons unfinished within its bound on the work: light's level may be low by up to {:.2}%",
+                        "{}: corrected model: the Monte Carlo stopped photons unfinished within its bound on the work: light's level may be off by up to {:.2}%",
                         p.name,
                         100.0 * unfinished
                     )?;

@@ -43,6 +43,10 @@ pub struct BallGain {
     /// At each curvature, B: the ball's return over the half-space's, per
     /// channel (1 at 0).
     light: Vec<[f64; 3]>,
+    /// Per channel, the most B may be off by where the bound on the walks'
+    /// events binds, as a share
+    /// ([`crate::transport::ball_totals::BallTotals::unfinished_share`]).
+    unfinished: [f64; 3],
 }
 
 impl BallGain {
@@ -61,7 +65,8 @@ impl BallGain {
         } else {
             Vec::new()
         };
-        let balls = ball_totals(layer, &radius).over_half_space();
+        let totals = ball_totals(layer, &radius);
+        let balls = totals.over_half_space();
         // From the largest ball (least curved) to the smallest.
         let mut curvature = vec![0.0];
         let mut light = vec![[1.0; 3]];
@@ -73,6 +78,7 @@ impl BallGain {
             scale: scale.map(|s| s as f32),
             curvature,
             light,
+            unfinished: totals.unfinished_share(),
         }
     }
 
@@ -98,7 +104,14 @@ impl BallGain {
             scale: [0.0; 3],
             curvature: vec![0.0],
             light: vec![[1.0; 3]],
+            unfinished: [0.0; 3],
         }
+    }
+
+    /// Per channel, the most the gain may be off by where the bound on the
+    /// walks' events binds, as a share (0 where every walk ended).
+    pub fn unfinished(&self) -> [f64; 3] {
+        self.unfinished
     }
 
     /// B in channel `c` where the mean curvature is `h` (1/mm): 1 at or
@@ -179,6 +192,7 @@ mod tests {
             scale: [1.0; 3],
             curvature: vec![0.0, 0.1, 0.5],
             light: vec![[1.0; 3], [1.2, 1.1, 1.0], [2.0, 1.5, 1.0]],
+            unfinished: [0.0; 3],
         }
     }
 

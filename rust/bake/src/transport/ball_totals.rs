@@ -38,7 +38,7 @@ const MAX_EVENTS: u32 = 100_000;
 const SEED: u64 = 0x6261_6c6c;
 /// Changes whenever the totals change meaning without the crate's version
 /// changing.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
 
 /// The light balls of one material return, per channel.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -49,6 +49,11 @@ pub struct BallTotals {
     pub radius: Vec<f64>,
     /// At each radius, the share of the flux entering that leaves the ball.
     pub returned: Vec<[f64; 3]>,
+    /// Per channel, the most light of the flux entering that any run's
+    /// walks carried when the bound on their events stopped them (0 where
+    /// every walk ended): a total may be low by as much.
+    #[serde(default)]
+    pub unfinished: [f64; 3],
 }
 
 impl BallTotals {
@@ -57,6 +62,7 @@ impl BallTotals {
         let fine = |v: &[f64; 3]| v.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x));
         self.returned.len() == self.radius.len()
             && fine(&self.half_space)
+            && fine(&self.unfinished)
             && self.returned.iter().all(fine)
     }
 
@@ -72,6 +78,20 @@ impl BallTotals {
                 })
             })
             .collect()
+    }
+
+    /// Per channel, the most a ball's return over the half-space's may be
+    /// off by where the bound on the walks' events binds, as a share of
+    /// the half-space's return (0 where every walk ended).
+    pub fn unfinished_share(&self) -> [f64; 3] {
+        [0, 1, 2].map(|c| {
+            let share = self.unfinished[c] / self.half_space[c];
+            if share.is_finite() {
+                share.max(0.0)
+            } else {
+                0.0
+            }
+        })
     }
 }
 
@@ -117,12 +137,13 @@ fn walk_within(layer: &Layer, radius: &[f64], budget: f64) -> (BallTotals, u64) 
             half_space: [0.0; 3],
             radius: radius.to_vec(),
             returned: vec![[0.0; 3]; radius.len()],
+            unfinished: [0.0; 3],
         };
         return (none, 0);
     };
     let walks = affordable(&medium, radius.len() + 1, budget);
-    let (half_space, mut events) = shares(&HalfSpace, Vec3::ZERO, &medium, walks);
-    let (returned, walked): (Vec<[f64; 3]>, Vec<u64>) = radius
+    let half_space = shares(&HalfSpace, Vec3::ZERO, &medium, walks);
+    let balls: Vec<Walked> = radius
         .par_iter()
         .map(|&r| {
             shares(
@@ -132,28 +153,42 @@ fn walk_within(layer: &Layer, radius: &[f64], budget: f64) -> (BallTotals, u64) 
                 walks,
             )
         })
-        .unzip();
-    events += walked.iter().sum::<u64>();
+        .collect();
+    let events = half_space.events + balls.iter().map(|b| b.events).sum::<u64>();
+    let unfinished = balls.iter().fold(half_space.unfinished, |most, b| {
+        [0, 1, 2].map(|c| most[c].max(b.unfinished[c]))
+    });
     let totals = BallTotals {
-        half_space,
+        half_space: half_space.returned,
         radius: radius.to_vec(),
-        returned,
+        returned: balls.iter().map(|b| b.returned).collect(),
+        unfinished,
     };
     (totals, events)
 }
 
-/// [`returned`] in every channel, with the events the walks took.
+/// What one shape's walks found, per channel: the share of the flux
+/// entering that left it, and that they carried when stopped; with the
+/// events they took in all.
+struct Walked {
+    returned: [f64; 3],
+    unfinished: [f64; 3],
+    events: u64,
+}
+
+/// [`returned`] in every channel.
 fn shares<C: Confinement + Sync>(
     shape: &C,
     top: Vec3,
     medium: &WalkMedium,
     walks: Walks,
-) -> ([f64; 3], u64) {
+) -> Walked {
     let each = [0, 1, 2].map(|c| returned(shape, top, medium, c, walks));
-    (
-        each.map(|(share, _)| share),
-        each.iter().map(|(_, e)| e).sum(),
-    )
+    Walked {
+        returned: each.map(|e| e.left),
+        unfinished: each.map(|e| e.stopped),
+        events: each.iter().map(|e| e.events).sum(),
+    }
 }
 
 /// The walks `runs` runs of `medium` (the half-space's among them) can
@@ -165,7 +200,7 @@ fn affordable(medium: &WalkMedium, runs: usize, budget: f64) -> Walks {
         count: PILOT_WALKS,
         max_events: PILOT_EVENTS,
     };
-    let (_, events) = shares(&HalfSpace, Vec3::ZERO, medium, pilot);
+    let events = shares(&HalfSpace, Vec3::ZERO, medium, pilot).events;
     let mean = events as f64 / (3 * PILOT_WALKS) as f64;
     let wanted = Walks {
         count: WALKS,
@@ -174,16 +209,25 @@ fn affordable(medium: &WalkMedium, runs: usize, budget: f64) -> Walks {
     afford(mean, runs, wanted, FEWEST_WALKS, budget)
 }
 
+/// What one channel's walks found: the share of the flux entering that
+/// left, and that they carried when stopped; with the events they took.
+#[derive(Clone, Copy)]
+struct ChannelWalked {
+    left: f64,
+    stopped: f64,
+    events: u64,
+}
+
 /// The share of a pencil beam entering at `top` (a point of the surface
 /// whose outward normal is +z), straight down, that leaves `shape`, in
-/// channel `c`, by `walks`; with the events they took.
+/// channel `c`, by `walks`.
 fn returned<C: Confinement>(
     shape: &C,
     top: Vec3,
     medium: &WalkMedium,
     c: usize,
     walks: Walks,
-) -> (f64, u64) {
+) -> ChannelWalked {
     let channel: &ChannelMedium = &medium.channels[c];
     let start = WalkStart {
         position: top,
@@ -191,19 +235,25 @@ fn returned<C: Confinement>(
         triangle: 0,
     };
     let most = walks.max_events.min(u64::from(u32::MAX)) as u32;
-    let (left, events): (f64, u64) = (0..walks.count)
+    let (left, stopped, events): (f64, f64, u64) = (0..walks.count)
         .into_par_iter()
         .map(|k| {
             let mut rng = Rng::new(SEED, k);
             let walked = walk(shape, channel, medium.boundary, start, most, &mut rng);
-            let left = match walked.ending {
-                Ending::Left { weight, .. } => weight,
-                _ => 0.0,
+            let (left, stopped) = match walked.ending {
+                Ending::Left { weight, .. } => (weight, 0.0),
+                Ending::Truncated { weight } => (0.0, weight),
+                _ => (0.0, 0.0),
             };
-            (left, u64::from(walked.events))
+            (left, stopped, u64::from(walked.events))
         })
-        .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    ((left / walks.count as f64).clamp(0.0, 1.0), events)
+        .reduce(|| (0.0, 0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+    let share = |x: f64| (x / walks.count as f64).clamp(0.0, 1.0);
+    ChannelWalked {
+        left: share(left),
+        stopped: share(stopped),
+        events,
+    }
 }
 
 #[cfg(test)]
@@ -242,6 +292,8 @@ mod tests {
         }
         // Red goes deepest, so its balls gain the most.
         assert!(ratio[1][0] > ratio[1][2], "{:?}", ratio[1]);
+        // Every walk ended within the bound on its events.
+        assert_eq!(totals.unfinished, [0.0; 3]);
     }
 
     /// The sweep's medium that walks for ever (see `slab_totals`): within
@@ -254,6 +306,11 @@ mod tests {
         let (totals, events) = walk_within(&layer, &[1e-3, 1.0, 10.0], budget);
         assert!((events as f64) <= budget, "{events} events");
         assert!(totals.is_sound(), "{totals:?}");
+        // Stopped walks are counted: the totals say how far off they may be.
+        assert!(
+            totals.unfinished_share().iter().any(|&u| u > 0.01),
+            "{totals:?}"
+        );
     }
 
     #[test]

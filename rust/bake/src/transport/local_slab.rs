@@ -104,7 +104,8 @@ pub struct LocalSlab {
     /// R_∞/R per channel: the shares of a part thicker than the reach.
     level: [f64; 3],
     /// Per channel, the most the Monte Carlo's totals may be low by, as a
-    /// share of R_∞ ([`SlabTotals::unfinished`]).
+    /// share of R_∞ ([`SlabTotals::unfinished`]), or the balls' gains off
+    /// by ([`BallGain::unfinished`]), whichever is more.
     unfinished: [f64; 3],
     /// The profile's total within its reach per channel: a plane's sum of
     /// the kernel's weights.
@@ -177,13 +178,16 @@ impl LocalSlab {
                 0.0
             }
         });
+        // The balls' walks are bounded as the slabs' are: either may be short.
+        let ball = BallGain::of(&scattering.kernel, layer);
+        let unfinished = [0, 1, 2].map(|c| unfinished[c].max(ball.unfinished()[c]));
         Some(LocalSlab {
             level,
             unfinished,
             within_reach,
             thickness,
             shares,
-            ball: BallGain::of(&scattering.kernel, layer),
+            ball,
         })
     }
 
@@ -235,10 +239,11 @@ impl LocalSlab {
         self.level
     }
 
-    /// Per channel, the most the level and the slabs' totals may be low
-    /// by, as a share: the light of the Monte Carlo's photons stopped
-    /// unfinished, where its bound on the work binds
-    /// ([`crate::transport::walk_budget`]); 0 where every photon finished.
+    /// Per channel, the most the level, the slabs' totals and the balls'
+    /// gains may be off by, as a share: the light of the Monte Carlo's
+    /// photons and the balls' walks stopped unfinished, where the bound on
+    /// their work binds ([`crate::transport::walk_budget`]); 0 where every
+    /// one finished.
     pub fn unfinished(&self) -> [f64; 3] {
         self.unfinished
     }
