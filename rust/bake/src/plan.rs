@@ -429,11 +429,13 @@ fn plan_object(
         rays: cost.rays
             + gathering_rays(texels, bounces)
             + planned_rays(topology.parts, object.mesh.triangles.len()),
-        // Every texel of a part thin enough may seek its rim.
+        // Every texel may lie on a thin part and seek its rim.
         memory_bytes: cost.memory_bytes
             + gathering_bytes(texels, bounces)
             + if thin_parts > 0.0 {
-                texels as f64 * crate::transport::rim_light::BYTES_PER_TEXEL as f64
+                let thin = crate::transport::slab_profiles::BYTES_PER_THIN_TEXEL
+                    + crate::transport::rim_light::BYTES_PER_TEXEL;
+                texels as f64 * thin as f64
             } else {
                 0.0
             },

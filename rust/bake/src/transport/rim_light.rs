@@ -19,10 +19,11 @@
 //! whose sum misses under [`LEAST_SHARE`] of its slab's light seeks none.
 
 use crate::prepared::Prepared;
+use crate::surface::lattice::on_surface_of;
 use crate::surface::opposite::surfel_under;
-use crate::surface::texels::uv_jacobian;
+use crate::surface::texels::{EMPTY, TexelSurfels, uv_jacobian};
 use crate::walk::Enclosure;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 /// The least share of its slab's light a thin texel's sum may miss for
@@ -32,9 +33,9 @@ pub const LEAST_SHARE: f64 = 0.01;
 /// Directions in a thin texel's tangent plane sought for the rim.
 const DIRECTIONS: usize = 8;
 /// The most a thin texel's [`RimSights`] hold, bytes: where its entries
-/// begin, and an entry (a surfel and three weights) per direction.
+/// begin, and an entry per direction.
 pub const BYTES_PER_TEXEL: usize =
-    std::mem::size_of::<u32>() + DIRECTIONS * std::mem::size_of::<(u32, [f32; 3])>();
+    std::mem::size_of::<u32>() + DIRECTIONS * std::mem::size_of::<Sight>();
 /// A surface met counts as the rim when its normal lies within this
 /// cosine of the part's tangent plane (|n_met · n| below it): more face
 /// than rim above it, as where the part curls round.
@@ -66,27 +67,89 @@ fn tangent_axes(prepared: &Prepared, surfel: usize, normal: Vec3) -> (Vec3, Vec3
 pub struct RimSights {
     /// Where each texel's entries begin in `entries`, and one past the last.
     start: Vec<u32>,
-    /// (surfel, weight per channel), texel after texel.
-    entries: Vec<(u32, [f32; 3])>,
+    /// One per direction that met the rim, texel after texel.
+    entries: Vec<Sight>,
 }
+
+/// Where one ray met the rim, and its weight per channel. The light there
+/// is the bilinear mean of the 2 × 2 texels about the point met: a rim a
+/// few texels across is met on a boundary between texels as often as not
+/// (its middle, where a thin part's rays run), and a single texel there
+/// would turn with rounding (Suzanne's eyes in the add-on's bake and in
+/// its glTF's moved by a tenth).
+#[derive(Clone, Copy, Debug)]
+struct Sight {
+    /// The texel (y·N + x) at the lowest corner of the 2 × 2.
+    corner: u32,
+    /// The weights of the texels at (x, y), (x + 1, y), (x, y + 1) and
+    /// (x + 1, y + 1), in 65535ths; 0 where a texel is empty or not on
+    /// the rim's surface.
+    blend: [u16; 4],
+    weight: [f32; 3],
+}
+
+/// The offsets of [`Sight::blend`]'s texels from its corner.
+const BLENDED: [(u32, u32); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
 impl RimSights {
     /// The light the rim brings texel `k` of the list under `entering`
     /// (the irradiance entering each surfel, W/m², after the colour
     /// split), W/m²; nothing for a texel past the list.
-    pub fn light(&self, k: usize, entering: impl Fn(usize) -> [f32; 3]) -> [f64; 3] {
+    pub fn light(
+        &self,
+        k: usize,
+        surfels: &TexelSurfels,
+        entering: impl Fn(usize) -> [f32; 3],
+    ) -> [f64; 3] {
         let mut light = [0.0f64; 3];
         let (Some(&from), Some(&to)) = (self.start.get(k), self.start.get(k + 1)) else {
             return light;
         };
-        for &(s, w) in &self.entries[from as usize..to as usize] {
-            let e = entering(s as usize);
-            for c in 0..3 {
-                light[c] += f64::from(w[c]) * f64::from(e[c]);
+        let n = surfels.resolution;
+        for sight in &self.entries[from as usize..to as usize] {
+            for (&(dx, dy), &b) in BLENDED.iter().zip(&sight.blend) {
+                let texel = (sight.corner + dx + dy * n) as usize;
+                let Some(&s) = surfels.index.get(texel).filter(|_| b > 0) else {
+                    continue;
+                };
+                let e = entering(s as usize);
+                let share = f64::from(b) / f64::from(u16::MAX);
+                for c in 0..3 {
+                    light[c] += share * f64::from(sight.weight[c]) * f64::from(e[c]);
+                }
             }
         }
         light
     }
+}
+
+/// The 2 × 2 texels about `uv` that lie on the surface of surfel `met`
+/// (the texel under it), with their bilinear weights by the texels'
+/// centres, renormalized over those: (corner texel, weights in 65535ths).
+fn blend_about(surfels: &TexelSurfels, uv: Vec2, met: u32) -> Option<(u32, [u16; 4])> {
+    let n = surfels.resolution;
+    let at = uv * n as f32 - Vec2::splat(0.5);
+    let corner = at
+        .floor()
+        .clamp(Vec2::ZERO, Vec2::splat(n.saturating_sub(2) as f32));
+    let along = (at - corner).clamp(Vec2::ZERO, Vec2::ONE);
+    let (x, y) = (corner.x as u32, corner.y as u32);
+    let mut weights = [0.0f32; 4];
+    for (w, &(dx, dy)) in weights.iter_mut().zip(&BLENDED) {
+        let Some(&s) = surfels.index.get(((y + dy) * n + x + dx) as usize) else {
+            continue;
+        };
+        if s != EMPTY && on_surface_of(surfels, met as usize, s as usize) {
+            let wx = if dx == 0 { 1.0 - along.x } else { along.x };
+            let wy = if dy == 0 { 1.0 - along.y } else { along.y };
+            *w = wx * wy;
+        }
+    }
+    let total: f32 = weights.iter().sum();
+    (total > 0.0 && total.is_finite()).then(|| {
+        let blend = weights.map(|w| (w / total * f32::from(u16::MAX)).round() as u16);
+        (y * n + x, blend)
+    })
 }
 
 /// A thin texel as the rim sees it.
@@ -118,7 +181,7 @@ pub fn rim_sights(
 ) -> RimSights {
     let enclosure = Enclosure::new(&prepared.mesh, &prepared.uvs);
     let surfels = &prepared.surfels;
-    let each: Vec<Vec<(u32, [f32; 3])>> = texels
+    let each: Vec<Vec<Sight>> = texels
         .par_iter()
         .map(|t| {
             if t.through_rim.iter().all(|&m| m <= 0.0) {
@@ -142,14 +205,16 @@ pub fn rim_sights(
                 if facing.dot(direction) <= 0.0 || facing.dot(normal).abs() >= SIDEWAYS {
                     continue;
                 }
-                if let Some(s) = surfel_under(surfels, enclosure.uv_at(hit.triangle, hit.uv)) {
-                    met.push((s, beyond(t.thickness, hit.t)));
+                let uv = enclosure.uv_at(hit.triangle, hit.uv);
+                let blended = surfel_under(surfels, uv).and_then(|s| blend_about(surfels, uv, s));
+                if let Some((corner, blend)) = blended {
+                    met.push((corner, blend, beyond(t.thickness, hit.t)));
                 }
             }
-            let total: [f32; 3] = [0, 1, 2].map(|c| met.iter().map(|(_, w)| w[c]).sum());
+            let total: [f32; 3] = [0, 1, 2].map(|c| met.iter().map(|(_, _, w)| w[c]).sum());
             met.into_iter()
-                .map(|(s, w)| {
-                    let share = [0, 1, 2].map(|c| {
+                .map(|(corner, blend, w)| {
+                    let weight = [0, 1, 2].map(|c| {
                         let share = t.through_rim[c] * w[c] / total[c];
                         if share.is_finite() {
                             share.max(0.0)
@@ -157,7 +222,11 @@ pub fn rim_sights(
                             0.0
                         }
                     });
-                    (s, share)
+                    Sight {
+                        corner,
+                        blend,
+                        weight,
+                    }
                 })
                 .collect()
         })

@@ -73,6 +73,14 @@ pub struct ThinTexel {
 /// where its part is thin (`None` in the others).
 pub type ThinExitance = Vec<[Option<f32>; 3]>;
 
+/// The most the thin parts hold per texel on them while an object bakes,
+/// bytes: the texel, its sums under a unit light as shares, the same as its
+/// rim sees it, and its exitance.
+pub const BYTES_PER_THIN_TEXEL: usize = std::mem::size_of::<ThinTexel>()
+    + std::mem::size_of::<[f32; 3]>()
+    + std::mem::size_of::<crate::transport::rim_light::RimTexel>()
+    + std::mem::size_of::<[Option<f32>; 3]>();
+
 /// The texels of one object on thin parts, with the rungs they read.
 pub struct ThinParts {
     texels: Vec<ThinTexel>,
@@ -335,7 +343,7 @@ impl SlabProfiles {
             .zip(scattered)
             .enumerate()
             .map(|(k, (t, sum))| {
-                let rim = rim.light(k, unraised);
+                let rim = rim.light(k, &raised.surfels, unraised);
                 let (a, b, w) = self.rungs_at(t.thickness);
                 let back = mix(a.unscattered_back, b.unscattered_back, w);
                 let through = mix(a.unscattered_through, b.unscattered_through, w);
@@ -385,7 +393,8 @@ impl SlabProfiles {
         // The rim's light by the exact shares, beside the light raised by
         // the exact gains.
         let rim = self.rim_sights(prepared, &parts, &shares);
-        let rim = (0..parts.texels.len()).map(|k| rim.light(k, |s| prepared.entering_at(s)));
+        let rim = (0..parts.texels.len())
+            .map(|k| rim.light(k, &prepared.surfels, |s| prepared.entering_at(s)));
         let lit = self.leaving(&raised, halves, &RimSights::default(), &parts, scattered);
         let mut at = parts.texels.iter().zip(lit).zip(shares).zip(rim).peekable();
         Ok(picked
