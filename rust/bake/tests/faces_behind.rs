@@ -61,3 +61,71 @@ fn the_faces_behind_are_found_within_the_reach_asked_and_none_beyond() {
     assert!(fresh.opposites(THICK - 0.5).iter().all(Option::is_none));
     assert!(!fresh.has_thin_parts(THICK - 0.5));
 }
+
+/// A block 40 × 40 × 12 mm (its top at z = 6) with a smaller one, 10 ×
+/// 10 × 4 mm, set inside it [`SUNK`] mm under its top: two closed pieces
+/// of one mesh, one medium, each in its own half of the map.
+fn block_with_a_piece_set_in() -> sssbake::Mesh {
+    let outer = stretched(cube(1.0), Vec3::new(40.0, 40.0, 12.0), "outer");
+    let inner = stretched(cube(1.0), Vec3::new(10.0, 10.0, 4.0), "inner");
+    let (mut positions, mut uvs, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, (part, shift)) in [(outer, 0.0), (inner, 4.0 - SUNK)].into_iter().enumerate() {
+        let base = positions.len() as u32;
+        positions.extend(part.positions.iter().map(|p| *p + Vec3::Z * shift));
+        let uv = part.uvs.as_ref().unwrap();
+        uvs.extend(
+            uv.iter()
+                .map(|t| glam::Vec2::new((t.x + k as f32) / 2.0, t.y)),
+        );
+        triangles.extend(part.triangles.iter().map(|t| t.map(|v| v + base)));
+    }
+    sssbake::Mesh::new("block", positions, None, Some(uvs), triangles)
+        .unwrap()
+        .0
+}
+
+/// Depth of the inner block's top under the outer's, mm.
+const SUNK: f32 = 2.0;
+
+#[test]
+fn a_face_set_into_the_medium_ends_it_whichever_way_it_faces() {
+    // The inner block's top faces up, towards a ray going down from the
+    // outer top: the walk and Cycles' Random Walk end there all the same,
+    // so the skin above it is a layer SUNK mm thick, its far face the
+    // inner top.
+    let scene = scene(
+        vec![block_with_a_piece_set_in()],
+        vec![sun_from(Vec3::NEG_Z)],
+    );
+    let prepared = prepared(&scene, "block", 128);
+    let surfels = &prepared.surfels;
+    let behind = prepared.opposites(20.0);
+    let on_top = |i: usize, half: f32| {
+        let p = surfels.position[i];
+        surfels.normal[i].z > 0.9 && p.x.abs() < half && p.y.abs() < half && p.z > 5.9
+    };
+    let above_the_piece: Vec<usize> = (0..surfels.len()).filter(|&i| on_top(i, 4.0)).collect();
+    assert!(
+        above_the_piece.len() > 20,
+        "{} texels",
+        above_the_piece.len()
+    );
+    for &i in &above_the_piece {
+        let o = behind[i].unwrap_or_else(|| panic!("texel {i} above the piece has no face behind"));
+        assert!((o.thickness - SUNK).abs() < 1e-3, "{o:?}");
+        let far = o.surfel as usize;
+        assert!(
+            surfels.normal[far].z > 0.9 && (surfels.position[far].z - (6.0 - SUNK)).abs() < 0.1
+        );
+    }
+    // Beside it, the outer block's own bottom, 12 mm down.
+    let beside: Vec<usize> = (0..surfels.len())
+        .filter(|&i| on_top(i, 18.0) && !on_top(i, 7.0))
+        .collect();
+    assert!(!beside.is_empty());
+    assert!(
+        beside
+            .iter()
+            .all(|&i| behind[i].is_some_and(|o| (o.thickness - 12.0).abs() < 1e-3))
+    );
+}

@@ -19,13 +19,17 @@ pub struct Opposite {
 }
 
 /// For every surfel, the face behind it, when a ray along its inward
-/// normal leaves the medium (meets a triangle facing away from it) within
-/// `reach` mm on the same medium, at a point some texel covers; `None`
-/// where the medium goes on beyond `reach`, the ray meets nothing, enters
-/// another body, or lands where no texel is (a mesh open below the texel
-/// is a half-space there). The reach bounds each ray: a part thicker than
-/// the profile's reach is a half-space to every reader, and most rays
-/// into a head would otherwise cross all of it (half the time at 4096²).
+/// normal meets a face of the same medium within `reach` mm, at a point
+/// some texel covers; `None` where the medium goes on beyond `reach`, the
+/// ray meets nothing or another medium, or lands where no texel is (a mesh
+/// open below the texel is a half-space there). Any face met ends the
+/// medium, whichever way it faces, as it ends the walk and Cycles' Random
+/// Walk: a face turned towards the ray is a piece set into this one (the
+/// rim of Suzanne's eye domes, sunk a few millimetres into the head), and
+/// the skin above it is a layer that thick, not a half-space. The reach
+/// bounds each ray: a part thicker than the profile's reach is a
+/// half-space to every reader, and most rays into a head would otherwise
+/// cross all of it (half the time at 4096²).
 pub fn opposites(
     enclosure: &Enclosure,
     surfels: &TexelSurfels,
@@ -53,10 +57,6 @@ fn opposite_of(
         reach,
         Some(surfels.triangle[s]),
     )?;
-    // Leaving the medium: the face met looks the way the ray goes.
-    if enclosure.facet_normal(hit.triangle).dot(inward) <= 0.0 {
-        return None;
-    }
     let surfel = surfel_under(surfels, enclosure.uv_at(hit.triangle, hit.uv))?;
     let same_piece = surfels
         .piece
