@@ -22,7 +22,7 @@ use crate::transport::choice::{Choice, avoid_thin_parts, choose, neighbours};
 use crate::transport::integrator::Work;
 use crate::transport::light_check;
 use crate::transport::local_slab::LocalSlab;
-use crate::transport::thin::crossing_share;
+use crate::transport::thin::{crossing_share, thin_share};
 use crate::walk::WalkMedium;
 use serde::Serialize;
 use std::fmt;
@@ -421,6 +421,15 @@ fn plan_object(
         Some(_) => 2.0 * work.texels * work.neighbours,
         None => 0.0,
     };
+    // What thin parts hold, by the share of texels a probe finds thin.
+    let thin_bytes = match scattering.slab_profiles().filter(|_| thin_parts > 0.0) {
+        Some(slabs) => {
+            let thickest = slabs.thickest_thin() as f32;
+            let thin = thin_share(&layout.mesh, &layout.surfels, thickest);
+            slabs.planned_bytes(texels as f64, thin)
+        }
+        None => 0.0,
+    };
     let topology = topology_report(&object.mesh);
     let cost = ObjectCost {
         light_check,
@@ -429,16 +438,7 @@ fn plan_object(
         rays: cost.rays
             + gathering_rays(texels, bounces)
             + planned_rays(topology.parts, object.mesh.triangles.len()),
-        // Every texel may lie on a thin part and seek its rim.
-        memory_bytes: cost.memory_bytes
-            + gathering_bytes(texels, bounces)
-            + if thin_parts > 0.0 {
-                let thin = crate::transport::slab_profiles::BYTES_PER_THIN_TEXEL
-                    + crate::transport::rim_light::BYTES_PER_TEXEL;
-                texels as f64 * thin as f64
-            } else {
-                0.0
-            },
+        memory_bytes: cost.memory_bytes + gathering_bytes(texels, bounces) + thin_bytes,
         ..cost
     };
     Ok(ObjectPlan {

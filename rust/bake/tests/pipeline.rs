@@ -13,7 +13,7 @@ use sssbake::request::DEFAULT_TOLERANCE;
 use sssbake::transport::Method;
 use sssbake::transport::brute::BruteIntegrator;
 use sssbake::transport::integrator::{Integrator, IntegratorSettings};
-use sssbake::transport::thin::crossing_share;
+use sssbake::transport::thin::{crossing_share, thin_share};
 use sssbake::{BakeRequest, Error, Lighting, Output, bake, plan};
 use sssbake_profile::material::{Layer, Material, Optics};
 use sssbake_profile::model::Model;
@@ -271,6 +271,40 @@ fn auto_says_what_it_chose_and_why() {
         chosen(1024, skin1, Method::Importance).method,
         Method::Importance
     );
+}
+
+/// The plan's share of texels on thin parts holds the texels truly there
+/// and not many more: on a 1 mm sheet, its two broad faces (all but the
+/// rim); none for a part thinner than the sheet.
+#[test]
+fn the_planned_thin_share_holds_the_sheets_faces_and_no_more() {
+    let scene = scene(vec![sheet(1.0)], vec![sun_from(Vec3::NEG_Z)]);
+    let prepared = prepared(&scene, "sheet", 192);
+    let surfels = &prepared.surfels;
+    let faces = (0..surfels.len())
+        .filter(|&s| surfels.normal[s].z.abs() > 0.9)
+        .count() as f64
+        / surfels.len() as f64;
+    let share = thin_share(&prepared.mesh, surfels, 2.0);
+    assert!(
+        share >= faces && share <= faces + 0.05,
+        "{share} for {faces}"
+    );
+    assert!(share <= 1.0);
+    assert_eq!(thin_share(&prepared.mesh, surfels, 0.5), 0.0);
+    assert_eq!(thin_share(&prepared.mesh, surfels, f32::NAN), 0.0);
+    // The plan holds nothing where no texel is thin, and no more than every
+    // texel's worth on any share.
+    let skin = scattering_of("skin1", Model::Dipole);
+    let slabs = skin.slab_profiles().expect("skin has thin parts");
+    assert_eq!(slabs.planned_bytes(1e6, 0.0), 0.0);
+    assert_eq!(slabs.planned_bytes(1e6, f64::NAN), 0.0);
+    let (some, all) = (
+        slabs.planned_bytes(1e6, share),
+        slabs.planned_bytes(1e6, 1.0),
+    );
+    assert!(0.0 < some && some <= all && all.is_finite());
+    assert_eq!(slabs.planned_bytes(1e6, f64::INFINITY), all);
 }
 
 /// The share of the light that crosses a thin part, as `auto` estimates

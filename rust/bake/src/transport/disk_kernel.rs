@@ -24,6 +24,13 @@ const ROW: usize = 1152;
 /// Disk radii tabulated across a range of sample areas.
 const SIZES: usize = 24;
 
+/// The most one table holds, bytes: every size and the last again, each a
+/// row of `Vec4`s for R and, for a kernel that transmits, for T.
+pub const fn most_bytes(transmits: bool) -> usize {
+    let row = (SIZES + 1) * ROW * std::mem::size_of::<Vec4>();
+    if transmits { 2 * row } else { row }
+}
+
 /// Share of the circle of radius `r` about the entry point that lies in
 /// the disk of radius `a` centred `d` away.
 pub(super) fn ring_share(r: f32, d: f32, a: f32) -> f32 {
@@ -167,8 +174,13 @@ impl<'k> DiskKernel<'k> {
             .collect();
         let last = rows.len() - 1;
         let stored = rows.iter().chain(std::iter::once(&rows[last]));
-        self.reflected = Vec::with_capacity((rows.len() + 1) * ROW);
-        self.transmitted = Vec::new();
+        let stored_len = (rows.len() + 1) * ROW;
+        self.reflected = Vec::with_capacity(stored_len);
+        self.transmitted = if kernel.transmits() {
+            Vec::with_capacity(stored_len)
+        } else {
+            Vec::new()
+        };
         for row in stored {
             for &[r, t] in row {
                 self.reflected.push(Vec4::new(r[0], r[1], r[2], 0.0));

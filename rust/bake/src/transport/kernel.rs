@@ -31,6 +31,10 @@ pub struct Kernel {
     transmit_density: Vec<[f32; 3]>,
 }
 
+/// The most a kernel's tables hold, bytes: four tables of
+/// [`ENTRIES`] entries.
+pub const MOST_BYTES: usize = 4 * ENTRIES * std::mem::size_of::<[f32; 3]>();
+
 /// The blend of reflection and transmission for two normals (Mikkelsen
 /// §3.1, from Donner & Jensen 2005): t = (1 − n_i·n_o)/2.
 pub fn transmission_share(n_in: glam::Vec3, n_out: glam::Vec3) -> f32 {

@@ -76,7 +76,7 @@ pub type ThinExitance = Vec<[Option<f32>; 3]>;
 /// The most the thin parts hold per texel on them while an object bakes,
 /// bytes: the texel, its sums under a unit light as shares, the same as its
 /// rim sees it, and its exitance.
-pub const BYTES_PER_THIN_TEXEL: usize = std::mem::size_of::<ThinTexel>()
+const BYTES_PER_THIN_TEXEL: usize = std::mem::size_of::<ThinTexel>()
     + std::mem::size_of::<[f32; 3]>()
     + std::mem::size_of::<crate::transport::rim_light::RimTexel>()
     + std::mem::size_of::<[Option<f32>; 3]>();
@@ -102,6 +102,29 @@ impl ThinParts {
 }
 
 impl SlabProfiles {
+    /// The most the thin parts hold while an object of `texels` bakes,
+    /// bytes, when at most the share `thin` of them lie on a part thinner
+    /// than a slab reaches ([`crate::transport::thin::thin_share`]): each
+    /// rung's kernel and its disk means for texels and for nodes, and each
+    /// thin texel's own (its texel, sums, rim and exitance); nothing where
+    /// no texel is thin. (The head at 512² held 40 MB of rungs' disk means
+    /// at its peak.)
+    pub fn planned_bytes(&self, texels: f64, thin: f64) -> f64 {
+        if thin.is_nan() || thin <= 0.0 {
+            return 0.0;
+        }
+        let rung = crate::transport::kernel::MOST_BYTES
+            + 2 * crate::transport::disk_kernel::most_bytes(true);
+        let texel = BYTES_PER_THIN_TEXEL + crate::transport::rim_light::BYTES_PER_TEXEL;
+        (self.thickness.len() * rung) as f64 + texels * thin.min(1.0) * texel as f64
+    }
+
+    /// The thickest part (mm) thin in some channel: thicker ones keep the
+    /// half-space's profile.
+    pub fn thickest_thin(&self) -> f64 {
+        self.thin_below.iter().copied().fold(0.0, f64::max)
+    }
+
     /// The face behind each of `prepared`'s texels within the reach of the
     /// half-space's profile, the thickest any slab here reads.
     pub(super) fn opposites(&self, prepared: &Prepared) -> Arc<Vec<Option<Opposite>>> {

@@ -55,6 +55,34 @@ pub fn crossing_share(
     if area > 0.0 { share / area } else { 0.0 }
 }
 
+/// At most the share of an object's texels (by count) with a face behind
+/// nearer than `thinner_than` mm, from about [`PROBES`] texels spread
+/// through the layout: the share found, raised by three standard errors
+/// and three probes' worth; 0 when no probe finds one (a part too small to
+/// meet a probe holds few texels). What thin parts hold is planned by it
+/// ([`crate::transport::slab_profiles::SlabProfiles::planned_bytes`]).
+pub fn thin_share(mesh: &Mesh, surfels: &TexelSurfels, thinner_than: f32) -> f64 {
+    let count = surfels.len();
+    if count == 0 || thinner_than.is_nan() || thinner_than <= 0.0 {
+        return 0.0;
+    }
+    let rays = RayScene::new(&[mesh]);
+    let stride = count.div_ceil(PROBES).max(1);
+    let (thin, probed) = (0..count)
+        .into_par_iter()
+        .step_by(stride)
+        .map(|s| {
+            let thin = inward_thickness(&rays, surfels, s, thinner_than).is_some();
+            (usize::from(thin), 1usize)
+        })
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    if thin == 0 {
+        return 0.0;
+    }
+    let (n, share) = (probed as f64, thin as f64 / probed as f64);
+    (share + 3.0 * (share * (1.0 - share) / n).sqrt() + 3.0 / n).min(1.0)
+}
+
 /// The distance (mm) along surfel `s`'s inward normal to where the object
 /// ends, when that is nearer than `t_max` mm.
 pub(crate) fn inward_thickness(
