@@ -29,19 +29,11 @@ pub fn crossing_share(
     profile: &dyn Profile,
     d_max: f32,
 ) -> f64 {
-    let count = surfels.len();
-    if count == 0 || d_max.is_nan() || d_max <= 0.0 {
-        return 0.0;
-    }
     let total = profile.total_reflectance();
-    let rays = RayScene::new(&[mesh]);
-    let stride = count.div_ceil(PROBES).max(1);
-    let (share, area) = (0..count)
-        .into_par_iter()
-        .step_by(stride)
-        .map(|s| {
+    let (share, area) = probed_thickness(mesh, surfels, d_max)
+        .into_iter()
+        .map(|(s, t)| {
             let area = f64::from(surfels.area[s].max(0.0));
-            let t = inward_thickness(&rays, surfels, s, d_max);
             let share = t.map_or(0.0, |t| {
                 let enclosed = profile.enclosed_reflectance(f64::from(t));
                 (0..3)
@@ -51,7 +43,7 @@ pub fn crossing_share(
             });
             (share * area, area)
         })
-        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+        .fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
     if area > 0.0 { share / area } else { 0.0 }
 }
 
@@ -62,25 +54,30 @@ pub fn crossing_share(
 /// meet a probe holds few texels). What thin parts hold is planned by it
 /// ([`crate::transport::slab_profiles::SlabProfiles::planned_bytes`]).
 pub fn thin_share(mesh: &Mesh, surfels: &TexelSurfels, thinner_than: f32) -> f64 {
-    let count = surfels.len();
-    if count == 0 || thinner_than.is_nan() || thinner_than <= 0.0 {
-        return 0.0;
-    }
-    let rays = RayScene::new(&[mesh]);
-    let stride = count.div_ceil(PROBES).max(1);
-    let (thin, probed) = (0..count)
-        .into_par_iter()
-        .step_by(stride)
-        .map(|s| {
-            let thin = inward_thickness(&rays, surfels, s, thinner_than).is_some();
-            (usize::from(thin), 1usize)
-        })
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    let probed = probed_thickness(mesh, surfels, thinner_than);
+    let thin = probed.iter().filter(|(_, t)| t.is_some()).count();
     if thin == 0 {
         return 0.0;
     }
-    let (n, share) = (probed as f64, thin as f64 / probed as f64);
+    let (n, share) = (probed.len() as f64, thin as f64 / probed.len() as f64);
     (share + 3.0 * (share * (1.0 - share) / n).sqrt() + 3.0 / n).min(1.0)
+}
+
+/// About [`PROBES`] surfels spread through the layout, each with the
+/// distance (mm) to where the object ends below it when nearer than
+/// `t_max` mm; none for an empty layout or a `t_max` that is not positive.
+fn probed_thickness(mesh: &Mesh, surfels: &TexelSurfels, t_max: f32) -> Vec<(usize, Option<f32>)> {
+    let count = surfels.len();
+    if count == 0 || t_max.is_nan() || t_max <= 0.0 {
+        return Vec::new();
+    }
+    let rays = RayScene::new(&[mesh]);
+    let stride = count.div_ceil(PROBES).max(1);
+    (0..count)
+        .into_par_iter()
+        .step_by(stride)
+        .map(|s| (s, inward_thickness(&rays, surfels, s, t_max)))
+        .collect()
 }
 
 /// The distance (mm) along surfel `s`'s inward normal to where the object
