@@ -15,8 +15,9 @@
 //! out; the exactness on a ball holds for any subset of its pairs.
 //!
 //! The texels are first gathered into patches a fraction of the scale
-//! across (by cell, medium and the octant their normal points into, so
-//! the two faces of a thin part stay apart), H is found at each patch,
+//! across (by cell, medium and like normals, so the two faces of a thin
+//! part and the faces of a box's edge stay apart, however the object is
+//! turned), H is found at each patch,
 //! and each texel takes a smooth mean of the patches around it: the work
 //! grows with the texels and the patches, not with their product.
 
@@ -37,6 +38,12 @@ const PATCH: f32 = 0.35;
 /// so the faces of a box's edge see each other and a thin part's two
 /// faces do not.
 const FACING_AWAY: f32 = -0.5;
+/// The cosine between normals at or above which texels face one way:
+/// within about 75°. A texel joins a patch of its cell whose first texel
+/// faces its way, and takes its curvature from the patches that do; so a
+/// box's faces (90° apart) are never one patch, whichever of them face the
+/// world's positive axes, and a thin part's two faces never meet.
+const SAME_WAY: f32 = 0.25;
 /// The widest lattice of texels the curvature is found at, texels apart.
 const MOST_STEP: u32 = 16;
 /// The most patches an object is gathered into: past it they grow, so the
@@ -154,7 +161,7 @@ fn at_patch_size<const K: usize>(
         }
     }
     // Each texel: a smooth mean of the patches within two sizes, facing
-    // its way, in its medium (its own patch always among them).
+    // its way, in its medium.
     let near = Grid::new(&positions, size);
     let smooth_mean = |i: usize| -> [f32; K] {
         let (p, n, m) = (
@@ -168,7 +175,7 @@ fn at_patch_size<const K: usize>(
             for &k in &near.order[run] {
                 let q = &patches[k as usize];
                 let d2 = (q.position - p).length_squared();
-                if d2 > within || q.medium != m || q.normal.dot(n) <= 0.0 {
+                if d2 > within || q.medium != m || q.normal.dot(n) < SAME_WAY {
                     continue;
                 }
                 let w = (-d2 / (size * size)).exp();
@@ -268,40 +275,53 @@ fn medium_of(surfels: &TexelSurfels, i: usize) -> u32 {
     surfels.piece.get(i).copied().unwrap_or(0)
 }
 
-/// The texels gathered by cell of `size` mm, medium and normal octant.
+/// The texels gathered by cell of `size` mm and medium, and within a cell
+/// into groups facing one way ([`SAME_WAY`] to the group's first texel,
+/// texels taken in the map's order).
 fn patches(surfels: &TexelSurfels, size: f32) -> Vec<Patch> {
     #[derive(Default)]
     struct Sum {
+        first: Vec3,
         position: DVec3,
         normal: DVec3,
         area: f64,
     }
-    let mut cells: HashMap<(IVec3, u32, u8), Sum, FastHash> = HashMap::default();
+    let mut cells: HashMap<(IVec3, u32), Vec<Sum>, FastHash> = HashMap::default();
     for i in 0..surfels.len() {
         let (p, n) = (surfels.position[i], surfels.normal[i]);
         let a = f64::from(surfels.area[i]);
         if !(a > 0.0 && p.is_finite() && n.is_finite()) {
             continue;
         }
-        let octant = u8::from(n.x < 0.0) | u8::from(n.y < 0.0) << 1 | u8::from(n.z < 0.0) << 2;
         let cell = (p / size).floor().as_ivec3();
-        let sum = cells
-            .entry((cell, medium_of(surfels, i), octant))
-            .or_default();
+        let groups = cells.entry((cell, medium_of(surfels, i))).or_default();
+        let k = match groups.iter().position(|g| g.first.dot(n) >= SAME_WAY) {
+            Some(k) => k,
+            None => {
+                groups.push(Sum {
+                    first: n,
+                    ..Sum::default()
+                });
+                groups.len() - 1
+            }
+        };
+        let sum = &mut groups[k];
         sum.position += p.as_dvec3() * a;
         sum.normal += n.as_dvec3() * a;
         sum.area += a;
     }
-    let mut patches: Vec<((IVec3, u32, u8), Patch)> = cells
+    let mut patches: Vec<((IVec3, u32, usize), Patch)> = cells
         .into_iter()
-        .map(|(key, s)| {
-            let patch = Patch {
-                position: (s.position / s.area).as_vec3(),
-                normal: s.normal.normalize_or_zero().as_vec3(),
-                area: s.area as f32,
-                medium: key.1,
-            };
-            (key, patch)
+        .flat_map(|((cell, medium), groups)| {
+            groups.into_iter().enumerate().map(move |(k, s)| {
+                let patch = Patch {
+                    position: (s.position / s.area).as_vec3(),
+                    normal: s.normal.normalize_or_zero().as_vec3(),
+                    area: s.area as f32,
+                    medium,
+                };
+                ((cell, medium, k), patch)
+            })
         })
         .collect();
     // A fixed order, so the sums (and the bake) do not depend on the map's.
