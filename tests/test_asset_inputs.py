@@ -81,7 +81,7 @@ def test_an_openpbr_material_is_baked_with_its_colour(sssbake, wax_stage, tmp_pa
     assert ratio[0] > ratio[1] > ratio[2]
     assert ratio[0] <= 1.0 + 1e-3 and np.all(ratio >= colour - 0.01), (ratio, colour)
     walked = tmp_path / "walk"
-    bake(sssbake, wax_stage, walked, "--method", "walk", "--walk-samples", "512", python=True)
+    bake(sssbake, wax_stage, walked, "--method", "walk", "--walk-samples", "128", python=True)
     light = flux_ratio(walked, "Ball")
     assert np.all(np.abs(ratio / light - 1) < 0.03), (ratio, light)
 
