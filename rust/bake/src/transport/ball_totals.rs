@@ -15,6 +15,7 @@
 //! either.
 
 use crate::monte_carlo_cache::{cache_dir, cached};
+use crate::transport::shares::{is_share, most_per_channel, share_of};
 use crate::transport::walk_budget::{EVENT_BUDGET, PILOT_EVENTS, PILOT_WALKS, Walks, afford};
 use crate::walk::path::{Confinement, Ending, WalkStart, walk};
 use crate::walk::shapes::{Ball, HalfSpace};
@@ -59,11 +60,10 @@ pub struct BallTotals {
 impl BallTotals {
     /// True when every total is finite, within [0, 1] and one per radius.
     fn is_sound(&self) -> bool {
-        let fine = |v: &[f64; 3]| v.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x));
         self.returned.len() == self.radius.len()
-            && fine(&self.half_space)
-            && fine(&self.unfinished)
-            && self.returned.iter().all(fine)
+            && is_share(&self.half_space)
+            && is_share(&self.unfinished)
+            && self.returned.iter().all(is_share)
     }
 
     /// Per radius and channel, the ball's return over the half-space's
@@ -84,14 +84,7 @@ impl BallTotals {
     /// off by where the bound on the walks' events binds, as a share of
     /// the half-space's return (0 where every walk ended).
     pub fn unfinished_share(&self) -> [f64; 3] {
-        [0, 1, 2].map(|c| {
-            let share = self.unfinished[c] / self.half_space[c];
-            if share.is_finite() {
-                share.max(0.0)
-            } else {
-                0.0
-            }
-        })
+        share_of(self.unfinished, self.half_space)
     }
 }
 
@@ -155,9 +148,7 @@ fn walk_within(layer: &Layer, radius: &[f64], budget: f64) -> (BallTotals, u64) 
         })
         .collect();
     let events = half_space.events + balls.iter().map(|b| b.events).sum::<u64>();
-    let unfinished = balls.iter().fold(half_space.unfinished, |most, b| {
-        [0, 1, 2].map(|c| most[c].max(b.unfinished[c]))
-    });
+    let unfinished = most_per_channel(half_space.unfinished, balls.iter().map(|b| b.unfinished));
     let totals = BallTotals {
         half_space: half_space.returned,
         radius: radius.to_vec(),

@@ -67,6 +67,7 @@
 use crate::scattering::Scattering;
 use crate::surface::opposite::Opposite;
 use crate::transport::ball_gain::BallGain;
+use crate::transport::shares::share_of;
 use crate::transport::slab_ladder::rungs_about;
 use crate::transport::slab_totals::slab_totals;
 use sssbake_profile::material::{Layer, Optics, TopLayer};
@@ -170,14 +171,7 @@ impl LocalSlab {
                 shares
             })
             .collect();
-        let unfinished = [0, 1, 2].map(|c| {
-            let share = totals.unfinished[c] / r_infinite[c];
-            if share.is_finite() {
-                share.max(0.0)
-            } else {
-                0.0
-            }
-        });
+        let unfinished = share_of(totals.unfinished, r_infinite);
         // The balls' walks are bounded as the slabs' are: either may be short.
         let ball = BallGain::of(&scattering.kernel, layer);
         let unfinished = [0, 1, 2].map(|c| unfinished[c].max(ball.unfinished()[c]));

@@ -22,6 +22,7 @@ pub mod oblique_sum;
 pub mod octree;
 pub mod rim_light;
 mod sample_sizes;
+mod shares;
 pub mod slab_ladder;
 pub mod slab_profiles;
 pub mod slab_totals;

@@ -83,7 +83,7 @@ impl SlabProfiles {
         let d_max = reach;
         let thin_below =
             [0, 1, 2].map(|c| (THIN_DIFFUSION_LENGTHS / layer.medium(c).sigma_tr()).min(d_max));
-        let thickest = thin_below.iter().copied().fold(0.0, f64::max);
+        let thickest = thickest_of(thin_below);
         let finest = (0..3)
             .map(|c| 1.0 / (layer.sigma_a[c] + layer.sigma_s[c]))
             .fold(f64::INFINITY, f64::min);
@@ -188,6 +188,12 @@ impl SlabProfiles {
         t < self.thin_below[c]
     }
 
+    /// The thickest part (mm) thin in some channel: thicker ones keep the
+    /// half-space's profile.
+    pub fn thickest_thin(&self) -> f64 {
+        thickest_of(self.thin_below)
+    }
+
     /// The rungs about `t` mm, simulated by [`Self::thin_texels`], and the
     /// weight of the second.
     pub(super) fn rungs_at(&self, t: f64) -> (&Rung, &Rung, f64) {
@@ -221,4 +227,9 @@ pub(crate) fn rungs_about(thickness: &[f64], t: f64) -> (usize, usize, f64) {
     let (t0, t1) = (thickness[above - 1], thickness[above]);
     let w = ((t.max(t0) / t0).ln() / (t1 / t0).ln()).clamp(0.0, 1.0);
     (above - 1, above, w)
+}
+
+/// The largest of the channels' `thin_below`, mm.
+fn thickest_of(thin_below: [f64; 3]) -> f64 {
+    thin_below.iter().copied().fold(0.0, f64::max)
 }

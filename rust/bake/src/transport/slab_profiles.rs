@@ -119,12 +119,6 @@ impl SlabProfiles {
         (self.thickness.len() * rung) as f64 + texels * thin.min(1.0) * texel as f64
     }
 
-    /// The thickest part (mm) thin in some channel: thicker ones keep the
-    /// half-space's profile.
-    pub fn thickest_thin(&self) -> f64 {
-        self.thin_below.iter().copied().fold(0.0, f64::max)
-    }
-
     /// The face behind each of `prepared`'s texels within the reach of the
     /// half-space's profile, the thickest any slab here reads.
     pub(super) fn opposites(&self, prepared: &Prepared) -> Arc<Vec<Option<Opposite>>> {

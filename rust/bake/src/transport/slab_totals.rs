@@ -12,6 +12,7 @@
 //! scores.
 
 use crate::monte_carlo_cache::{cache_dir, cached};
+use crate::transport::shares::{is_share, most_per_channel};
 use crate::transport::walk_budget::{EVENT_BUDGET, PILOT_EVENTS, PILOT_WALKS, Walks, afford};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -53,13 +54,12 @@ pub struct SlabTotals {
 impl SlabTotals {
     /// True when every total is finite, within [0, 1] and one per thickness.
     fn is_sound(&self) -> bool {
-        let fine = |v: &[f64; 3]| v.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x));
         self.reflectance.len() == self.thickness.len()
             && self.transmittance.len() == self.thickness.len()
-            && fine(&self.semi_infinite)
-            && fine(&self.unfinished)
-            && self.reflectance.iter().all(fine)
-            && self.transmittance.iter().all(fine)
+            && is_share(&self.semi_infinite)
+            && is_share(&self.unfinished)
+            && self.reflectance.iter().all(is_share)
+            && self.transmittance.iter().all(is_share)
     }
 }
 
@@ -143,9 +143,7 @@ fn simulate_within(layer: &Layer, thickness: &[f64], budget: f64) -> (SlabTotals
     let (runs, walked): (Vec<Run>, Vec<u64>) =
         thickness.par_iter().map(|&t| simulated(Some(t))).unzip();
     events += walked.iter().sum::<u64>();
-    let unfinished = runs.iter().fold(semi_infinite.unfinished, |most, run| {
-        [0, 1, 2].map(|c| most[c].max(run.unfinished[c]))
-    });
+    let unfinished = most_per_channel(semi_infinite.unfinished, runs.iter().map(|r| r.unfinished));
     let totals = SlabTotals {
         semi_infinite: semi_infinite.reflectance,
         thickness: thickness.to_vec(),
