@@ -18,10 +18,11 @@
 //! send nothing.
 
 use super::entry::EntryTransmittance;
-use super::sequence::{basis, cosine_hemisphere, hammersley, rotation};
+use super::sequence::{cosine_hemisphere, hammersley, rotation};
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::layout::Layout;
 use crate::rays::RayScene;
+use crate::surface::frame::own_frame;
 use crate::surface::gathering::{Spread, gathering_texels, stride};
 use crate::surface::texels::EMPTY;
 use glam::Vec3;
@@ -162,7 +163,9 @@ fn look_around(
 ) -> Vec<Seen> {
     let surfels = &layout.surfels;
     let (p, n) = (surfels.position[surfel], surfels.normal[surfel]);
-    let (t, b) = own_frame(layout, surfels.triangle[surfel], n);
+    // A frame that turns with the mesh: the rays a texel casts do not
+    // depend on the axes the scene was written in.
+    let (t, b) = own_frame(&layout.mesh, surfels.triangle[surfel], n);
     let skip = rays.scene_triangle(mesh, surfels.triangle[surfel]);
     let origin = p + n * rays.epsilon();
     let own = layout.mesh.triangles[surfels.triangle[surfel] as usize]
@@ -208,23 +211,6 @@ fn look_around(
         }
     }
     seen
-}
-
-/// A tangent frame (t, b) about unit `n` that turns with the mesh: t along
-/// the longest edge of `triangle` in its winding, so the rays a texel casts
-/// do not depend on the axes the scene was written in.
-fn own_frame(layout: &Layout, triangle: u32, n: Vec3) -> (Vec3, Vec3) {
-    let [a, b, c] =
-        layout.mesh.triangles[triangle as usize].map(|v| layout.mesh.positions[v as usize]);
-    let edge = [b - a, c - b, a - c]
-        .into_iter()
-        .max_by(|x, y| x.length_squared().total_cmp(&y.length_squared()))
-        .unwrap_or(Vec3::ZERO);
-    let t = (edge - n * edge.dot(n)).normalize_or_zero();
-    if t == Vec3::ZERO {
-        return basis(n);
-    }
-    (t, n.cross(t))
 }
 
 /// The surfel a ray meets: the texel under the point's UVs where that

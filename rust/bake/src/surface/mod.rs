@@ -5,6 +5,7 @@
 
 pub mod curvature;
 pub mod dilation;
+pub mod frame;
 pub mod gathering;
 pub mod lattice;
 pub mod medium;

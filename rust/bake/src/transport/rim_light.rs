@@ -19,9 +19,10 @@
 //! whose sum misses under [`LEAST_SHARE`] of its slab's light seeks none.
 
 use crate::prepared::Prepared;
+use crate::surface::frame::own_frame;
 use crate::surface::lattice::on_surface_of;
 use crate::surface::opposite::surfel_under;
-use crate::surface::texels::{EMPTY, TexelSurfels, uv_jacobian};
+use crate::surface::texels::{EMPTY, TexelSurfels};
 use crate::walk::Enclosure;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -40,24 +41,6 @@ pub const BYTES_PER_TEXEL: usize =
 /// cosine of the part's tangent plane (|n_met · n| below it): more face
 /// than rim above it, as where the part curls round.
 const SIDEWAYS: f32 = 0.7;
-
-/// Two unit axes of the tangent plane at `surfel` (of unit `normal`): the
-/// texture's u direction there, and the normal across it. They belong to
-/// the surface, not to the world's axes, so the rim is sought along the
-/// same rays however the scene is turned (a glTF is Y-up, Blender Z-up):
-/// eight rays meet a rim's few texels by chance, and a basis taken from
-/// the world's axes turned them with the file's convention.
-fn tangent_axes(prepared: &Prepared, surfel: usize, normal: Vec3) -> (Vec3, Vec3) {
-    let triangle = prepared.surfels.triangle[surfel] as usize;
-    let along_u = uv_jacobian(&prepared.mesh, &prepared.uvs, triangle)
-        .map(|(du, _)| du.as_vec3())
-        .map(|du| (du - normal * normal.dot(du)).normalize_or_zero())
-        .filter(|u| u.is_finite() && *u != Vec3::ZERO);
-    match along_u {
-        Some(u) => (u, normal.cross(u)),
-        None => normal.any_orthonormal_pair(),
-    }
-}
 
 /// For each of a list of thin texels, the rim's texels its light comes in
 /// through, each with its weight per channel: the texel's added exitance
@@ -192,7 +175,10 @@ pub fn rim_sights(
                 return Vec::new();
             }
             let middle = surfels.position[t.texel] - normal * (0.5 * t.thickness);
-            let (u, v) = tangent_axes(prepared, t.texel, normal);
+            // The surface's own frame, not the world's axes: eight rays meet
+            // a rim's few texels by chance, and a frame from the world's axes
+            // turned them with the file's convention.
+            let (u, v) = own_frame(&prepared.mesh, surfels.triangle[t.texel], normal);
             let mut met = Vec::with_capacity(DIRECTIONS);
             for k in 0..DIRECTIONS {
                 let angle = std::f32::consts::TAU * k as f32 / DIRECTIONS as f32;
