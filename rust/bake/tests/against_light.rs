@@ -90,17 +90,17 @@ fn bake_and_walk(
         )
         .unwrap()
         .exitance;
-    let (walked, noise) = walked_at(&prepared, scattering, None, 4096);
+    let every: Vec<usize> = (0..prepared.surfels.len()).collect();
+    let (walked, noise) = walked_at(&prepared, scattering, &every, 4096);
     (prepared, baked, walked, noise)
 }
 
 /// The walk's exitance and its standard error after the colour after
-/// scattering, by `walks` pencils at the texels `picked` (every texel when
-/// `None`), in their order.
+/// scattering, by `walks` pencils at the texels `picked`, in their order.
 fn walked_at(
     prepared: &Prepared,
     scattering: &Scattering,
-    picked: Option<&[usize]>,
+    picked: &[usize],
     walks: u32,
 ) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
     let medium = WalkMedium::of_material(&scattering.material).unwrap();
@@ -110,17 +110,10 @@ fn walked_at(
         seed: 7,
         start: StartDirection::Pencil,
     };
-    let estimate = walk_surfels(prepared, &medium, picked, &settings, &Control::new()).unwrap();
-    let all: Vec<usize>;
-    let texels = match picked {
-        Some(picked) => picked,
-        None => {
-            all = (0..prepared.surfels.len()).collect();
-            &all
-        }
-    };
+    let estimate =
+        walk_surfels(prepared, &medium, Some(picked), &settings, &Control::new()).unwrap();
     let after = |values: &[[f32; 3]]| -> Vec<[f32; 3]> {
-        texels
+        picked
             .iter()
             .zip(values)
             .map(|(&i, &v)| prepared.after_scattering(i, v))
@@ -493,7 +486,7 @@ fn a_small_ball_returns_the_light_of_the_walk() {
         (0..baked.len()).partition(|&i| prepared.surfels.normal[i].dot(facing) > 0.3);
     let (mut walked, mut noise) = (vec![[0.0; 3]; baked.len()], vec![[0.0; 3]; baked.len()]);
     for (texels, walks) in [(&lit, 4096), (&rest, 1024)] {
-        let (light, error) = walked_at(&prepared, &skin, Some(texels), walks);
+        let (light, error) = walked_at(&prepared, &skin, texels, walks);
         for (k, &i) in texels.iter().enumerate() {
             (walked[i], noise[i]) = (light[k], error[k]);
         }

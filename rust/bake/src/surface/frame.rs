@@ -19,7 +19,7 @@ pub fn own_frame(mesh: &Mesh, triangle: u32, n: Vec3) -> (Vec3, Vec3) {
         .max_by(|x, y| x.length_squared().total_cmp(&y.length_squared()))
         .unwrap_or(Vec3::ZERO);
     let t = (edge - n * edge.dot(n)).normalize_or_zero();
-    if t == Vec3::ZERO || !t.is_finite() {
+    if t == Vec3::ZERO {
         return n.any_orthonormal_pair();
     }
     (t, n.cross(t))

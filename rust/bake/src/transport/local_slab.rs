@@ -67,7 +67,7 @@
 use crate::scattering::Scattering;
 use crate::surface::opposite::Opposite;
 use crate::transport::ball_gain::BallGain;
-use crate::transport::shares::share_of;
+use crate::transport::shares::{most_per_channel, share_of};
 use crate::transport::slab_ladder::rungs_about;
 use crate::transport::slab_totals::slab_totals;
 use sssbake_profile::material::{Layer, Optics, TopLayer};
@@ -174,7 +174,7 @@ impl LocalSlab {
         let unfinished = share_of(totals.unfinished, r_infinite);
         // The balls' walks are bounded as the slabs' are: either may be short.
         let ball = BallGain::of(&scattering.kernel, layer);
-        let unfinished = [0, 1, 2].map(|c| unfinished[c].max(ball.unfinished()[c]));
+        let unfinished = most_per_channel(unfinished, std::iter::once(ball.unfinished()));
         Some(LocalSlab {
             level,
             unfinished,
