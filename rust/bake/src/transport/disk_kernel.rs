@@ -60,6 +60,15 @@ impl Slot {
     }
 }
 
+/// The sample sizes a table's rows hold: slots found in one table read
+/// the same rows of any other with the same sizes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Rows {
+    a0: f32,
+    log_step: f32,
+    count: usize,
+}
+
 /// A kernel with disk means tabulated for a range of sample sizes.
 pub struct DiskKernel<'k> {
     kernel: &'k Kernel,
@@ -78,6 +87,15 @@ pub struct DiskKernel<'k> {
 }
 
 impl<'k> DiskKernel<'k> {
+    /// The sample sizes of this table's rows.
+    pub(super) fn rows(&self) -> Rows {
+        Rows {
+            a0: self.a0,
+            log_step: self.log_step,
+            count: self.radii.len(),
+        }
+    }
+
     /// Tabulates `kernel`'s disk means for sample areas in
     /// [`area_min`, `area_max`] (mm²).
     pub fn new(kernel: &'k Kernel, area_min: f32, area_max: f32) -> Self {

@@ -119,7 +119,8 @@ fn folded_sheets(shaped: bool) -> Sources<'static> {
 }
 
 /// Checks the walked sum against the plain one at every source as its own
-/// target and at points that are no source, within 1e-5 relative; and the
+/// target and at points that are no source, within 1e-5 relative, and at
+/// a few of them alone (which walk only the sources near them); and the
 /// same of the walk that sums a unit light beside the light.
 fn assert_walk_is_the_plain_sum(kernel: &Kernel, sources: &Sources) {
     let mut position = sources.position.to_vec();
@@ -150,6 +151,20 @@ fn assert_walk_is_the_plain_sum(kernel: &Kernel, sources: &Sources) {
     unlit.irradiance.fill([1.0; 3]);
     let plain = plain_of(sources);
     assert_within(&walked, &plain, "walked sum");
+    // A few targets alone: only the sources within their reach are walked.
+    let few: Vec<usize> = (0..position.len()).step_by(97).collect();
+    let pick = |v: &[Vec3]| -> Vec<Vec3> { few.iter().map(|&i| v[i]).collect() };
+    let (few_position, few_normal) = (pick(&position), pick(&normal));
+    let few_listed: Vec<usize> = few.iter().map(|&i| listed[i]).collect();
+    let few_targets = Targets {
+        position: &few_position,
+        normal: &few_normal,
+        own: OwnSource::Listed(&few_listed),
+        piece: &[],
+    };
+    let alone = brute::integrate(kernel, sources, few_targets, &Control::new()).unwrap();
+    let few_plain: Vec<[f64; 3]> = few.iter().map(|&i| plain[i]).collect();
+    assert_within(&alone, &few_plain, "walked sum at a few targets");
     assert_within(&lit, &plain, "walked sum beside a unit light");
     assert_within(&unit, &plain_of(&unlit), "unit light's walked sum");
 }

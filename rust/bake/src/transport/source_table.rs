@@ -3,13 +3,14 @@
 //! pair's weight that the exact sum and the octree's leaves share, so the
 //! octree at ε = 0 is the exact sum, not an approximation of it.
 
-use super::disk_kernel::{DiskKernel, Slot, split_place};
+use super::disk_kernel::{DiskKernel, Rows, Slot, split_place};
 use super::kernel::{Kernel, Separation};
 use super::sample_sizes::SampleSizes;
 use super::sources::Sources;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 use std::borrow::Cow;
+use std::sync::Arc;
 
 /// Sub-samples per side of a texel's parallelogram in the near field.
 pub(super) const SUBDIVISIONS: usize = 4;
@@ -34,31 +35,45 @@ impl Apart {
     }
 }
 
-/// Sources in a walking order, structure of arrays.
+/// Sources in a walking order with their light, structure of arrays: the
+/// sources' places ([`PlacedSources`], which every light on the same
+/// sources in the same order shares) and each one's flux.
 pub(super) struct SourceTable<'a> {
+    placed: Arc<PlacedSources>,
+    /// E·A per channel (fourth lane 0).
+    pub flux: Vec<Vec4>,
+    /// The sources' parallelograms, by their index in the sources (empty
+    /// for shapeless samples); borrowed from the layout where the sources
+    /// borrow theirs.
+    pub footprint: Cow<'a, [[Vec3; 2]]>,
+}
+
+/// What a table holds of its sources apart from their light: where each
+/// lies and how it is weighed, in the walking order. It depends on the
+/// sources' geometry, the order and the disk means' sizes alone, so an
+/// integrator that sums several lights over the same sources in the same
+/// order (the octree's shape does) makes it once.
+pub(super) struct PlacedSources {
     /// The positions' coordinates apart (mm), so distances to a run of
-    /// sources are computed a vector at a time ([`Self::position`]).
+    /// sources are computed a vector at a time ([`SourceTable::position`]).
     pub x: Vec<f32>,
     pub y: Vec<f32>,
     pub z: Vec<f32>,
     pub normal: Vec<Vec3>,
+    /// Each source's disk-mean slot, in the sizes of [`Self::rows`].
     pub slot: Vec<Slot>,
-    /// E·A per channel (fourth lane 0).
-    pub flux: Vec<Vec4>,
-
+    /// The disk means' sizes the slots were found in.
+    rows: Rows,
     /// Each source's area, mm², for the weight of its own light when it has
     /// no parallelogram.
     pub area: Vec<f32>,
     /// Each source's place in this order, by its index in the sources
     /// (`u32::MAX` for a source the order leaves out).
     pub rank: Vec<u32>,
-    /// Each source's index in the sources, by its place in this order
-    /// (empty for shapeless samples): where its parallelogram is read.
-    pub index: Vec<u32>,
-    /// The sources' parallelograms, by their index in the sources (empty
-    /// for shapeless samples); borrowed from the layout where the sources
-    /// borrow theirs.
-    pub footprint: Cow<'a, [[Vec3; 2]]>,
+    /// Each source's index in the sources, by its place in this order.
+    order: Vec<u32>,
+    /// True when the sources have parallelograms.
+    shaped: bool,
     /// The squared radius (mm²) within which a source is summed in
     /// sub-samples (0 for shapeless samples: never).
     pub near2: Vec<f32>,
@@ -68,14 +83,14 @@ pub(super) struct SourceTable<'a> {
     pub piece: Vec<u32>,
 }
 
-impl<'a> SourceTable<'a> {
-    /// `sources` in `order` (indices into them, each at most once; sources
-    /// left out are not in the table), with slots in `disks`.
-    pub fn new(sources: &Sources<'a>, order: &[u32], disks: &DiskKernel) -> Self {
+impl PlacedSources {
+    /// `sources`' places in `order` (indices into them, each at most once;
+    /// sources left out are not placed), with slots in `disks`.
+    pub fn new(sources: &Sources, order: &[u32], disks: &DiskKernel) -> Self {
         let shaped = sources.footprint.len() == sources.len();
         let count = order.len();
         let (mut x, mut y, mut z) = (vec![0.0; count], vec![0.0; count], vec![0.0; count]);
-        let (mut normal, mut flux) = (vec![Vec3::ZERO; count], vec![Vec4::ZERO; count]);
+        let mut normal = vec![Vec3::ZERO; count];
         let (mut area, mut near2) = (vec![0.0; count], vec![0.0; count]);
         let mut slot = vec![Slot::default(); count];
         // One pass over the order, in chunks, writing every column: the
@@ -88,22 +103,18 @@ impl<'a> SourceTable<'a> {
             y.par_chunks_mut(CHUNK),
             z.par_chunks_mut(CHUNK),
             normal.par_chunks_mut(CHUNK),
-            flux.par_chunks_mut(CHUNK),
             area.par_chunks_mut(CHUNK),
             near2.par_chunks_mut(CHUNK),
             slot.par_chunks_mut(CHUNK),
         )
             .into_par_iter()
-            .for_each(|(order, x, y, z, normal, flux, area, near2, slot)| {
+            .for_each(|(order, x, y, z, normal, area, near2, slot)| {
                 for (k, &i) in order.iter().enumerate() {
                     let i = i as usize;
                     let p = sources.position[i];
                     (x[k], y[k], z[k]) = (p.x, p.y, p.z);
                     normal[k] = sources.normal[i];
-                    let a = sources.area[i];
-                    let [r, g, b] = sources.irradiance[i].map(|e| e * a);
-                    flux[k] = Vec4::new(r, g, b, 0.0);
-                    area[k] = a;
+                    area[k] = sources.area[i];
                     if shaped {
                         let [u, v] = sources.footprint[i];
                         near2[k] = subdivision_radius(u, v).powi(2);
@@ -111,14 +122,14 @@ impl<'a> SourceTable<'a> {
                     slot[k] = disks.slot(disk_area(sources, i));
                 }
             });
-        SourceTable {
+        PlacedSources {
             tabulated: slot.par_iter().all(Slot::tabulated),
             slot,
+            rows: disks.rows(),
             x,
             y,
             z,
             normal,
-            flux,
             area,
             rank: {
                 let mut rank = vec![u32::MAX; sources.len()];
@@ -127,12 +138,8 @@ impl<'a> SourceTable<'a> {
                 }
                 rank
             },
-            index: if shaped { order.to_vec() } else { Vec::new() },
-            footprint: if shaped {
-                sources.footprint.clone()
-            } else {
-                Cow::Borrowed(&[])
-            },
+            order: order.to_vec(),
+            shaped,
             near2,
             // Kept only where the sources lie on several pieces: a one-piece
             // object's pairs then skip the lookup.
@@ -146,6 +153,51 @@ impl<'a> SourceTable<'a> {
             } else {
                 Vec::new()
             },
+        }
+    }
+
+    /// True when these places were made over `count` sources with slots
+    /// in `disks`' sizes.
+    pub fn made_for(&self, count: usize, disks: &DiskKernel) -> bool {
+        self.rank.len() == count && self.rows == disks.rows()
+    }
+}
+
+impl std::ops::Deref for SourceTable<'_> {
+    type Target = PlacedSources;
+
+    fn deref(&self) -> &PlacedSources {
+        &self.placed
+    }
+}
+
+impl<'a> SourceTable<'a> {
+    /// `sources` in `order` (indices into them, each at most once; sources
+    /// left out are not in the table), with slots in `disks`.
+    pub fn new(sources: &Sources<'a>, order: &[u32], disks: &DiskKernel) -> Self {
+        Self::placed(sources, Arc::new(PlacedSources::new(sources, order, disks)))
+    }
+
+    /// `sources`' light over their `placed` places, made over the same
+    /// sources ([`PlacedSources::made_for`]).
+    pub fn placed(sources: &Sources<'a>, placed: Arc<PlacedSources>) -> Self {
+        let flux = placed
+            .order
+            .par_iter()
+            .map(|&i| {
+                let a = sources.area[i as usize];
+                let [r, g, b] = sources.irradiance[i as usize].map(|e| e * a);
+                Vec4::new(r, g, b, 0.0)
+            })
+            .collect();
+        SourceTable {
+            footprint: if placed.shaped {
+                sources.footprint.clone()
+            } else {
+                Cow::Borrowed(&[])
+            },
+            placed,
+            flux,
         }
     }
 
@@ -208,7 +260,7 @@ impl<'a> SourceTable<'a> {
     /// sources have shapes.
     #[inline]
     fn edges(&self, j: usize) -> Option<[Vec3; 2]> {
-        let i = *self.index.get(j)?;
+        let i = *self.order.get(j).filter(|_| self.shaped)?;
         self.footprint.get(i as usize).copied()
     }
 

@@ -6,6 +6,7 @@
 //! light's incidence. Its cost is every pair within reach, n × the texels
 //! within d_max; it is the top of `auto`'s ladder.
 
+mod near_targets;
 mod sum;
 
 pub use sum::{Reach, exact_sum, exact_sum_and_unit, integrate, integrate_with_unit, sum_within};

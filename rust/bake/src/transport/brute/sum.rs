@@ -1,6 +1,7 @@
 //! The reference: the exact discrete sum M(x) = Σ_j P(|x − x_j|) E_j A_j
 //! over every source within d_max, in parallel over targets.
 
+use super::near_targets::NearTargets;
 use crate::control::{Cancelled, Control, parallel_fill};
 use crate::prepared::Prepared;
 use crate::scattering::Scattering;
@@ -31,13 +32,21 @@ pub(super) struct Sorted<'a> {
 
 impl<'a> Sorted<'a> {
     /// `sources` in grid order; with `unit`, a unit light's sum is gathered
-    /// beside theirs, and every source with an area is kept.
-    pub fn new(sources: &Sources<'a>, unit: bool, cell: f32, disks: &DiskKernel) -> Self {
+    /// beside theirs, and every source with an area is kept. Only those
+    /// `near` the targets are kept, where given.
+    pub fn new(
+        sources: &Sources<'a>,
+        unit: bool,
+        cell: f32,
+        disks: &DiskKernel,
+        near: Option<&NearTargets>,
+    ) -> Self {
         let lit: Vec<u32> = (0..sources.len() as u32)
             .into_par_iter()
             .filter(|&i| {
                 let (e, a) = (sources.irradiance[i as usize], sources.area[i as usize]);
-                e.iter().any(|&e| e * a != 0.0) || (unit && a != 0.0)
+                let carries = e.iter().any(|&e| e * a != 0.0) || (unit && a != 0.0);
+                carries && near.is_none_or(|near| near.holds(sources.position[i as usize]))
             })
             .collect();
         let position: Vec<Vec3> = lit
@@ -321,7 +330,13 @@ fn sums_within(
     control: &Control,
 ) -> Result<[Vec<[f32; 3]>; 2], Cancelled> {
     let disks = texel_disks(kernel, sources);
-    let sorted = Sorted::new(sources, unit, cell_size(reaches.typical(), sources), &disks);
+    let reach = match reaches {
+        Reaches::All(reach) => reach.radius,
+        Reaches::Each(reaches) => reaches.iter().map(|r| r.radius).fold(0.0, f32::max),
+    };
+    let near = NearTargets::of(targets.position, reach, sources.len());
+    let cell = cell_size(reaches.typical(), sources);
+    let sorted = Sorted::new(sources, unit, cell, &disks, near.as_ref());
     let single = |v: DVec3| v.to_array().map(|v| v as f32);
     if !unit {
         // One light's sums alone, without room for a second.

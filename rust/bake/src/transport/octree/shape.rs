@@ -4,12 +4,15 @@
 //! light entering, a unit light, the light raised), shares one shape and
 //! only sums its own light into the nodes ([`TreeShape::lit`]): the
 //! sorting that builds a tree is most of its cost, and a bake at 4096²
-//! gathers over its texels half a dozen times.
+//! gathers over its texels half a dozen times. The sources' places in leaf
+//! order are made once too ([`TreeShape::placed`]).
 
-use crate::transport::disk_kernel::Slot;
+use crate::transport::disk_kernel::{DiskKernel, Slot};
+use crate::transport::source_table::PlacedSources;
 use crate::transport::sources::Sources;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
+use std::sync::{Arc, OnceLock};
 
 /// Sources per leaf.
 pub(super) const LEAF: usize = 8;
@@ -47,6 +50,10 @@ pub(super) struct Node {
 pub struct TreeShape {
     links: Vec<Links>,
     order: Vec<u32>,
+    /// The sources' places in leaf order, made with the first tree lit
+    /// over the shape and shared by every later one whose disk means are
+    /// sized alike (each light over the texels, each kernel).
+    placed: OnceLock<Arc<PlacedSources>>,
 }
 
 /// Bytes a shape holds per texel, for the plan: its leaf order and, at
@@ -94,18 +101,30 @@ impl TreeShape {
                 links[k].end = links[(node.first + node.count - 1) as usize].end;
             }
         }
-        TreeShape { links, order }
-    }
-
-    /// The sources' indices in leaf order.
-    pub(super) fn order(&self) -> &[u32] {
-        &self.order
+        TreeShape {
+            links,
+            order,
+            placed: OnceLock::new(),
+        }
     }
 
     /// True when the shape was made over as many sources as `sources`
     /// holds (a shape is only ever made over the same texels).
     pub(super) fn fits(&self, sources: &Sources) -> bool {
         self.order.len() == sources.len()
+    }
+
+    /// The places in leaf order of `sources`, which lie where the shape's
+    /// sources lay, with slots in `disks`: the shape's own when they were
+    /// made in the same sizes, else new.
+    pub(super) fn placed(&self, sources: &Sources, disks: &DiskKernel) -> Arc<PlacedSources> {
+        let make = || Arc::new(PlacedSources::new(sources, &self.order, disks));
+        let held = self.placed.get_or_init(make);
+        if held.made_for(sources.len(), disks) {
+            Arc::clone(held)
+        } else {
+            make()
+        }
     }
 
     /// The nodes over `sources`, which lie where the shape's sources lay,

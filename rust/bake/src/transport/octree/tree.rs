@@ -16,10 +16,12 @@ use crate::control::{Cancelled, Control, parallel_fill};
 use crate::transport::brute::Reach;
 use crate::transport::disk_kernel::DiskKernel;
 use crate::transport::kernel::{Kernel, Separation};
-use crate::transport::source_table::{Apart, SourceTable, texel_disks_for};
+use crate::transport::source_table::{Apart, PlacedSources, SourceTable, texel_disks_for};
 use crate::transport::sources::{Sources, Target, Targets};
 use crate::transport::through_medium::may_cross_air;
 use glam::{Vec3, Vec4};
+use rayon::prelude::*;
+use std::sync::Arc;
 
 /// The tree over sources, with the sources in its leaf order.
 pub struct Octree<'a> {
@@ -28,23 +30,21 @@ pub struct Octree<'a> {
 }
 
 impl<'a> Octree<'a> {
-    /// The tree of `nodes` over `sources` in leaf `order`: texels' weights
-    /// come from `texels`, nodes' from `disks` (see [`node_areas`]).
+    /// The tree of `nodes` over `sources` at their `placed` places in the
+    /// leaf order; nodes' weights come from `disks` (see [`node_areas`]).
     fn new(
         sources: &Sources<'a>,
-        nodes: Vec<Node>,
-        order: &[u32],
-        texels: &DiskKernel,
+        mut nodes: Vec<Node>,
+        placed: Arc<PlacedSources>,
         disks: &DiskKernel,
     ) -> Self {
-        let mut tree = Octree {
+        nodes
+            .par_iter_mut()
+            .for_each(|node| node.slot = disks.slot(node.spread));
+        Octree {
             nodes,
-            table: SourceTable::new(sources, order, texels),
-        };
-        for node in &mut tree.nodes {
-            node.slot = disks.slot(node.spread);
+            table: SourceTable::placed(sources, placed),
         }
-        tree
     }
 
     /// Σ over the sources of `target`'s piece of P·flux at the target,
@@ -326,7 +326,8 @@ impl<'k> Gathering<'k> {
             .iter()
             .map(|k| DiskKernel::new(k, small, large))
             .collect();
-        let tree = Octree::new(sources, lit, shape.order(), &texels[0], &nodes[0]);
+        let placed = shape.placed(sources, &texels[0]);
+        let tree = Octree::new(sources, lit, placed, &nodes[0]);
         Gathering {
             tree,
             texels,
