@@ -76,12 +76,21 @@ struct Links {
 impl TreeShape {
     /// The shape over `sources`, split at box centres (by piece first).
     pub fn new(sources: &Sources) -> Self {
-        let mut order: Vec<u32> = (0..sources.len() as u32).collect();
-        let nodes = if order.is_empty() {
+        let mut items: Vec<Item> = (0..sources.len())
+            .into_par_iter()
+            .map(|i| Item {
+                position: sources.position[i],
+                piece: sources.piece.get(i).copied().unwrap_or(0),
+                index: i as u32,
+            })
+            .collect();
+        let nodes = if items.is_empty() {
             Vec::new()
         } else {
-            subtree(&mut order, sources, 0, 0)
+            subtree(&mut items, 0, 0)
         };
+        let order: Vec<u32> = items.par_iter().map(|item| item.index).collect();
+        drop(items);
         let mut links: Vec<Links> = nodes
             .iter()
             .map(|n| Links {
@@ -261,25 +270,38 @@ const PARALLEL_LEVELS: u32 = 3;
 /// The fewest sources a subtree is built in parallel for.
 const PARALLEL_SOURCES: usize = 50_000;
 
-/// Fills node `at` of `nodes` from the sources in `items` (a slice of the
-/// order starting at `offset`), splitting at the box centre, its children
-/// after every node before them.
-fn build(nodes: &mut Vec<Node>, at: usize, items: &mut [u32], sources: &Sources, offset: usize) {
-    nodes[at] = summarise(items, sources, offset);
-    let Some(children) = split(&mut nodes[at], items, sources) else {
+/// A source as the shape is built from it: its place and piece beside
+/// its index, so the splits at every level read the items in order
+/// rather than the sources at random.
+#[derive(Clone, Copy)]
+struct Item {
+    position: Vec3,
+    piece: u32,
+    index: u32,
+}
+
+/// A node as the shape is built: its children (first, count) among the
+/// nodes, or for a leaf its items (first, count) in the order.
+#[derive(Clone, Copy, Default)]
+struct Built {
+    first: u32,
+    count: u32,
+    leaf: bool,
+}
+
+/// Fills node `at` of `nodes` from `items` (a slice of the order starting
+/// at `offset`), splitting at the box centre, its children after every
+/// node before them.
+fn build(nodes: &mut Vec<Built>, at: usize, items: &mut [Item], offset: usize) {
+    nodes[at] = leaf(items, offset);
+    let Some(children) = split(&mut nodes[at], items) else {
         return;
     };
     let first_child = nodes.len();
     nodes[at].first = first_child as u32;
-    nodes.resize(first_child + children.len(), Node::default());
+    nodes.resize(first_child + children.len(), Built::default());
     for (k, (a, b)) in children.into_iter().enumerate() {
-        build(
-            nodes,
-            first_child + k,
-            &mut items[a..b],
-            sources,
-            offset + a,
-        );
+        build(nodes, first_child + k, &mut items[a..b], offset + a);
     }
 }
 
@@ -287,14 +309,14 @@ fn build(nodes: &mut Vec<Node>, at: usize, items: &mut [u32], sources: &Sources,
 /// `offset`, `depth` levels below the root), its root first and each
 /// node's children contiguous: the top levels' subtrees built in parallel,
 /// each a block laid out as [`build`] lays out a whole tree.
-fn subtree(items: &mut [u32], sources: &Sources, offset: usize, depth: u32) -> Vec<Node> {
+fn subtree(items: &mut [Item], offset: usize, depth: u32) -> Vec<Built> {
     if depth >= PARALLEL_LEVELS || items.len() < PARALLEL_SOURCES {
-        let mut nodes = vec![Node::default()];
-        build(&mut nodes, 0, items, sources, offset);
+        let mut nodes = vec![Built::default()];
+        build(&mut nodes, 0, items, offset);
         return nodes;
     }
-    let mut root = summarise(items, sources, offset);
-    let Some(children) = split(&mut root, items, sources) else {
+    let mut root = leaf(items, offset);
+    let Some(children) = split(&mut root, items) else {
         return vec![root];
     };
     let mut slices = Vec::with_capacity(children.len());
@@ -304,9 +326,9 @@ fn subtree(items: &mut [u32], sources: &Sources, offset: usize, depth: u32) -> V
         slices.push((head, offset + a));
         rest = tail;
     }
-    let blocks: Vec<Vec<Node>> = slices
+    let blocks: Vec<Vec<Built>> = slices
         .into_par_iter()
-        .map(|(slice, at)| subtree(slice, sources, at, depth + 1))
+        .map(|(slice, at)| subtree(slice, at, depth + 1))
         .collect();
     // The children's roots follow the root; each block's other nodes
     // follow them in turn, every index into a block shifted alike.
@@ -314,10 +336,10 @@ fn subtree(items: &mut [u32], sources: &Sources, offset: usize, depth: u32) -> V
     root.first = 1;
     let mut nodes = Vec::with_capacity(1 + blocks.iter().map(Vec::len).sum::<usize>());
     nodes.push(root);
-    nodes.extend(std::iter::repeat_n(Node::default(), count));
+    nodes.extend(std::iter::repeat_n(Built::default(), count));
     for (k, block) in blocks.into_iter().enumerate() {
         let shift = (nodes.len() - 1) as u32;
-        let shifted = |mut node: Node| {
+        let shifted = |mut node: Built| {
             if !node.leaf {
                 node.first += shift;
             }
@@ -330,6 +352,16 @@ fn subtree(items: &mut [u32], sources: &Sources, offset: usize, depth: u32) -> V
         nodes.extend(block.map(shifted));
     }
     nodes
+}
+
+/// The leaf over `items` (a slice of the order starting at `offset`),
+/// until split.
+fn leaf(items: &[Item], offset: usize) -> Built {
+    Built {
+        first: offset as u32,
+        count: items.len() as u32,
+        leaf: true,
+    }
 }
 
 /// The node over the sources in `items` (a slice of the order starting
@@ -390,9 +422,8 @@ fn summarise(items: &[u32], sources: &Sources, offset: usize) -> Node {
 
 /// Sorts `items` into `node`'s children and makes it their parent: the
 /// children's ranges in `items`, or `None` for a leaf.
-fn split(node: &mut Node, items: &mut [u32], sources: &Sources) -> Option<Vec<(usize, usize)>> {
-    let piece_of = |i: &u32| sources.piece.get(*i as usize).copied().unwrap_or(0);
-    let (lo, hi, piece) = (node.lo, node.hi, node.piece);
+fn split(node: &mut Built, items: &mut [Item]) -> Option<Vec<(usize, usize)>> {
+    let Bounds { lo, hi, piece } = bounds(items);
     let mixed = piece == MIXED;
     if !mixed && (items.len() <= LEAF || (hi - lo).max_element() <= 0.0) {
         return None;
@@ -400,11 +431,11 @@ fn split(node: &mut Node, items: &mut [u32], sources: &Sources) -> Option<Vec<(u
     // Sources of several pieces are split by piece, the rest at the
     // box centre.
     let mid = 0.5 * (lo + hi);
-    let child_of = |i: &u32| -> u32 {
+    let child_of = |item: &Item| -> u32 {
         if mixed {
-            return piece_of(i);
+            return item.piece;
         }
-        let p = sources.position[*i as usize];
+        let p = item.position;
         (p.x > mid.x) as u32 | ((p.y > mid.y) as u32) << 1 | ((p.z > mid.z) as u32) << 2
     };
     items.sort_unstable_by_key(child_of);
@@ -419,6 +450,21 @@ fn split(node: &mut Node, items: &mut [u32], sources: &Sources) -> Option<Vec<(u
     node.count = children.len() as u32;
     node.leaf = false;
     Some(children)
+}
+
+/// The box of `items` and the piece they lie on ([`MIXED`] for several).
+fn bounds(items: &[Item]) -> Bounds {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for item in items {
+        lo = lo.min(item.position);
+        hi = hi.max(item.position);
+    }
+    let piece = match items.first() {
+        Some(first) if items.iter().all(|i| i.piece == first.piece) => first.piece,
+        Some(_) => MIXED,
+        None => 0,
+    };
+    Bounds { lo, hi, piece }
 }
 
 #[cfg(test)]
