@@ -220,3 +220,55 @@ fn the_walked_sum_is_the_plain_sum_for_a_transmitting_kernel() {
     assert!(slab.kernel.transmits());
     assert_walk_is_the_plain_sum(&slab.kernel, &folded_sheets(true));
 }
+
+/// A few targets in one corner of a sheet several reaches wide: the walk
+/// leaves the far sources out before it sorts them, and the sums are the
+/// plain sums over every source.
+#[test]
+fn a_few_targets_on_a_wide_sheet_sum_as_every_source_does() {
+    let skin = Scattering::new(
+        preset("skin1").unwrap(),
+        Some(Model::Dipole),
+        6,
+        D_MAX_EPSILON,
+    )
+    .unwrap();
+    let kernel = &skin.kernel;
+    let mut rng = Rng::new(3, 9);
+    let mut sources = Sources::default();
+    let (step, side) = (0.5f32, 240);
+    assert!(step * side as f32 > 4.0 * kernel.d_max, "{}", kernel.d_max);
+    for i in 0..side * side {
+        let (x, y) = ((i % side) as f32 * step, (i / side) as f32 * step);
+        sources.position.to_mut().push(Vec3::new(x, y, 0.0));
+        sources.normal.to_mut().push(Vec3::Z);
+        sources.area.to_mut().push(step * step);
+        let lit = rng.uniform() > 0.5;
+        sources
+            .irradiance
+            .push([f32::from(u8::from(lit)) * 10.0; 3]);
+        sources
+            .footprint
+            .to_mut()
+            .push([Vec3::X * step, Vec3::Y * step]);
+    }
+    let listed: Vec<usize> = (0..5).map(|k| k * (side + 3)).collect();
+    let position: Vec<Vec3> = listed.iter().map(|&i| sources.position[i]).collect();
+    let normal = vec![Vec3::Z; listed.len()];
+    let targets = Targets {
+        position: &position,
+        normal: &normal,
+        own: OwnSource::Listed(&listed),
+        piece: &[],
+    };
+    let walked = brute::integrate(kernel, &sources, targets, &Control::new()).unwrap();
+    let disks = texel_disks(kernel, &sources);
+    let plain: Vec<[f64; 3]> = (0..listed.len())
+        .map(|k| plain_sum(&disks, &sources, position[k], normal[k], Some(listed[k])))
+        .collect();
+    assert_within(
+        &walked,
+        &plain,
+        "walked sum at a few targets of a wide sheet",
+    );
+}

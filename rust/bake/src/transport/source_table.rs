@@ -84,6 +84,11 @@ pub(super) struct PlacedSources {
 }
 
 impl PlacedSources {
+    /// Bytes the places hold per source: position, normal, slot, area,
+    /// rank, index, sub-sampling radius and piece.
+    pub const BYTES_PER_SOURCE: usize =
+        2 * std::mem::size_of::<Vec3>() + std::mem::size_of::<Slot>() + 5 * 4;
+
     /// `sources`' places in `order` (indices into them, each at most once;
     /// sources left out are not placed), with slots in `disks`.
     pub fn new(sources: &Sources, order: &[u32], disks: &DiskKernel) -> Self {

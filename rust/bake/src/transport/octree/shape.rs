@@ -56,10 +56,12 @@ pub struct TreeShape {
     placed: OnceLock<Arc<PlacedSources>>,
 }
 
-/// Bytes a shape holds per texel, for the plan: its leaf order and, at
-/// most half a node a texel (4.75 million nodes over the head's 11.6
-/// million texels at 4096²), each node's links.
-pub const BYTES_PER_TEXEL: usize = 4 + std::mem::size_of::<Links>() / 2;
+/// Bytes a shape holds per texel, for the plan: its leaf order, at most
+/// half a node a texel (4.75 million nodes over the head's 11.6 million
+/// texels at 4096²) each with its links, and the texels' places in leaf
+/// order ([`PlacedSources::BYTES_PER_SOURCE`]).
+pub const BYTES_PER_TEXEL: usize =
+    4 + std::mem::size_of::<Links>() / 2 + PlacedSources::BYTES_PER_SOURCE;
 
 /// A node's place in the tree: its children (first, count) among the
 /// nodes, or for a leaf its sources (first, count) in the order; and the
