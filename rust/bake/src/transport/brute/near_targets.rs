@@ -9,8 +9,11 @@
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
-/// The most cells the marks hold: a finer cell is coarsened to fit.
+/// The most cells the marks hold, and the most per source (so the marks
+/// of a small bake stay small beside its sources): a finer cell is
+/// coarsened to fit.
 const MOST_CELLS: usize = 1 << 24;
+const MOST_CELLS_PER_SOURCE: usize = 4;
 
 /// The cells within reach of some target.
 pub(super) struct NearTargets {
@@ -42,7 +45,9 @@ impl NearTargets {
         // margin about the box holds those neighbours.
         let mut cell = reach;
         let cells = |cell: f32| ((hi - lo) / cell).floor().as_ivec3() + IVec3::splat(3);
-        while cells(cell).as_dvec3().element_product() > MOST_CELLS as f64 {
+        // At least the 27 cells about one target's, which any cell holds.
+        let most = MOST_CELLS.min(MOST_CELLS_PER_SOURCE * sources).max(64) as f64;
+        while cells(cell).as_dvec3().element_product() > most {
             cell *= 1.5;
         }
         let dims = cells(cell);
@@ -150,6 +155,13 @@ mod tests {
         let targets = [Vec3::ZERO, Vec3::splat(1e5)];
         let near = NearTargets::of(&targets, 1e-3, 1 << 30).unwrap();
         assert!(near.marked.len() <= MOST_CELLS);
+        // A bake of few sources keeps few marks.
+        let few = NearTargets::of(&targets, 1e-3, 1000).unwrap();
+        assert!(few.marked.len() <= 4000, "{}", few.marked.len());
+        assert!(few.holds(Vec3::splat(1e-4)) && few.holds(Vec3::splat(1e5 - 1e-4)));
+        // As few sources as targets allow: the cells grow, and end.
+        let least = NearTargets::of(&targets[..1], 1e-3, 4).unwrap();
+        assert!(least.marked.len() <= 64 && least.holds(Vec3::splat(1e-4)));
         assert!(near.holds(Vec3::splat(1e-4)) && near.holds(Vec3::splat(1e5 - 1e-4)));
         assert!(!near.holds(Vec3::splat(5e4)) && !near.holds(Vec3::splat(-1e6)));
         assert!(!near.holds(Vec3::NAN));
