@@ -188,15 +188,20 @@ fn scattering(material: Material) -> Scattering {
     Scattering::new(material, None, 6, D_MAX_EPSILON).unwrap()
 }
 
-#[test]
-fn the_walked_sum_is_the_plain_sum_for_a_reflecting_kernel() {
-    let skin = Scattering::new(
+/// skin1 by the dipole: a kernel that reflects and does not transmit.
+fn skin_by_dipole() -> Scattering {
+    Scattering::new(
         preset("skin1").unwrap(),
         Some(Model::Dipole),
         6,
         D_MAX_EPSILON,
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn the_walked_sum_is_the_plain_sum_for_a_reflecting_kernel() {
+    let skin = skin_by_dipole();
     assert!(!skin.kernel.transmits());
     assert_walk_is_the_plain_sum(&skin.kernel, &folded_sheets(true));
     assert_walk_is_the_plain_sum(&skin.kernel, &folded_sheets(false));
@@ -226,13 +231,7 @@ fn the_walked_sum_is_the_plain_sum_for_a_transmitting_kernel() {
 /// plain sums over every source.
 #[test]
 fn a_few_targets_on_a_wide_sheet_sum_as_every_source_does() {
-    let skin = Scattering::new(
-        preset("skin1").unwrap(),
-        Some(Model::Dipole),
-        6,
-        D_MAX_EPSILON,
-    )
-    .unwrap();
+    let skin = skin_by_dipole();
     let kernel = &skin.kernel;
     let mut rng = Rng::new(3, 9);
     let mut sources = Sources::default();

@@ -307,6 +307,14 @@ impl Reaches<'_> {
         }
     }
 
+    /// The longest of the targets' reaches, mm.
+    fn longest(&self) -> f32 {
+        match *self {
+            Reaches::All(reach) => reach.radius,
+            Reaches::Each(reaches) => reaches.iter().map(|r| r.radius).fold(0.0, f32::max),
+        }
+    }
+
     /// The reach the sources' grid is sized for: the mean of the targets'.
     fn typical(&self) -> f32 {
         match *self {
@@ -330,11 +338,7 @@ fn sums_within(
     control: &Control,
 ) -> Result<[Vec<[f32; 3]>; 2], Cancelled> {
     let disks = texel_disks(kernel, sources);
-    let reach = match reaches {
-        Reaches::All(reach) => reach.radius,
-        Reaches::Each(reaches) => reaches.iter().map(|r| r.radius).fold(0.0, f32::max),
-    };
-    let near = NearTargets::of(targets.position, reach, sources.len());
+    let near = NearTargets::of(targets.position, reaches.longest(), sources.len());
     let cell = cell_size(reaches.typical(), sources);
     let sorted = Sorted::new(sources, unit, cell, &disks, near.as_ref());
     let single = |v: DVec3| v.to_array().map(|v| v as f32);
