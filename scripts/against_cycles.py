@@ -11,7 +11,9 @@ the share of our light on texels where Cycles has under a hundredth of its brigh
 
 METHOD is a method of the add-on (AUTO, BRUTE, WALK, ...; AUTO when none). `--ior`,
 `--roughness`, `--sun-only`, `--scale` and `--bounces` change the scene or the bake to tell
-causes apart."""
+causes apart. With `--keep DIR` Cycles' bake is kept in DIR and read from there for the same
+scene and samples, so a change to sssbake is measured again without Cycles baking again; our
+maps are saved beside it (NumPy arrays, RGBA by texel)."""
 
 import argparse
 import pathlib
@@ -103,6 +105,11 @@ def main():
     parser.add_argument(
         "--bounces", type=int, help="bounces of the head's light onto itself (the add-on's own)"
     )
+    parser.add_argument(
+        "--keep",
+        type=pathlib.Path,
+        help="a folder to keep Cycles' bake in (read from there for the same scene and samples) and ours beside it",
+    )
     args = parser.parse_args()
     sys.path.insert(0, str(ROOT / "tests"))
     import bpy
@@ -112,7 +119,17 @@ def main():
     for scale in args.scale or SCALES:
         material = head_scene(bpy, scale, args.ior, args.roughness, not args.sun_only)
         start = time.monotonic()
-        cycles = cycles_exitance(material, args.resolution, args.samples)
+        settings = (
+            f"{scale}_{args.resolution}_{args.samples}_{args.ior}_{args.roughness}_{int(args.sun_only)}"
+        )
+        kept = args.keep and args.keep / f"cycles_{settings}.npy"
+        if kept and kept.exists():
+            cycles = np.load(kept)
+        else:
+            cycles = cycles_exitance(material, args.resolution, args.samples)
+            if kept:
+                args.keep.mkdir(parents=True, exist_ok=True)
+                np.save(kept, cycles)
         print(
             f"Subsurface Scale {scale}: Cycles at {args.samples} samples in {time.monotonic() - start:.0f} s",
             flush=True,
@@ -126,7 +143,10 @@ def main():
             result = bpy.ops.sssbake.bake(resolution=args.resolution, uv_map="UVMap", outputs={"DIFFUSE"})
             if result != {"FINISHED"}:
                 sys.exit("the bake failed; its report is above")
-            print(f"  {method}: {compare(baked_exitance('Head'), cycles)}", flush=True)
+            ours = baked_exitance("Head")
+            if args.keep:
+                np.save(args.keep / f"ours_{method}_{scale}_{args.resolution}.npy", ours)
+            print(f"  {method}: {compare(ours, cycles)}", flush=True)
         module.unregister()
 
 

@@ -31,7 +31,8 @@ import numpy
 import OpenEXR
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-BINARY = ROOT / "target" / "release" / "sssbake"
+# The release binary, or another build to compare with (SSSBAKE_BINARY).
+BINARY = pathlib.Path(os.environ.get("SSSBAKE_BINARY", ROOT / "target" / "release" / "sssbake"))
 CASES = [
     ("examples/head/head.gltf", None),
     ("examples/ear/ear.gltf", None),
