@@ -130,6 +130,7 @@ fn main() {
         normal: &normal,
         own: OwnSource::Listed(&subset),
         piece: &piece,
+        part: &[],
     };
     let start = Instant::now();
     let reference = brute::integrate(kernel, &prepared.texel_sources(), targets, &control).unwrap();

@@ -130,6 +130,7 @@ pub struct Listed<'a> {
     position: Vec<Vec3>,
     normal: Vec<Vec3>,
     piece: Vec<u32>,
+    part: Vec<u32>,
     listed: &'a [usize],
 }
 
@@ -141,6 +142,7 @@ impl Listed<'_> {
             normal: &self.normal,
             own: OwnSource::Listed(self.listed),
             piece: &self.piece,
+            part: &self.part,
         }
     }
 }
@@ -163,6 +165,7 @@ impl Prepared {
             normal: &self.surfels.normal,
             own: OwnSource::None,
             piece: &self.surfels.piece,
+            part: &self.surfels.part,
         }
     }
 
@@ -181,6 +184,11 @@ impl Prepared {
                 Vec::new()
             } else {
                 copy(&surfels.piece, listed)
+            },
+            part: if surfels.part.is_empty() {
+                Vec::new()
+            } else {
+                copy(&surfels.part, listed)
             },
             listed,
         }
@@ -373,6 +381,7 @@ impl Prepared {
             irradiance: self.entering(),
             footprint: Cow::Borrowed(self.texel_footprints()),
             piece: Cow::Borrowed(&self.surfels.piece),
+            part: Cow::Borrowed(&self.surfels.part),
         }
     }
 

@@ -95,33 +95,6 @@ fn bake_and_walk(
     (prepared, baked, walked, noise)
 }
 
-/// The walk's exitance and its standard error after the colour after
-/// scattering, by `walks` pencils at the texels `picked`, in their order.
-fn walked_at(
-    prepared: &Prepared,
-    scattering: &Scattering,
-    picked: &[usize],
-    walks: u32,
-) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
-    let medium = WalkMedium::of_material(&scattering.material).unwrap();
-    let settings = WalkSettings {
-        walks,
-        max_events: 1024,
-        seed: 7,
-        start: StartDirection::Pencil,
-    };
-    let estimate =
-        walk_surfels(prepared, &medium, Some(picked), &settings, &Control::new()).unwrap();
-    let after = |values: &[[f32; 3]]| -> Vec<[f32; 3]> {
-        picked
-            .iter()
-            .zip(values)
-            .map(|(&i, &v)| prepared.after_scattering(i, v))
-            .collect()
-    };
-    (after(&estimate.exitance), after(&estimate.standard_error))
-}
-
 /// The mean over `texels` of channel `c`.
 fn mean(values: &[[f32; 3]], texels: &[usize], c: usize) -> f64 {
     texels.iter().map(|&i| f64::from(values[i][c])).sum::<f64>() / texels.len().max(1) as f64

@@ -164,6 +164,7 @@ fn a_seam_through_the_lit_side_does_not_show() {
             normal: &normal,
             own: OwnSource::Listed(&checked),
             piece: &piece,
+            part: &[],
         };
         let exact = brute::integrate(&skin.kernel, &sources, targets, &Control::new()).unwrap();
         let got = exitance(&prepared, &skin, method, &with(64, 6, 1));

@@ -15,6 +15,8 @@ use sssbake::transport::brute;
 use sssbake::transport::integrator::IntegratorSettings;
 use sssbake::transport::kernel::Kernel;
 use sssbake::transport::sources::{OwnSource, Sources, Targets};
+use sssbake::transport::walk::walk_surfels;
+use sssbake::walk::{StartDirection, WalkMedium, WalkSettings};
 use sssbake::{BakeRequest, Error, Light, LightKind, Mesh, Scene, SceneObject, plan};
 use sssbake_profile::material::Material;
 use sssbake_profile::model::Model;
@@ -205,6 +207,34 @@ pub fn exact_sum_at(
         normal: &normal,
         own: OwnSource::Listed(texels),
         piece: &[],
+        part: &[],
     };
     brute::integrate(kernel, sources, targets, &Control::new()).unwrap()
+}
+
+/// The walk's exitance and its standard error after the colour after
+/// scattering, by `walks` pencils at the texels `picked`, in their order.
+pub fn walked_at(
+    prepared: &Prepared,
+    scattering: &Scattering,
+    picked: &[usize],
+    walks: u32,
+) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    let medium = WalkMedium::of_material(&scattering.material).unwrap();
+    let settings = WalkSettings {
+        walks,
+        max_events: 1024,
+        seed: 7,
+        start: StartDirection::Pencil,
+    };
+    let estimate =
+        walk_surfels(prepared, &medium, Some(picked), &settings, &Control::new()).unwrap();
+    let after = |values: &[[f32; 3]]| -> Vec<[f32; 3]> {
+        picked
+            .iter()
+            .zip(values)
+            .map(|(&i, &v)| prepared.after_scattering(i, v))
+            .collect()
+    };
+    (after(&estimate.exitance), after(&estimate.standard_error))
 }

@@ -208,6 +208,7 @@ fn a_shadow_edge_at_sixty_degrees_follows_the_oblique_half_plane_integral() {
             normal: &normal,
             own: OwnSource::Listed(&picked),
             piece: &piece,
+            part: &[],
         };
         let sources = prepared.texel_sources();
         let control = Control::new();

@@ -39,23 +39,49 @@ const JOINING_SHARE: f64 = 0.01;
 const JOINING_RAYS: usize = 2;
 
 /// At most how many rays [`medium_pieces`] casts for a mesh of `pieces`
-/// pieces and `triangles` triangles (none for one piece).
+/// pieces and `triangles` triangles (none for one piece): those cast into
+/// the medium, and one a triangle to find those inside it.
 pub fn planned_rays(pieces: usize, triangles: usize) -> f64 {
     if pieces <= 1 {
         return 0.0;
     }
-    (triangles.min(pieces.saturating_mul(PROBED_TRIANGLES)) as f64) * f64::from(RAYS_PER_TRIANGLE)
+    let into = triangles.min(pieces.saturating_mul(PROBED_TRIANGLES)) as f64;
+    into * f64::from(RAYS_PER_TRIANGLE) + triangles as f64
 }
 
-/// The medium each triangle belongs to (0, 1, … in the order of each
-/// medium's first triangle): the pieces of [`triangle_pieces`], joined
-/// where rays cast into one meet another (see the module's doc). Light
-/// scatters only between points of one medium.
-pub fn medium_pieces(mesh: &Mesh) -> Vec<u32> {
+/// The media of a mesh, by triangle.
+#[derive(Clone, Debug, Default)]
+pub struct Media {
+    /// The medium each triangle belongs to (0, 1, … in the order of each
+    /// medium's first triangle). Light scatters only between points of
+    /// one medium.
+    pub medium: Vec<u32>,
+    /// The piece of the mesh ([`triangle_pieces`]) each triangle lies on,
+    /// with [`INSIDE`] set where the triangle lies inside the medium,
+    /// kept only where some medium joins several pieces (empty
+    /// otherwise): light crossing from one piece of a medium to another
+    /// must pass between their faces
+    /// ([`crate::transport::through_medium::pieces_joined`]).
+    pub piece: Vec<u32>,
+}
+
+/// Set on a triangle's piece ([`Media::piece`]) where the triangle lies
+/// inside its medium: the ray along its outward normal first meets a
+/// face of the mesh from within (the part of Suzanne's eye domes sunk
+/// beneath the skin of the head). Medium lies on both its sides, so
+/// light reaches it from either, not only from below its tangent plane.
+pub const INSIDE: u32 = 1 << 31;
+
+/// The media of `mesh`: the pieces of [`triangle_pieces`], joined where
+/// rays cast into one meet another (see the module's doc).
+pub fn medium_pieces(mesh: &Mesh) -> Media {
     let pieces = triangle_pieces(mesh);
     let count = pieces.iter().max().map_or(0, |&last| last as usize + 1);
     if count <= 1 {
-        return pieces;
+        return Media {
+            medium: pieces,
+            piece: Vec::new(),
+        };
     }
     let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
     for (t, &p) in pieces.iter().enumerate() {
@@ -73,7 +99,54 @@ pub fn medium_pieces(mesh: &Mesh) -> Vec<u32> {
             media.join(p as u32, q);
         }
     }
-    media.numbered(pieces.iter().copied())
+    let medium = media.numbered(pieces.iter().copied());
+    let media_count = medium.iter().max().map_or(0, |&last| last as usize + 1);
+    if media_count == count {
+        return Media {
+            medium,
+            piece: Vec::new(),
+        };
+    }
+    // The largest piece of each medium holds the rest: only pieces set
+    // into it are told inside or not.
+    let mut largest: Vec<(usize, u32)> = vec![(0, u32::MAX); media_count];
+    for (p, triangles) in members.iter().enumerate() {
+        let m = medium[triangles[0] as usize] as usize;
+        if triangles.len() > largest[m].0 {
+            largest[m] = (triangles.len(), p as u32);
+        }
+    }
+    let piece = pieces
+        .par_iter()
+        .enumerate()
+        .map(|(t, &p)| {
+            let host = largest[medium[t] as usize].1 == p;
+            if !host && inside(mesh, &rays, t as u32) {
+                p | INSIDE
+            } else {
+                p
+            }
+        })
+        .collect();
+    Media { medium, piece }
+}
+
+/// Whether triangle `t` lies inside the medium: the ray from its centroid
+/// along its outward normal (by its winding) first meets a face from
+/// behind, one facing the way the ray goes.
+fn inside(mesh: &Mesh, rays: &RayScene, t: u32) -> bool {
+    let [a, b, c] = mesh.triangles[t as usize].map(|v| mesh.positions[v as usize]);
+    let Some(outward) = (b - a).cross(c - a).try_normalize() else {
+        return false;
+    };
+    let skip = rays.scene_triangle(0, t);
+    let centroid = (a + b + c) / 3.0;
+    rays.closest_hit(centroid, outward, rays.epsilon(), f32::INFINITY, skip)
+        .is_some_and(|hit| {
+            let [a, b, c] =
+                mesh.triangles[hit.triangle as usize].map(|v| mesh.positions[v as usize]);
+            (b - a).cross(c - a).dot(outward) > 0.0
+        })
 }
 
 /// The pieces that rays cast into the medium from piece `piece` (its
@@ -125,12 +198,13 @@ mod tests {
     #[test]
     fn rays_are_planned_only_for_several_pieces_and_bounded_per_piece() {
         assert_eq!(planned_rays(1, 10_000), 0.0);
-        assert_eq!(planned_rays(2, 10), 40.0);
-        // Each piece casts from at most PROBED_TRIANGLES of its triangles.
-        assert_eq!(planned_rays(3, 1_000_000), 3.0 * 1024.0 * 4.0);
+        assert_eq!(planned_rays(2, 10), 50.0);
+        // Each piece casts from at most PROBED_TRIANGLES of its triangles,
+        // and one ray from every triangle.
+        assert_eq!(planned_rays(3, 1_000_000), 3.0 * 1024.0 * 4.0 + 1e6);
         assert_eq!(
             planned_rays(usize::MAX, usize::MAX),
-            usize::MAX as f64 * 4.0
+            usize::MAX as f64 * 5.0
         );
     }
 }

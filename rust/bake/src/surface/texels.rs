@@ -51,6 +51,14 @@ pub struct TexelSurfels {
     /// The medium of each triangle of the mesh, by triangle index: what
     /// `piece` reads, kept for the integrators that start from triangles.
     pub triangle_medium: Vec<u32>,
+    /// The piece of the mesh the texel's triangle lies on, and whether it
+    /// lies inside the medium ([`crate::surface::medium::Media::piece`]),
+    /// where some medium joins several pieces (empty otherwise): light
+    /// crossing from one piece of a medium to another must pass between
+    /// their faces ([`crate::transport::through_medium::pieces_joined`]).
+    pub part: Vec<u32>,
+    /// What `part` reads, by triangle index (empty where `part` is).
+    pub triangle_part: Vec<u32>,
 }
 
 impl TexelSurfels {
@@ -176,6 +184,8 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
         extent: vec![[Vec2::ZERO; 2]; total],
         piece: Vec::new(),
         triangle_medium: Vec::new(),
+        part: Vec::new(),
+        triangle_part: Vec::new(),
     };
     let mut parts = Vec::with_capacity(counts.len());
     let (mut texel, mut position, mut normal) = (
@@ -235,12 +245,21 @@ pub fn rasterize(mesh: &Mesh, uvs: &[Vec2], resolution: u32) -> TexelSurfels {
     for (surfel, &texel) in out.texel.iter().enumerate() {
         out.index[texel as usize] = surfel as u32;
     }
-    out.triangle_medium = medium_pieces(mesh);
+    let media = medium_pieces(mesh);
+    out.triangle_medium = media.medium;
     out.piece = out
         .triangle
         .iter()
         .map(|&t| out.triangle_medium[t as usize])
         .collect();
+    if !media.piece.is_empty() {
+        out.part = out
+            .triangle
+            .iter()
+            .map(|&t| media.piece[t as usize])
+            .collect();
+    }
+    out.triangle_part = media.piece;
     out
 }
 

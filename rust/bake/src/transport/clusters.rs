@@ -31,13 +31,15 @@ pub fn cluster(texels: &Sources, centres: &[Vec3], spacing: f32) -> Sources<'sta
         by_area: DVec3,
         normal: DVec3,
     }
-    // A cell per centre and piece, in that order: texels of two pieces
-    // near one centre stay apart, as their light does.
+    // A cell per centre, medium and piece of it, in that order: texels of
+    // two pieces near one centre stay apart, as their light does.
     let pieces = texels.piece.len() == texels.len();
-    let mut cells: BTreeMap<(u32, u32), Cell> = BTreeMap::new();
+    let parts = texels.part.len() == texels.len();
+    let mut cells: BTreeMap<(u32, u32, u32), Cell> = BTreeMap::new();
     for (t, &c) in nearest.iter().enumerate() {
         let piece = if pieces { texels.piece[t] } else { 0 };
-        let cell = cells.entry((c, piece)).or_default();
+        let part = if parts { texels.part[t] } else { 0 };
+        let cell = cells.entry((c, piece, part)).or_default();
         let a = texels.area[t] as f64;
         let e = texels.irradiance[t];
         let p = texels.position[t].as_dvec3();
@@ -52,9 +54,12 @@ pub fn cluster(texels: &Sources, centres: &[Vec3], spacing: f32) -> Sources<'sta
         cell.normal += texels.normal[t].as_dvec3() * a;
     }
     let mut out = Sources::default();
-    for ((_, piece), cell) in cells.into_iter().filter(|(_, c)| c.area > 0.0) {
+    for ((_, piece, part), cell) in cells.into_iter().filter(|(_, c)| c.area > 0.0) {
         if pieces {
             out.piece.to_mut().push(piece);
+        }
+        if parts {
+            out.part.to_mut().push(part);
         }
         let centre = if cell.light > 0.0 {
             cell.by_light / cell.light

@@ -137,6 +137,7 @@ fn assert_walk_is_the_plain_sum(kernel: &Kernel, sources: &Sources) {
         normal: &normal,
         own: OwnSource::Listed(&listed),
         piece: &[],
+        part: &[],
     };
     let walked = brute::integrate(kernel, sources, targets, &Control::new()).unwrap();
     let [lit, unit] =
@@ -161,6 +162,7 @@ fn assert_walk_is_the_plain_sum(kernel: &Kernel, sources: &Sources) {
         normal: &few_normal,
         own: OwnSource::Listed(&few_listed),
         piece: &[],
+        part: &[],
     };
     let alone = brute::integrate(kernel, sources, few_targets, &Control::new()).unwrap();
     let few_plain: Vec<[f64; 3]> = few.iter().map(|&i| plain[i]).collect();
@@ -259,6 +261,7 @@ fn a_few_targets_on_a_wide_sheet_sum_as_every_source_does() {
         normal: &normal,
         own: OwnSource::Listed(&listed),
         piece: &[],
+        part: &[],
     };
     let walked = brute::integrate(kernel, &sources, targets, &Control::new()).unwrap();
     let disks = texel_disks(kernel, &sources);

@@ -68,14 +68,14 @@ pub fn integrate(
         let p = targets.position[i];
         let n = targets.normal[i];
         let own = targets.own.of(i);
-        let piece = targets.piece_of(i);
+        let target = targets.at(i);
         let mut sum = [0.0f64; 3];
         grid.for_each_run(p, reach, |run| {
             for &g in &grid.order[run] {
                 let j = g as usize;
                 let straight = p - lit.position[j];
                 let distance = straight.length();
-                if distance > reach || !sources.joins(lit.index[j], piece) {
+                if distance > reach || !sources.joins(lit.index[j], &target) {
                     continue;
                 }
                 // Across a concave crease the light goes round through the

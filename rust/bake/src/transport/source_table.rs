@@ -6,7 +6,8 @@
 use super::disk_kernel::{DiskKernel, Rows, Slot, split_place};
 use super::kernel::{Kernel, Separation};
 use super::sample_sizes::SampleSizes;
-use super::sources::Sources;
+use super::sources::{Sources, Target};
+use super::through_medium::pieces_joined;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -79,15 +80,18 @@ pub(super) struct PlacedSources {
     pub near2: Vec<f32>,
     /// True when every source's size lies inside the disk means' table.
     pub tabulated: bool,
-    /// The piece of the mesh of each source (empty: all on one piece).
+    /// The medium of each source (empty: all in one).
     pub piece: Vec<u32>,
+    /// The piece of its medium each source lies on ([`Sources::part`];
+    /// empty: every medium is one piece).
+    pub part: Vec<u32>,
 }
 
 impl PlacedSources {
     /// Bytes the places hold per source: position, normal, slot, area,
-    /// rank, index, sub-sampling radius and piece.
+    /// rank, index, sub-sampling radius, medium and piece.
     pub const BYTES_PER_SOURCE: usize =
-        2 * std::mem::size_of::<Vec3>() + std::mem::size_of::<Slot>() + 5 * 4;
+        2 * std::mem::size_of::<Vec3>() + std::mem::size_of::<Slot>() + 6 * 4;
 
     /// `sources`' places in `order` (indices into them, each at most once;
     /// sources left out are not placed), with slots in `disks`.
@@ -158,6 +162,14 @@ impl PlacedSources {
             } else {
                 Vec::new()
             },
+            part: if sources.part.len() == sources.len() {
+                order
+                    .par_iter()
+                    .map(|&i| sources.part[i as usize])
+                    .collect()
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -212,11 +224,29 @@ impl<'a> SourceTable<'a> {
         Vec3::new(self.x[j], self.y[j], self.z[j])
     }
 
-    /// True when source `j` (this order) and a target on `piece` are
-    /// joined by the medium (one piece, or either side does not say).
+    /// True when source `j` (this order) and `target` are joined by the
+    /// medium, as [`Sources::joins`] says.
     #[inline]
-    pub fn joins(&self, j: usize, piece: Option<u32>) -> bool {
-        piece.is_none_or(|q| self.piece.get(j).is_none_or(|&p| p == q))
+    pub fn joins(&self, j: usize, target: &Target) -> bool {
+        let medium = |q| self.piece.get(j).is_none_or(|&p| p == q);
+        target.piece.is_none_or(medium) && self.joined_across(j, target)
+    }
+
+    /// False where source `j` (this order) and `target` lie on two pieces
+    /// of one medium that [`pieces_joined`] keeps apart.
+    #[inline]
+    fn joined_across(&self, j: usize, target: &Target) -> bool {
+        match (target.part, self.part.get(j)) {
+            (Some(q), Some(&p)) => pieces_joined(
+                p,
+                self.position(j),
+                self.normal[j],
+                q,
+                target.position,
+                target.normal,
+            ),
+            _ => true,
+        }
     }
 
     /// The place in this order of source `i`, if it is one.

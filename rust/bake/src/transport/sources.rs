@@ -1,6 +1,7 @@
 //! Where light enters: surface samples with their area and transmitted
 //! irradiance, and a uniform grid over them for gathering within d_max.
 
+use crate::transport::through_medium::pieces_joined;
 use glam::{IVec2, Vec2, Vec3};
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -28,14 +29,32 @@ pub struct Sources<'a> {
     /// sample is on one piece. Light travels only between samples of one
     /// piece.
     pub piece: Cow<'a, [u32]>,
+    /// The piece of the mesh each sample lies on where some medium joins
+    /// several ([`crate::surface::medium::Media::piece`]); empty
+    /// otherwise. Light crosses between pieces of one medium only where
+    /// [`pieces_joined`] says.
+    pub part: Cow<'a, [u32]>,
 }
 
 impl Sources<'_> {
-    /// True when source `i` and a target on `piece` are joined by the
-    /// medium: on one piece, or when either side does not say.
+    /// True when source `i` and `target` are joined by the medium: in one
+    /// medium (or either side does not say), and joined across its pieces
+    /// where it has several ([`pieces_joined`]).
     #[inline]
-    pub fn joins(&self, i: usize, piece: Option<u32>) -> bool {
-        piece.is_none_or(|q| self.piece.get(i).is_none_or(|&p| p == q))
+    pub fn joins(&self, i: usize, target: &Target) -> bool {
+        let medium = |q| self.piece.get(i).is_none_or(|&p| p == q);
+        target.piece.is_none_or(medium)
+            && match (target.part, self.part.get(i)) {
+                (Some(q), Some(&p)) => pieces_joined(
+                    p,
+                    self.position[i],
+                    self.normal[i],
+                    q,
+                    target.position,
+                    target.normal,
+                ),
+                _ => true,
+            }
     }
 
     /// Number of samples.
@@ -72,6 +91,10 @@ pub struct Targets<'a> {
     /// The piece of the mesh each target lies on; empty to gather from
     /// every piece (samples of one piece, or sources without pieces).
     pub piece: &'a [u32],
+    /// The piece of its medium each target lies on, as
+    /// [`Sources::part`]; empty where the sources' media have one piece
+    /// each, or the targets do not say.
+    pub part: &'a [u32],
 }
 
 impl Targets<'_> {
@@ -87,6 +110,7 @@ impl Targets<'_> {
             normal: self.normal[i],
             own: self.own.of(i),
             piece: self.piece_of(i),
+            part: self.part.get(i).copied(),
         }
     }
 }
@@ -102,6 +126,8 @@ pub struct Target {
     pub own: Option<usize>,
     /// The piece of the mesh it lies on, if known.
     pub piece: Option<u32>,
+    /// The piece of its medium it lies on, if known ([`Targets::part`]).
+    pub part: Option<u32>,
 }
 
 /// Which source each target is: a texel's own light is weighed by the

@@ -20,6 +20,7 @@
 //! distance to second order; for two faces that face each other across a
 //! gap (parallel planes) it is unbounded, and nothing crosses.
 
+use crate::surface::medium::INSIDE;
 use glam::Vec3;
 
 /// A point counts as above the other's tangent plane only when its height
@@ -76,6 +77,59 @@ pub fn may_cross_air(entry_height: f32, distance2: f32) -> bool {
     entry_height > 0.0 && entry_height * entry_height > ABOVE * ABOVE * distance2
 }
 
+/// Whether a pair of one medium, the entry on piece `entry_piece` and the
+/// exit on `exit_piece` (as [`crate::surface::medium::Media::piece`]
+/// numbers them), is joined through it: always on one piece, or where
+/// either lies inside the medium (medium on both its sides), else as
+/// [`joined_across_pieces`] says.
+#[inline]
+pub fn pieces_joined(
+    entry_piece: u32,
+    entry: Vec3,
+    entry_normal: Vec3,
+    exit_piece: u32,
+    exit: Vec3,
+    exit_normal: Vec3,
+) -> bool {
+    entry_piece == exit_piece
+        || (entry_piece | exit_piece) & INSIDE != 0
+        || joined_across_pieces(
+            entry,
+            entry_normal,
+            exit,
+            exit_normal,
+            (exit - entry).length_squared(),
+        )
+}
+
+/// Whether a pair on two pieces of one medium is joined through it
+/// (`entry`, `exit` and their unit normals as for [`path_length`],
+/// `distance2` their squared distance, mm²). Pieces a medium joins meet
+/// where one is set into the other (an eye dome sunk into the skin of a
+/// head, a lid inside a box): a straight line that leaves one point into
+/// the air above its tangent plane while the other point lies under its
+/// own reaches that point only through the other piece's faces (the
+/// skin beside an eye and the dome's top, whose line runs up through the
+/// air and in through the dome's rim), which light must go round; it is
+/// taken to exchange nothing. A pair each below the other's plane is
+/// joined straight, and a pair each above it sits across a crease, which
+/// [`path_length`] goes round. Within one piece the surface itself joins
+/// the two and light goes round beneath it (a bump beside flat skin), so
+/// the test is for pairs across pieces alone.
+#[inline]
+pub fn joined_across_pieces(
+    entry: Vec3,
+    entry_normal: Vec3,
+    exit: Vec3,
+    exit_normal: Vec3,
+    distance2: f32,
+) -> bool {
+    let d = exit - entry;
+    let entry_above = may_cross_air(-d.dot(exit_normal), distance2);
+    let exit_above = may_cross_air(d.dot(entry_normal), distance2);
+    entry_above == exit_above
+}
+
 /// The path round the common line of the two tangent planes (unit
 /// normals `a` of the entry, `b` of the exit), `d` running from entry to
 /// exit, `entry_height` the entry's height above the exit's plane (above
@@ -121,6 +175,41 @@ mod tests {
         let (upper, lower) = (Vec3::new(0.0, 0.0, 1.0), Vec3::new(2.0, 0.0, 0.0));
         let d = (upper - lower).length();
         assert_eq!(path_length(upper, Vec3::Z, lower, -Vec3::Z, d), d);
+    }
+
+    #[test]
+    fn pieces_are_joined_where_each_point_lies_under_the_others_plane_or_both_above() {
+        // Skin z = 0 facing up beside a dome's top 5 mm up, facing up: the
+        // line from the skin runs up through the air.
+        let (skin, top) = (Vec3::new(-8.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 5.0));
+        let d2 = (top - skin).length_squared();
+        assert!(!joined_across_pieces(skin, Vec3::Z, top, Vec3::Z, d2));
+        assert!(!joined_across_pieces(top, Vec3::Z, skin, Vec3::Z, d2));
+        // Two faces of a part modelled apart, each behind the other.
+        let (upper, lower) = (Vec3::new(0.0, 0.0, 1.0), Vec3::new(3.0, 0.0, 0.0));
+        let d2 = (upper - lower).length_squared();
+        assert!(joined_across_pieces(upper, Vec3::Z, lower, -Vec3::Z, d2));
+        // A floor and a wall across a crease: both above, left to the path
+        // round it.
+        let (floor, wall) = (Vec3::new(3.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 4.0));
+        let d2 = (wall - floor).length_squared();
+        assert!(joined_across_pieces(floor, Vec3::Z, wall, Vec3::X, d2));
+        // Coplanar points (rounding) are joined.
+        let (a, b) = (Vec3::ZERO, Vec3::new(3.0, 4.0, 1e-6));
+        assert!(joined_across_pieces(a, Vec3::Z, b, Vec3::Z, 25.0));
+    }
+
+    #[test]
+    fn a_piece_inside_the_medium_is_joined_from_either_side() {
+        // The skin beside a dome's top, as above: apart, unless the dome's
+        // face lies inside the medium.
+        let (skin, top) = (Vec3::new(-8.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 5.0));
+        assert!(!pieces_joined(0, skin, Vec3::Z, 1, top, Vec3::Z));
+        assert!(pieces_joined(0, skin, Vec3::Z, 1 | INSIDE, top, Vec3::Z));
+        assert!(pieces_joined(INSIDE, skin, Vec3::Z, 1, top, Vec3::Z));
+        // One piece is always joined, inside or not.
+        assert!(pieces_joined(1, skin, Vec3::Z, 1, top, Vec3::Z));
+        assert!(pieces_joined(1, skin, Vec3::Z, 1 | INSIDE, top, Vec3::Z));
     }
 
     #[test]

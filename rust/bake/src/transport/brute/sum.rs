@@ -102,7 +102,7 @@ impl<'a> Sorted<'a> {
         target: Target,
         reach: Reach,
     ) -> [Vec4; 2] {
-        let (p, n, piece) = (target.position, target.normal, target.piece);
+        let (p, n) = (target.position, target.normal);
         let table = &self.table;
         let (tapered, reach) = (reach.tapered, reach.radius);
         let reach2 = reach * reach;
@@ -136,7 +136,7 @@ impl<'a> Sorted<'a> {
                 taper[k] = Reach::taper(d / reach);
             }
             (entry[k], fraction[k]) = split_place(disks.place(d));
-            let within = d2 <= reach2 && d <= reach && table.joins(j, piece);
+            let within = d2 <= reach2 && d <= reach && table.joins(j, &target);
             let special = d2 < near2[k] || j == own;
             kind[k] = within as u8 * (1 + special as u8);
         }
@@ -186,12 +186,12 @@ impl<'a> Sorted<'a> {
         target: Target,
         reach: Reach,
     ) -> [Vec4; 2] {
-        let (p, n, own, piece) = (target.position, target.normal, target.own, target.piece);
+        let (p, n, own) = (target.position, target.normal, target.own);
         let mut sum = [Vec4::ZERO; 2];
         let radius = reach.radius;
         for j in block {
             let d2 = (self.table.position(j) - p).length_squared();
-            if d2 > radius * radius || !self.table.joins(j, piece) {
+            if d2 > radius * radius || !self.table.joins(j, &target) {
                 continue;
             }
             let taper = if reach.tapered {
@@ -412,6 +412,7 @@ pub fn exact_sum_and_unit(
             irradiance: vec![[1.0; 3]; sources.len()],
             footprint: sources.footprint.clone(),
             piece: sources.piece.clone(),
+            part: sources.part.clone(),
         };
         let (unit, _) = exact_sum(prepared, scattering, &unit, targets, control)?;
         return Ok([lit, unit]);

@@ -134,6 +134,8 @@ impl Integrator for ImportanceIntegrator {
             pieces: Some(Pieces {
                 triangle: &prepared.surfels.triangle_medium,
                 target: &prepared.surfels.piece,
+                triangle_part: &prepared.surfels.triangle_part,
+                target_part: &prepared.surfels.part,
             }),
         };
         let exitance = integrate(

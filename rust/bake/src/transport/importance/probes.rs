@@ -32,6 +32,7 @@ use crate::mesh::Mesh;
 use crate::rays::RayScene;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::oblique_sum::light_at;
+use crate::transport::through_medium::pieces_joined;
 use glam::{Vec2, Vec3};
 use sssbake_profile::models::empirical::kernel::ObliqueKernel;
 use sssbake_profile::models::empirical::oblique::HARMONICS_KEPT;
@@ -86,12 +87,18 @@ pub struct Surface<'a> {
     pub pieces: Option<Pieces<'a>>,
 }
 
-/// Which piece of the mesh each triangle and each target lies on.
+/// Which medium each triangle and each target lies in, and which piece
+/// of it where media join several.
 pub struct Pieces<'a> {
     /// Per triangle of the mesh.
     pub triangle: &'a [u32],
     /// Per target.
     pub target: &'a [u32],
+    /// The piece of its medium per triangle
+    /// ([`crate::surface::medium::Media::piece`]; empty: one piece each).
+    pub triangle_part: &'a [u32],
+    /// The piece of its medium per target (empty: one piece each).
+    pub target_part: &'a [u32],
 }
 
 /// What a hit reads for an oblique kernel.
@@ -142,6 +149,10 @@ pub fn integrate(
                 .pieces
                 .as_ref()
                 .and_then(|pieces| Some((pieces.triangle, *pieces.target.get(i)?))),
+            part: surface
+                .pieces
+                .as_ref()
+                .and_then(|pieces| Some((pieces.triangle_part, *pieces.target_part.get(i)?))),
         };
         let mut sum = [0.0f64; 3];
         for (axis, row) in cells.iter().enumerate() {
@@ -179,8 +190,10 @@ struct Estimate<'a> {
     share: [[f32; 4]; 3],
     origin: Vec3,
     normal: Vec3,
-    /// The pieces of the triangles, and the target's piece.
+    /// The media of the triangles, and the target's medium.
     piece: Option<(&'a [u32], u32)>,
+    /// The pieces of their media of the triangles, and the target's.
+    part: Option<(&'a [u32], u32)>,
 }
 
 impl Estimate<'_> {
@@ -260,6 +273,12 @@ impl Estimate<'_> {
                     .map(|k| surface.mesh.normals[tri[k] as usize] * w[k])
                     .sum::<Vec3>()
                     .normalize_or_zero();
+                if let Some((parts, own)) = self.part
+                    && let Some(&part) = parts.get(hit.triangle as usize)
+                    && !pieces_joined(part, point, n_hit, own, self.origin, self.normal)
+                {
+                    return;
+                }
                 // Lines cross the facet itself, so the density of hits per
                 // unit area takes the facet's normal, not the shading one.
                 let [p0, p1, p2] = tri.map(|v| surface.mesh.positions[v as usize]);

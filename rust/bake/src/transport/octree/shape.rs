@@ -28,6 +28,10 @@ pub(super) struct Node {
     pub(super) centre: Vec3,
     /// Area-weighted mean normal, normalised.
     pub(super) normal: Vec3,
+    /// The length of the area-weighted mean of the sources' normals: 1
+    /// where they all face one way, less where they turn (0 for a node of
+    /// no area).
+    pub(super) flatness: f32,
     pub(super) area: f32,
     /// The area of the disk whose second moment is that of the node's
     /// light about its centre, mm².
@@ -39,10 +43,13 @@ pub(super) struct Node {
     pub(super) first: u32,
     pub(super) count: u32,
     pub(super) leaf: bool,
-    /// The piece of the mesh every source of the node lies on, or
-    /// [`MIXED`]. Nodes split by piece first, so only nodes above the
-    /// pieces' own subtrees are mixed, and those are always opened.
+    /// The medium every source of the node lies in, or [`MIXED`]. Nodes
+    /// split by piece first, so only nodes above the pieces' own subtrees
+    /// are mixed, and those are always opened.
     pub(super) piece: u32,
+    /// The piece of its medium every source of the node lies on
+    /// ([`Sources::part`]), or [`MIXED`]; 0 where the sources do not say.
+    pub(super) part: u32,
 }
 
 /// The octree's shape over one set of sources, with the sources in its
@@ -76,13 +83,20 @@ struct Links {
 }
 
 impl TreeShape {
-    /// The shape over `sources`, split at box centres (by piece first).
+    /// The shape over `sources`, split at box centres (by piece first:
+    /// by the piece of the mesh where a medium joins several, else by
+    /// medium).
     pub fn new(sources: &Sources) -> Self {
         let mut items: Vec<Item> = (0..sources.len())
             .into_par_iter()
             .map(|i| Item {
                 position: sources.position[i],
-                piece: sources.piece.get(i).copied().unwrap_or(0),
+                piece: sources
+                    .part
+                    .get(i)
+                    .or(sources.piece.get(i))
+                    .copied()
+                    .unwrap_or(0),
                 index: i as u32,
             })
             .collect();
@@ -167,9 +181,10 @@ impl TreeShape {
             *node = gathered(&after[first..first + links.count as usize]);
             (node.first, node.count, node.leaf) = (links.first, links.count, false);
         }
-        nodes
-            .par_iter_mut()
-            .for_each(|node| node.normal = node.normal.normalize_or_zero());
+        nodes.par_iter_mut().for_each(|node| {
+            node.flatness = (node.normal.length() / node.area).clamp(0.0, 1.0);
+            node.normal = node.normal.normalize_or_zero();
+        });
         nodes
     }
 }
@@ -220,17 +235,26 @@ fn gathered(children: &[Node]) -> Node {
     } else {
         (0.5 * (lo + hi).as_dvec3(), 0.0)
     };
-    let first_piece = children.first().map_or(0, |n| n.piece);
-    let piece = if children.iter().all(|n| n.piece == first_piece) {
-        first_piece
-    } else {
-        MIXED
+    let one = |of: fn(&Node) -> u32| match children.first().map(of) {
+        Some(first) if children.iter().all(|n| of(n) == first) => first,
+        Some(_) => MIXED,
+        None => 0,
     };
-    let bounds = Bounds { lo, hi, piece };
-    summary(bounds, centre, normal, area, second_moment, flux)
+    let (piece, part) = (one(|n| n.piece), one(|n| n.part));
+    let mut node = summary(
+        Bounds { lo, hi, piece },
+        centre,
+        normal,
+        area,
+        second_moment,
+        flux,
+    );
+    node.part = part;
+    node
 }
 
-/// A node's box and the piece its sources lie on ([`MIXED`] for several).
+/// A node's box and the piece its sources lie on ([`MIXED`] for several):
+/// their medium once lit, the piece they are split by while built.
 struct Bounds {
     lo: Vec3,
     hi: Vec3,
@@ -255,6 +279,7 @@ fn summary(
         hi: bounds.hi,
         centre: centre.as_vec3(),
         normal,
+        flatness: 0.0,
         area: area as f32,
         // A disk of radius a has second moment a²/2 about its centre.
         spread: (std::f64::consts::TAU * second_moment.max(0.0)) as f32,
@@ -264,6 +289,7 @@ fn summary(
         count: 0,
         leaf: false,
         piece: bounds.piece,
+        part: 0,
     }
 }
 
@@ -272,8 +298,8 @@ const PARALLEL_LEVELS: u32 = 3;
 /// The fewest sources a subtree is built in parallel for.
 const PARALLEL_SOURCES: usize = 50_000;
 
-/// A source as the shape is built from it: its place and piece beside
-/// its index, so the splits at every level read the items in order
+/// A source as the shape is built from it: its place and piece (of the
+/// mesh where media join several, else its medium) beside its index, so the splits at every level read the items in order
 /// rather than the sources at random.
 #[derive(Clone, Copy)]
 struct Item {
@@ -377,12 +403,15 @@ fn summarise(items: &[u32], sources: &Sources, offset: usize) -> Node {
     let (mut light, mut by_light, mut square_by_light) = (0.0f64, DVec3::ZERO, 0.0f64);
     let (mut by_area, mut square_by_area) = (DVec3::ZERO, 0.0f64);
     let mut normal = Vec3::ZERO;
-    let piece_of = |i: &u32| sources.piece.get(*i as usize).copied().unwrap_or(0);
-    let piece = match items.first().map(piece_of) {
-        Some(first) if items.iter().all(|i| piece_of(i) == first) => first,
-        Some(_) => MIXED,
-        None => 0,
+    let one = |of: &[u32]| {
+        let of = |i: &u32| of.get(*i as usize).copied().unwrap_or(0);
+        match items.first().map(of) {
+            Some(first) if items.iter().all(|i| of(i) == first) => first,
+            Some(_) => MIXED,
+            None => 0,
+        }
     };
+    let (piece, part) = (one(&sources.piece), one(&sources.part));
     for &i in items.iter() {
         let i = i as usize;
         let p = sources.position[i];
@@ -418,6 +447,7 @@ fn summarise(items: &[u32], sources: &Sources, offset: usize) -> Node {
         first: offset as u32,
         count: items.len() as u32,
         leaf: true,
+        part,
         ..summary(bounds, centre, normal, area, second_moment, flux)
     }
 }
@@ -492,6 +522,7 @@ mod tests {
             .collect();
         Sources {
             piece: Cow::Owned(position.iter().map(|p| u32::from(p.y > 30.0)).collect()),
+            part: Default::default(),
             position: Cow::Owned(position),
             normal: Cow::Owned(normal),
             area: Cow::Owned((0..n).map(|i| 0.05 + 0.01 * (i % 7) as f32).collect()),

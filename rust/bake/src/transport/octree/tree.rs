@@ -13,12 +13,13 @@
 use super::shape::{MIXED, Node, TreeShape};
 use super::weighed::Weighed;
 use crate::control::{Cancelled, Control, parallel_fill};
+use crate::surface::medium::INSIDE;
 use crate::transport::brute::Reach;
 use crate::transport::disk_kernel::DiskKernel;
 use crate::transport::kernel::{Kernel, Separation};
 use crate::transport::source_table::{Apart, PlacedSources, SourceTable, texel_disks_for};
 use crate::transport::sources::{Sources, Target, Targets};
-use crate::transport::through_medium::may_cross_air;
+use crate::transport::through_medium::{may_cross_air, pieces_joined};
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -56,7 +57,7 @@ impl<'a> Octree<'a> {
         target: Target,
         epsilon: f32,
     ) -> [f64; 3] {
-        let (p, n, piece) = (target.position, target.normal, target.piece);
+        let (p, n) = (target.position, target.normal);
         let transmits = texels.kernel().transmits();
         let own = self.table.rank_of(target.own);
         self.walk(
@@ -69,7 +70,7 @@ impl<'a> Octree<'a> {
                 Some(nodes.weight4(separation, node.slot) * node.flux4())
             },
             |j, offset, d2| {
-                if !self.table.joins(j, piece) {
+                if !self.table.joins(j, &target) {
                     return Vec4::ZERO;
                 }
                 let apart = Apart {
@@ -106,7 +107,6 @@ impl<'a> Octree<'a> {
         within: Option<Reach>,
         separate: &impl Fn(Vec3, Vec3) -> Option<Separation>,
     ) -> T::Total {
-        let piece = target.piece;
         let own = self.table.rank_of(target.own);
         // A target between two rungs often sits on one: kernels of no
         // share are passed over without a copy of the mix.
@@ -147,7 +147,7 @@ impl<'a> Octree<'a> {
                 Some(T::weigh(w, node.flux4(), node.area))
             },
             |j, _, d2| {
-                if !self.table.joins(j, piece) {
+                if !self.table.joins(j, &target) {
                     return T::ZERO;
                 }
                 let w = self.table.weight_placed(texels, mix, j, d2, own, separate);
@@ -163,7 +163,9 @@ impl<'a> Octree<'a> {
     /// have it opened, `leaf`
     /// a source of an opened leaf (its index in the table, its offset from
     /// the target and the offset's squared length, within the reach).
-    /// Nodes of another piece of the mesh than the target's are skipped.
+    /// Nodes of another medium than the target's are skipped, and a node
+    /// taken whole on another piece of its medium is joined to it or not
+    /// as its centre is ([`pieces_joined`]).
     #[inline(always)]
     fn walk<T: Weighed>(
         &self,
@@ -196,12 +198,17 @@ impl<'a> Octree<'a> {
                 // The solid angle from the node's nearest point, not its
                 // centre: a long node beside the target is near, whatever
                 // its centre's distance.
-                if node.piece != MIXED
-                    && node.area < epsilon * outside2
-                    && let Some(w) = whole(node, outside2)
-                {
-                    w.add_to(&mut sum);
-                    continue;
+                if node.piece != MIXED && node.part != MIXED && node.area < epsilon * outside2 {
+                    match node.across(target) {
+                        Across::Apart => continue,
+                        Across::Joined => {
+                            if let Some(w) = whole(node, outside2) {
+                                w.add_to(&mut sum);
+                                continue;
+                            }
+                        }
+                        Across::Unsure => {}
+                    }
                 }
                 stack.extend(node.first..node.first + node.count);
                 continue;
@@ -239,7 +246,45 @@ fn alike(a: &Option<Separation>, b: &Option<Separation>) -> bool {
     across(a) == across(b)
 }
 
+/// Whether a node taken whole exchanges light with a target.
+enum Across {
+    /// It does (on the target's piece, or joined to it as its centre is).
+    Joined,
+    /// It does not: on another piece, kept apart as its centre is.
+    Apart,
+    /// Its sources turn too much for its centre to say: it is opened.
+    Unsure,
+}
+
+/// The flatness ([`Node::flatness`]) above which a node on another piece
+/// than the target's is joined to it or not as its centre and mean normal
+/// are: its normals within about 10° of each other. A node across a
+/// box's edge, half top and half side, has a mean normal between the two
+/// that joins what neither face would.
+const FLAT: f32 = 0.985;
+
 impl Node {
+    /// Whether the node, taken whole, exchanges light with `target`
+    /// ([`pieces_joined`]).
+    #[inline]
+    fn across(&self, target: Target) -> Across {
+        let Some(q) = target.part else {
+            return Across::Joined;
+        };
+        if q == self.part || (q | self.part) & INSIDE != 0 {
+            return Across::Joined;
+        }
+        if self.flatness < FLAT {
+            return Across::Unsure;
+        }
+        let (p, n) = (target.position, target.normal);
+        if pieces_joined(self.part, self.centre, self.normal, q, p, n) {
+            Across::Joined
+        } else {
+            Across::Apart
+        }
+    }
+
     /// The squared distance (mm²) from `p` to the node's box, 0 inside it.
     #[inline(always)]
     fn outside2(&self, p: Vec3) -> f32 {
@@ -466,6 +511,7 @@ mod tests {
             irradiance: vec![[1.0; 3]; n],
             footprint: Cow::Owned(Vec::new()),
             piece: Cow::Owned(Vec::new()),
+            part: Default::default(),
         };
         let (p, up) = ([Vec3::ZERO], [Vec3::Z]);
         let target = Targets {
@@ -473,6 +519,7 @@ mod tests {
             normal: &up,
             own: OwnSource::None,
             piece: &[],
+            part: &[],
         };
         let sum = |epsilon: f32, deepest: f32| {
             let gathering = Gathering::new(&skin.kernel, &sources, epsilon);

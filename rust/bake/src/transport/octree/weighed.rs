@@ -133,6 +133,7 @@ mod tests {
             irradiance,
             footprint: Cow::Owned(Vec::new()),
             piece: Cow::Owned(Vec::new()),
+            part: Default::default(),
         };
         [sources(irradiance), sources(vec![[1.0; 3]; count])]
     }
@@ -153,6 +154,7 @@ mod tests {
             normal: &up,
             own: OwnSource::None,
             piece: &[],
+            part: &[],
         };
         let placing = |_| {
             ([(0, 1.0), (0, 0.0)], |q: Vec3, _m: Vec3| {
