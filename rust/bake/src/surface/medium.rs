@@ -65,11 +65,14 @@ pub struct Media {
     pub piece: Vec<u32>,
 }
 
-/// Set on a triangle's piece ([`Media::piece`]) where the triangle lies
-/// inside its medium: the ray along its outward normal first meets a
-/// face of the mesh from within (the part of Suzanne's eye domes sunk
-/// beneath the skin of the head). Medium lies on both its sides, so
-/// light reaches it from either, not only from below its tangent plane.
+/// Set on a triangle's piece ([`Media::piece`]) where the triangle, of a
+/// piece set into the largest piece of its medium, lies inside the
+/// medium: the ray along its outward normal first meets a face of the
+/// mesh from within (the part of Suzanne's eye domes sunk beneath the
+/// skin of the head). Medium lies on both its sides, so light reaches it
+/// from either, not only from below its tangent plane. The largest piece
+/// is never flagged: the few of its triangles that meet a dome from
+/// behind, scattered over it, would split the octree's tree of it.
 pub const INSIDE: u32 = 1 << 31;
 
 /// The media of `mesh`: the pieces of [`triangle_pieces`], joined where
