@@ -131,6 +131,13 @@ impl PlacedSources {
                     slot[k] = disks.slot(disk_area(sources, i));
                 }
             });
+        // Each source's value in `order`, where every source has one.
+        let in_order = |values: &[u32]| -> Vec<u32> {
+            if values.len() != sources.len() {
+                return Vec::new();
+            }
+            order.par_iter().map(|&i| values[i as usize]).collect()
+        };
         PlacedSources {
             tabulated: slot.par_iter().all(Slot::tabulated),
             slot,
@@ -152,24 +159,12 @@ impl PlacedSources {
             near2,
             // Kept only where the sources lie on several pieces: a one-piece
             // object's pairs then skip the lookup.
-            piece: if sources.piece.len() == sources.len()
-                && sources.piece.par_iter().any(|&p| p != sources.piece[0])
-            {
-                order
-                    .par_iter()
-                    .map(|&i| sources.piece[i as usize])
-                    .collect()
+            piece: if sources.piece.par_iter().any(|&p| p != sources.piece[0]) {
+                in_order(&sources.piece)
             } else {
                 Vec::new()
             },
-            part: if sources.part.len() == sources.len() {
-                order
-                    .par_iter()
-                    .map(|&i| sources.part[i as usize])
-                    .collect()
-            } else {
-                Vec::new()
-            },
+            part: in_order(&sources.part),
         }
     }
 

@@ -299,8 +299,9 @@ const PARALLEL_LEVELS: u32 = 3;
 const PARALLEL_SOURCES: usize = 50_000;
 
 /// A source as the shape is built from it: its place and piece (of the
-/// mesh where media join several, else its medium) beside its index, so the splits at every level read the items in order
-/// rather than the sources at random.
+/// mesh where media join several, else its medium) beside its index, so
+/// the splits at every level read the items in order rather than the
+/// sources at random.
 #[derive(Clone, Copy)]
 struct Item {
     position: Vec3,
