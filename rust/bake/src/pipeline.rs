@@ -412,7 +412,8 @@ impl Prepared {
     /// some texels alone ([`Integrator::summer`]) they are summed on a
     /// lattice of [`uniform_stride`] texels and carried bilinearly between
     /// ([`Carrier::whole`]; from finer lattices where a texel lacks four
-    /// corners on its surface, down to its own sum). Where the gains from the fit miss those from
+    /// corners on its surface or its corners' sums differ steeply, down to
+    /// its own sum). Where the gains from the fit miss those from
     /// direct sums at random texels by more than [`FIT_TOLERANCE`], the
     /// stride is halved (rounding up), down to every texel. The error
     /// estimate measures them against exact sums at its texels, as it

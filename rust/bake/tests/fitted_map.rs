@@ -187,3 +187,71 @@ fn the_octree_at_epsilon_zero_stays_the_exact_sum_at_every_texel() {
     let (relative, _) = relative_errors(&octree.exitance, &brute.exitance);
     assert!(relative < 1e-5, "{relative}");
 }
+
+/// Sums that are `high` left of x = `edge` (mm) and half that right of
+/// it, at whatever texels are asked for, counting how many were.
+struct StepSums<'a> {
+    prepared: &'a Prepared,
+    edge: f32,
+    asked: std::sync::atomic::AtomicUsize,
+}
+
+impl Summer for StepSums<'_> {
+    fn at(&self, listed: &[usize], _: &Control) -> Result<Vec<[f32; 3]>, sssbake::Error> {
+        self.asked
+            .fetch_add(listed.len(), std::sync::atomic::Ordering::Relaxed);
+        let position = &self.prepared.surfels.position;
+        Ok(listed
+            .iter()
+            .map(|&i| {
+                let p = position[i];
+                let high = 1.0 + 0.01 * p.y;
+                if p.x < self.edge {
+                    [high; 3]
+                } else {
+                    [0.5 * high; 3]
+                }
+            })
+            .collect())
+    }
+}
+
+#[test]
+fn a_whole_map_is_carried_from_finer_lattices_where_its_sums_change_abruptly() {
+    let scene = scene(vec![centred_square(20.0, "square")], vec![]);
+    let prepared = prepared(&scene, "square", 64);
+    let every: Vec<usize> = (0..prepared.surfels.len()).collect();
+    let step = 8;
+    // Without an edge the lattices' own sums carry the map: the coarse
+    // lattice's, and finer ones' only by the square's border.
+    let smooth = StepSums {
+        prepared: &prepared,
+        edge: f32::INFINITY,
+        asked: Default::default(),
+    };
+    let map = Carrier::whole(&prepared, &smooth)
+        .at(&every, step, &Control::new())
+        .unwrap();
+    let lattice_sums = smooth.asked.load(std::sync::atomic::Ordering::Relaxed);
+    assert!(lattice_sums < every.len() / 8, "{lattice_sums}");
+    let direct = smooth.at(&every, &Control::new()).unwrap();
+    let (relative, _) = relative_errors(&map, &direct);
+    assert!(relative < 1e-4, "{relative}");
+    // An abrupt edge between lattice columns: bilinear means across it
+    // would miss by up to a third; the cells it crosses go down to every
+    // texel, and the map is its sums everywhere.
+    let edge = StepSums {
+        prepared: &prepared,
+        edge: 1.1,
+        asked: Default::default(),
+    };
+    let map = Carrier::whole(&prepared, &edge)
+        .at(&every, step, &Control::new())
+        .unwrap();
+    let direct = edge.at(&every, &Control::new()).unwrap();
+    let (relative, worst) = relative_errors(&map, &direct);
+    assert!(relative < 1e-4 && worst < 1e-3, "{relative} {worst}");
+    // Only the cells along the edge were summed finer.
+    let asked = edge.asked.load(std::sync::atomic::Ordering::Relaxed) - every.len();
+    assert!(asked < 2 * lattice_sums, "{asked} against {lattice_sums}");
+}

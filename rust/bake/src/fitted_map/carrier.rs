@@ -142,15 +142,20 @@ impl<'a> Carrier<'a> {
         last: bool,
         control: &Control,
     ) -> Result<Vec<[f32; 3]>, Error> {
-        let routes = self.routes(texels, step);
-        let missing = marked(self.summed.len(), texels, &routes, |i, route, mark| {
-            for (j, _) in self.corners(i, route.step.into()).into_iter().flatten() {
-                if self.summed[j][0].is_nan() {
-                    mark(j);
+        let mut routes = self.routes(texels, step);
+        loop {
+            let missing = marked(self.summed.len(), texels, &routes, |i, route, mark| {
+                for (j, _) in self.corners(i, route.step.into()).into_iter().flatten() {
+                    if self.summed[j][0].is_nan() {
+                        mark(j);
+                    }
                 }
+            });
+            self.sum(&missing, control)?;
+            if !self.steeper(texels, &mut routes) {
+                break;
             }
-        });
-        self.sum(&missing, control)?;
+        }
         if last {
             self.summer.release();
         }
@@ -226,6 +231,45 @@ impl<'a> Carrier<'a> {
             step = step.div_ceil(2);
         }
         routes
+    }
+
+    /// Routes each of `texels` carried whole from corners whose sums are
+    /// [`steep`] from the next finer lattice (down to its own sum);
+    /// whether any route changed. A whole map's sums change over the
+    /// profile's spread except where what joins the surface within reach
+    /// changes abruptly (a thin part's rim, a piece set into another),
+    /// where a cell's bilinear mean misses.
+    fn steeper(&self, texels: &[usize], routes: &mut [Route]) -> bool {
+        if self.near_sum.is_some() {
+            return false;
+        }
+        let changed: Vec<(usize, Route)> = texels
+            .par_iter()
+            .zip(routes.par_iter())
+            .enumerate()
+            .filter_map(|(k, (&i, route))| {
+                let corners = self.corners(i, route.step.into())?;
+                if route.step <= 1 || !steep(corners.map(|(j, _)| self.summed[j])) {
+                    return None;
+                }
+                let mut step = u32::from(route.step).div_ceil(2);
+                while step > 1 && self.corners(i, step).is_none() {
+                    step = step.div_ceil(2);
+                }
+                let with_near = false;
+                Some((
+                    k,
+                    Route {
+                        step: step as u8,
+                        with_near,
+                    },
+                ))
+            })
+            .collect();
+        for &(k, route) in &changed {
+            routes[k] = route;
+        }
+        !changed.is_empty()
     }
 
     /// Finds where the light is smooth at `step`, once (nothing to find
@@ -334,6 +378,30 @@ impl<'a> Carrier<'a> {
         let own = near(i);
         [0, 1, 2].map(|c| own[c] + far(c))
     }
+}
+
+/// The spread of a cell's corner sums, as a share of their largest,
+/// above which a whole map's cell is carried from a finer lattice. The
+/// head in skin1 at 4096²: its sums under a unit light 8 texels apart
+/// gave gains 2.4% from their direct sums (relative RMS at 16384 probes,
+/// all of it from a few texels by rims, up to 300% off), so the map was
+/// summed again at 4 (0.42%); with cells steeper than 10% carried from
+/// finer lattices it misses by 0.11% at 8, with 23% more sums than the
+/// lattice's own instead of four times as many (at 5%: 0.06%, 50% more;
+/// at 20%: 0.31%, 8% more).
+const STEEP: f32 = 0.1;
+
+/// True when the four corner sums spread by more than [`STEEP`] of the
+/// largest in some channel.
+fn steep(sums: [[f32; 3]; 4]) -> bool {
+    (0..3).any(|c| {
+        let (lo, hi) = sums
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), s| {
+                (lo.min(s[c]), hi.max(s[c]))
+            });
+        hi - lo > STEEP * hi.abs()
+    })
 }
 
 /// The surfels below `count` that `each` marks for any of `texels` (given
