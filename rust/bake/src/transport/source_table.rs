@@ -7,7 +7,6 @@ use super::disk_kernel::{DiskKernel, Rows, Slot, split_place};
 use super::kernel::{Kernel, Separation};
 use super::sample_sizes::SampleSizes;
 use super::sources::{Sources, Target};
-use super::through_medium::pieces_joined;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -220,28 +219,15 @@ impl<'a> SourceTable<'a> {
     }
 
     /// True when source `j` (this order) and `target` are joined by the
-    /// medium, as [`Sources::joins`] says.
+    /// medium ([`Target::joined_to`]).
     #[inline]
     pub fn joins(&self, j: usize, target: &Target) -> bool {
-        let medium = |q| self.piece.get(j).is_none_or(|&p| p == q);
-        target.piece.is_none_or(medium) && self.joined_across(j, target)
-    }
-
-    /// False where source `j` (this order) and `target` lie on two pieces
-    /// of one medium that [`pieces_joined`] keeps apart.
-    #[inline]
-    fn joined_across(&self, j: usize, target: &Target) -> bool {
-        match (target.part, self.part.get(j)) {
-            (Some(q), Some(&p)) => pieces_joined(
-                p,
-                self.position(j),
-                self.normal[j],
-                q,
-                target.position,
-                target.normal,
-            ),
-            _ => true,
-        }
+        target.joined_to(
+            self.piece.get(j).copied(),
+            self.part.get(j).copied(),
+            self.position(j),
+            self.normal[j],
+        )
     }
 
     /// The place in this order of source `i`, if it is one.

@@ -37,24 +37,16 @@ pub struct Sources<'a> {
 }
 
 impl Sources<'_> {
-    /// True when source `i` and `target` are joined by the medium: in one
-    /// medium (or either side does not say), and joined across its pieces
-    /// where it has several ([`pieces_joined`]).
+    /// True when source `i` and `target` are joined by the medium
+    /// ([`Target::joined_to`]).
     #[inline]
     pub fn joins(&self, i: usize, target: &Target) -> bool {
-        let medium = |q| self.piece.get(i).is_none_or(|&p| p == q);
-        target.piece.is_none_or(medium)
-            && match (target.part, self.part.get(i)) {
-                (Some(q), Some(&p)) => pieces_joined(
-                    p,
-                    self.position[i],
-                    self.normal[i],
-                    q,
-                    target.position,
-                    target.normal,
-                ),
-                _ => true,
-            }
+        target.joined_to(
+            self.piece.get(i).copied(),
+            self.part.get(i).copied(),
+            self.position[i],
+            self.normal[i],
+        )
     }
 
     /// Number of samples.
@@ -128,6 +120,30 @@ pub struct Target {
     pub piece: Option<u32>,
     /// The piece of its medium it lies on, if known ([`Targets::part`]).
     pub part: Option<u32>,
+}
+
+impl Target {
+    /// True when a source on piece `piece` of the mesh and piece `part` of
+    /// its medium (each `None` where its sources do not say), at
+    /// `position` (mm) with unit `normal`, is joined to this target by the
+    /// medium: in one medium, and joined across its pieces where it has
+    /// several ([`pieces_joined`]).
+    #[inline]
+    pub fn joined_to(
+        &self,
+        piece: Option<u32>,
+        part: Option<u32>,
+        position: Vec3,
+        normal: Vec3,
+    ) -> bool {
+        self.piece.is_none_or(|q| piece.is_none_or(|p| p == q))
+            && match (part, self.part) {
+                (Some(p), Some(q)) => {
+                    pieces_joined(p, position, normal, q, self.position, self.normal)
+                }
+                _ => true,
+            }
+    }
 }
 
 /// Which source each target is: a texel's own light is weighed by the
