@@ -412,10 +412,11 @@ impl Prepared {
     /// some texels alone ([`Integrator::summer`]) they are summed on a
     /// lattice of [`uniform_stride`] texels and carried bilinearly between
     /// ([`Carrier::whole`]; from finer lattices where a texel lacks four
-    /// corners on its surface or its corners' sums differ steeply, down to
-    /// its own sum). Where the gains from the fit miss those from
-    /// direct sums at random texels by more than [`FIT_TOLERANCE`], the
-    /// stride is halved (rounding up), down to every texel. The error
+    /// corners on its surface, down to its own sum). Where the gains from
+    /// the fit miss those from direct sums at random texels by more than
+    /// [`FIT_TOLERANCE`], the cells whose corners' sums differ steeply are
+    /// carried finer ([`Carrier::with_steep_cells`]); where they still
+    /// miss, the stride is halved (rounding up), down to every texel. The error
     /// estimate measures them against exact sums at its texels, as it
     /// measures the map. With the sums, the stride they were taken at.
     fn uniform_sums(
@@ -434,12 +435,21 @@ impl Prepared {
             let across = integrator.carries().across;
             let all: Vec<usize> = (0..self.surfels.len()).collect();
             let mut carrier = Carrier::whole(&lit, &*summer);
+            let mut steep_cells = false;
             while stride > 1 {
                 let fitted = carrier.at(&all, stride, control)?;
                 if probed.gains_missed(slab, &self.opposites(slab.reach()), &fitted, across)
                     <= FIT_TOLERANCE
                 {
                     return Ok((fitted, stride));
+                }
+                // A miss is mostly a few cells where the sums change
+                // abruptly: those are carried finer before the whole
+                // lattice is.
+                if !steep_cells {
+                    steep_cells = true;
+                    carrier = carrier.with_steep_cells();
+                    continue;
                 }
                 // Halved, rounding up: 3 texels apart tries 2 before every
                 // texel (skin1 on the head at 1024²: 1.2% missed at 3,

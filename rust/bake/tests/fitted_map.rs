@@ -230,6 +230,7 @@ fn a_whole_map_is_carried_from_finer_lattices_where_its_sums_change_abruptly() {
         asked: Default::default(),
     };
     let map = Carrier::whole(&prepared, &smooth)
+        .with_steep_cells()
         .at(&every, step, &Control::new())
         .unwrap();
     let lattice_sums = smooth.asked.load(std::sync::atomic::Ordering::Relaxed);
@@ -246,6 +247,7 @@ fn a_whole_map_is_carried_from_finer_lattices_where_its_sums_change_abruptly() {
         asked: Default::default(),
     };
     let map = Carrier::whole(&prepared, &edge)
+        .with_steep_cells()
         .at(&every, step, &Control::new())
         .unwrap();
     let direct = edge.at(&every, &Control::new()).unwrap();

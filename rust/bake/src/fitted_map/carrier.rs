@@ -47,6 +47,9 @@ pub struct Carrier<'a> {
     /// Whether lattice texel `j` may carry to texel `i` beyond lying on
     /// its surface; `None`: wherever it does.
     joins: Option<&'a (dyn Fn(usize, usize) -> bool + Sync)>,
+    /// Whether cells whose corners' sums are [`steep`] are carried from
+    /// finer lattices (whole maps only; [`Carrier::with_steep_cells`]).
+    steep_cells: bool,
 }
 
 impl<'a> Carrier<'a> {
@@ -82,6 +85,7 @@ impl<'a> Carrier<'a> {
             near_radius: near_reach::near_radii(&lit.surfels),
             summed: vec![[f32::NAN; 3]; texels],
             joins: None,
+            steep_cells: false,
         }
     }
 
@@ -99,6 +103,7 @@ impl<'a> Carrier<'a> {
             near_radius: Vec::new(),
             summed: vec![[f32::NAN; 3]; texels],
             joins: None,
+            steep_cells: false,
         }
     }
 
@@ -107,6 +112,16 @@ impl<'a> Carrier<'a> {
     /// something other than the surface does (a part's thickness).
     pub fn joining(mut self, joins: &'a (dyn Fn(usize, usize) -> bool + Sync)) -> Self {
         self.joins = Some(joins);
+        self
+    }
+
+    /// The carrier of a whole map with each cell whose corners' sums are
+    /// [`steep`] carried from finer lattices, down to each texel's own
+    /// sum: for sums that change sharply in places the lattice cannot
+    /// know beforehand (where what joins the surface within reach
+    /// changes). The lattice texels summed so far are kept.
+    pub fn with_steep_cells(mut self) -> Self {
+        self.steep_cells = self.near_sum.is_none();
         self
     }
 
@@ -240,7 +255,7 @@ impl<'a> Carrier<'a> {
     /// changes abruptly (a thin part's rim, a piece set into another),
     /// where a cell's bilinear mean misses.
     fn steeper(&self, texels: &[usize], routes: &mut [Route]) -> bool {
-        if self.near_sum.is_some() {
+        if !self.steep_cells {
             return false;
         }
         let changed: Vec<(usize, Route)> = texels
