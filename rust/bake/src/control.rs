@@ -15,7 +15,11 @@ pub struct Cancelled;
 ///
 /// A whole bake runs in stages (each object's lighting, then its
 /// scattering); [`Control::fraction`] counts the stages done and the share
-/// of the current one, so it only rises.
+/// of the current one, so it only rises. A stage whose work comes in
+/// several steps, each planning its own work as it starts (the scattering's
+/// pilot, map and checks), gives each its share of the stage
+/// ([`Control::part`]), so the fraction does not reach the stage's end
+/// with its first step.
 #[derive(Debug, Default)]
 pub struct Control {
     done: AtomicU64,
@@ -23,9 +27,30 @@ pub struct Control {
     cancel: AtomicBool,
     /// (stage index, stage count, label) of the current stage.
     stage: Mutex<(usize, usize, String)>,
+    /// The current part of the stage: its span of the stage (from, to, as
+    /// shares of it) and its label.
+    part: Mutex<Part>,
     /// The largest fraction reported so far (f64 bits): work planned late
     /// in a stage (a check after the integration) does not move it back.
     shown: AtomicU64,
+}
+
+/// A span of the current stage that one step of its work fills.
+#[derive(Clone, Debug)]
+struct Part {
+    from: f64,
+    to: f64,
+    label: String,
+}
+
+impl Default for Part {
+    fn default() -> Self {
+        Part {
+            from: 0.0,
+            to: 1.0,
+            label: String::new(),
+        }
+    }
 }
 
 impl Control {
@@ -72,6 +97,9 @@ impl Control {
         if let Ok(mut stage) = self.stage.lock() {
             *stage = (index, count.max(1), label.to_string());
         }
+        if let Ok(mut part) = self.part.lock() {
+            *part = Part::default();
+        }
         self.total.store(0, Ordering::Relaxed);
         self.done.store(0, Ordering::Relaxed);
         if index == 0 {
@@ -80,22 +108,78 @@ impl Control {
         }
     }
 
-    /// The current stage's label (empty before any stage).
+    /// Runs `work` as the span `from..to` (shares, 0 to 1) of the current
+    /// part of the stage (of the whole stage outside any part), labelled
+    /// `label`: the work it plans and does fills that span alone, and once
+    /// it returns the fraction stands at least at the span's end. Parts
+    /// nest: a part within a part takes its span of the outer one.
+    pub fn part<T>(&self, from: f64, to: f64, label: &str, work: impl FnOnce() -> T) -> T {
+        let outer = self.part.lock().map(|p| p.clone()).unwrap_or_default();
+        let width = outer.to - outer.from;
+        let inner = Part {
+            from: outer.from + width * from.clamp(0.0, 1.0),
+            to: outer.from + width * to.clamp(from.clamp(0.0, 1.0), 1.0),
+            label: label.to_string(),
+        };
+        let end = inner.to;
+        let counted = (
+            self.done.load(Ordering::Relaxed),
+            self.total.load(Ordering::Relaxed),
+        );
+        self.set_part(inner, (0, 0));
+        let result = work();
+        self.set_part(outer, counted);
+        let (index, count) = self.stage_place();
+        let reached = (index as f64 + end) / count as f64;
+        self.shown
+            .fetch_max(reached.min(1.0).to_bits(), Ordering::Relaxed);
+        result
+    }
+
+    /// Makes `part` the current one, with the work `(done, total)` counted
+    /// in it.
+    fn set_part(&self, part: Part, (done, total): (u64, u64)) {
+        if let Ok(mut current) = self.part.lock() {
+            *current = part;
+        }
+        self.total.store(total, Ordering::Relaxed);
+        self.done.store(done, Ordering::Relaxed);
+    }
+
+    /// The current stage's index and the count of stages (at least 1).
+    fn stage_place(&self) -> (usize, usize) {
+        let (index, count) = self.stage.lock().map(|s| (s.0, s.1)).unwrap_or((0, 1));
+        (index, count.max(1))
+    }
+
+    /// The current stage's label, with the current part's after a colon
+    /// (empty before any stage).
     pub fn stage_label(&self) -> String {
-        self.stage.lock().map(|s| s.2.clone()).unwrap_or_default()
+        let stage = self.stage.lock().map(|s| s.2.clone()).unwrap_or_default();
+        let part = self
+            .part
+            .lock()
+            .map(|p| p.label.clone())
+            .unwrap_or_default();
+        match (stage.is_empty(), part.is_empty()) {
+            (_, true) => stage,
+            (true, false) => part,
+            (false, false) => format!("{stage}: {part}"),
+        }
     }
 
     /// Fraction of the planned work done, in [0, 1]: stages done plus the
-    /// share of the current one (0 before any plan).
+    /// share of the current one, through its parts (0 before any plan).
     pub fn fraction(&self) -> f64 {
         let total = self.total.load(Ordering::Relaxed);
-        let within = if total == 0 {
+        let counted = if total == 0 {
             0.0
         } else {
             (self.done.load(Ordering::Relaxed) as f64 / total as f64).min(1.0)
         };
-        let (index, count) = self.stage.lock().map(|s| (s.0, s.1)).unwrap_or((0, 1));
-        let count = count.max(1);
+        let part = self.part.lock().map(|p| p.clone()).unwrap_or_default();
+        let within = part.from + (part.to - part.from) * counted;
+        let (index, count) = self.stage_place();
         let now = ((index as f64 + within) / count as f64).min(1.0);
         let before = self.shown.fetch_max(now.to_bits(), Ordering::Relaxed);
         // Non-negative f64s order as their bits do.
@@ -166,5 +250,41 @@ mod tests {
         // A new run of stages starts from zero again.
         control.begin_stage(0, 2, "lighting");
         assert_eq!(control.fraction(), 0.0);
+    }
+
+    #[test]
+    fn each_part_of_a_stage_fills_its_own_span() {
+        let control = Control::new();
+        control.begin_stage(1, 2, "Head: scattering");
+        // A first step that plans and finishes its work takes the stage to
+        // its span's end, not to the stage's.
+        control.part(0.0, 0.2, "pilot", || {
+            assert_eq!(control.stage_label(), "Head: scattering: pilot");
+            control.plan(10);
+            control.advance(5).unwrap();
+            assert!((control.fraction() - 0.55).abs() < 1e-12);
+            control.advance(5).unwrap();
+        });
+        assert!((control.fraction() - 0.6).abs() < 1e-12);
+        assert_eq!(control.stage_label(), "Head: scattering");
+        // Parts nest: half of the span 0.2..0.8 is 0.2..0.5 of the stage.
+        control.part(0.2, 0.8, "", || {
+            control.part(0.0, 0.5, "the map", || {
+                assert_eq!(control.stage_label(), "Head: scattering: the map");
+                control.plan(4);
+                control.advance(2).unwrap();
+                assert!((control.fraction() - 0.675).abs() < 1e-12);
+            });
+            // Left unfinished, a part still ends at its span's end.
+            assert!((control.fraction() - 0.75).abs() < 1e-12);
+        });
+        assert!((control.fraction() - 0.9).abs() < 1e-12);
+        // A span left between parts is passed over.
+        control.part(0.9, 1.0, "check", || {
+            control.plan(1);
+            assert!((control.fraction() - 0.95).abs() < 1e-12);
+            control.advance(1).unwrap();
+        });
+        assert!((control.fraction() - 1.0).abs() < 1e-12);
     }
 }
